@@ -1,0 +1,44 @@
+// Rectified stereo calibration and the pinhole model used by every stage.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace semap {
+
+// Transform naming: `a_from_b` maps coordinates expressed in frame b into frame a,
+// e.g. p_world = world_from_cam * p_cam. Camera frames follow the KITTI/OpenCV convention:
+// x right, y down, z forward. All translations are in metres.
+using Pose3d = Eigen::Isometry3d;
+
+// Rectified stereo pair: both cameras share the intrinsics; the right camera sits at +baseline_m along x.
+struct StereoCalibration {
+  double fx_px = 0.0;
+  double fy_px = 0.0;
+  double cx_px = 0.0;
+  double cy_px = 0.0;
+  double baseline_m = 0.0;  // distance between the optical centres, > 0
+  int width_px = 0;
+  int height_px = 0;
+
+  // True when every value is finite and positive where it must be.
+  bool IsValid() const;
+
+  // depth_m = fx * baseline / disparity. Requires disparity_px > 0.
+  double DepthFromDisparity(double disparity_px) const { return fx_px * baseline_m / disparity_px; }
+  double DisparityFromDepth(double depth_m) const { return fx_px * baseline_m / depth_m; }
+
+  // Pixel (u, v) of a point in the left camera frame; requires p_cam.z() > 0.
+  Eigen::Vector2d Project(const Eigen::Vector3d& p_cam) const {
+    return {fx_px * p_cam.x() / p_cam.z() + cx_px, fy_px * p_cam.y() / p_cam.z() + cy_px};
+  }
+  // Point in the left camera frame at pixel (u, v) and depth z (camera-frame z, not range).
+  Eigen::Vector3d Unproject(double u_px, double v_px, double depth_m) const {
+    return {(u_px - cx_px) * depth_m / fx_px, (v_px - cy_px) * depth_m / fy_px, depth_m};
+  }
+  bool InImage(const Eigen::Vector2d& uv_px) const {
+    return uv_px.x() >= 0.0 && uv_px.y() >= 0.0 && uv_px.x() < width_px && uv_px.y() < height_px;
+  }
+};
+
+}  // namespace semap

@@ -1,0 +1,32 @@
+// One stereo frame as it enters the pipeline.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "engine/core/calibration.h"
+
+namespace semap {
+
+// A Velodyne scan in its own frame: x, y, z in metres and reflectance, as in KITTI's .bin files.
+struct VelodyneScan {
+  std::vector<Eigen::Vector4f> points_velo;
+  Pose3d cam_from_velo = Pose3d::Identity();  // velodyne → rectified left camera (KITTI: R_rect_00 · Tr)
+};
+
+struct Frame {
+  std::int64_t id = 0;          // index in the sequence (as on disk)
+  double timestamp_s = 0.0;     // seconds since the first frame of the sequence
+  cv::Mat left;                 // rectified left image, CV_8UC3 (BGR) or CV_8UC1
+  cv::Mat right;                // rectified right image, same size and type as left
+  StereoCalibration calibration;
+  std::optional<Pose3d> world_from_cam;  // left camera pose, when the sequence has poses
+  std::optional<VelodyneScan> velodyne;
+  cv::Mat labels;               // CV_8UC1 label ids of the left image (ClassMap scheme); empty = none
+};
+
+}  // namespace semap

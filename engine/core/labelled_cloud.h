@@ -1,0 +1,42 @@
+// A labelled point cloud in the world frame, stored as parallel arrays (structure of arrays).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/core/class_map.h"
+
+namespace semap {
+
+// Per-point attributes; `positions_world` defines size(). Each other per-point array is either empty
+// (attribute absent) or of size(). Every point refers to the camera that first observed it through
+// `camera_index` into `camera_centers_world` (the paper's labelling rule: the first camera that saw it).
+struct LabelledCloud {
+  std::vector<Eigen::Vector3d> positions_world;
+  std::vector<std::array<std::uint8_t, 3>> colors_rgb;  // optional
+  std::vector<Label> labels;                            // optional (absent = all unlabelled)
+  std::vector<Eigen::Vector2f> pixels_px;                // optional: (u, v) in the first observing image
+  std::vector<float> confidence;                         // optional: disparity confidence in [0, 1]
+  std::vector<std::uint32_t> camera_index;               // required when cameras are present
+
+  // Cameras (one per observing frame).
+  std::vector<Eigen::Vector3d> camera_centers_world;
+  std::vector<std::int64_t> camera_frame_ids;
+
+  size_t size() const { return positions_world.size(); }
+  bool empty() const { return positions_world.empty(); }
+
+  // Checks the array sizes and camera indices (programmer error if violated: asserts).
+  void AssertConsistent() const;
+
+  // The points at `indices` (in that order), every attribute carried; cameras are copied unchanged.
+  LabelledCloud Subset(const std::vector<std::uint32_t>& indices) const;
+
+  // Appends `other`'s points and cameras (camera indices are offset).
+  void Append(const LabelledCloud& other);
+};
+
+}  // namespace semap

@@ -1,0 +1,37 @@
+// The semap configuration: one options struct per stage, loaded from YAML with `--set key=value` overrides.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "io/config/field_binder.h"
+#include "io/frame_source.h"
+
+namespace semap::io {
+
+// A config error a user can act on: names the file and/or key.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Every stage's options. Defaults are the paper's values where it gives them.
+// config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
+struct Config {
+  FrameSourceOptions input;  // where frames come from and what is loaded with them
+};
+
+// Lists the sections of `config` with their fields bound to its members (pointers into `config`).
+std::vector<Section> BindSections(Config& config);
+
+// Loads the defaults, then the YAML file (if not empty), then each "section.key=value" override, then
+// runs every section's Check(). Unknown sections/keys, malformed values and out-of-range values throw
+// ConfigError naming the file and the key.
+Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides = {});
+
+// The YAML text of `config` with each section and field preceded by its doc comment.
+std::string DumpConfig(const Config& config);
+
+}  // namespace semap::io

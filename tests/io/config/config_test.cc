@@ -1,0 +1,96 @@
+#include "io/config/config.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "tests/common/test_data.h"
+
+namespace semap::io {
+namespace {
+
+std::filesystem::path WriteYaml(const std::string& text) {
+  const auto path = test::TempDir() / "config.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string ErrorOf(const std::filesystem::path& path, const std::vector<std::string>& overrides = {}) {
+  try {
+    LoadConfig(path, overrides);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, DefaultsLoadWithoutFile) {
+  const Config c = LoadConfig("");
+  EXPECT_EQ(c.input.layout, DatasetLayout::kAuto);
+  EXPECT_EQ(c.input.max_frames, 0);
+}
+
+TEST(Config, FileAndOverridesApplyInOrder) {
+  const auto path = WriteYaml("input:\n  max_frames: 20\n  layout: kitti_odometry\n");
+  Config c = LoadConfig(path);
+  EXPECT_EQ(c.input.max_frames, 20);
+  EXPECT_EQ(c.input.layout, DatasetLayout::kKittiOdometry);
+  c = LoadConfig(path, {"input.max_frames=5", "input.load_velodyne=false"});
+  EXPECT_EQ(c.input.max_frames, 5);
+  EXPECT_FALSE(c.input.load_velodyne);
+}
+
+TEST(Config, UnknownKeysAndSectionsAreErrorsNamingThem) {
+  EXPECT_NE(ErrorOf(WriteYaml("input:\n  max_framez: 3\n")).find("input.max_framez"), std::string::npos);
+  EXPECT_NE(ErrorOf(WriteYaml("inptu:\n  max_frames: 3\n")).find("'inptu'"), std::string::npos);
+  EXPECT_NE(ErrorOf("", {"input.nope=1"}).find("input.nope"), std::string::npos);
+  EXPECT_NE(ErrorOf("", {"input_max_frames=1"}).find("section.key=value"), std::string::npos);
+}
+
+TEST(Config, MalformedAndOutOfRangeValuesNameTheKey) {
+  EXPECT_NE(ErrorOf("", {"input.max_frames=abc"}).find("input.max_frames"), std::string::npos);
+  EXPECT_NE(ErrorOf("", {"input.layout=bogus"}).find("kitti_raw"), std::string::npos);
+  const std::string range = ErrorOf("", {"input.max_frames=-3"});
+  EXPECT_NE(range.find("input.max_frames"), std::string::npos) << range;
+  EXPECT_NE(range.find("-3"), std::string::npos) << range;
+}
+
+TEST(Config, MissingOrInvalidFileIsAClearError) {
+  EXPECT_NE(ErrorOf("/no/such/semap.yaml").find("/no/such/semap.yaml"), std::string::npos);
+  const auto bad = WriteYaml("input: [1, 2\n");
+  EXPECT_NE(ErrorOf(bad).find("not valid YAML"), std::string::npos);
+}
+
+TEST(Config, DumpRoundTripsAndDocumentsEveryKey) {
+  Config c;
+  c.input.max_frames = 42;
+  const std::string text = DumpConfig(c);
+  const auto path = WriteYaml(text);
+  EXPECT_EQ(LoadConfig(path).input.max_frames, 42);
+  // Every field line is preceded by a comment line.
+  std::istringstream is(text);
+  std::string line, previous;
+  int fields = 0;
+  while (std::getline(is, line)) {
+    if (line.rfind("  ", 0) == 0 && line.rfind("  #", 0) != 0) {
+      ++fields;
+      EXPECT_EQ(previous.rfind("  # ", 0), 0u) << "undocumented: " << line;
+    }
+    previous = line;
+  }
+  EXPECT_GT(fields, 0);
+}
+
+TEST(Config, CommittedDefaultYamlMatchesTheCode) {
+  const auto path = test::SourceDir() / "config" / "default.yaml";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::stringstream committed;
+  committed << in.rdbuf();
+  EXPECT_EQ(committed.str(), DumpConfig(Config{}))
+      << "config/default.yaml is stale: regenerate with `semap config --defaults > config/default.yaml`";
+}
+
+}  // namespace
+}  // namespace semap::io

@@ -1,0 +1,36 @@
+#include "tools/cli_common.h"
+
+#include <spdlog/spdlog.h>
+
+#include "engine/core/check.h"
+
+namespace semap::tools {
+
+void AddCommonOptions(CLI::App* cmd, CommonArgs* args) {
+  cmd->add_option("--config", args->config_path, "YAML config file (see config/default.yaml)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--set", args->overrides, "override a config value: section.key=value (repeatable)");
+  cmd->add_option("--log-level", args->log_level, "trace|debug|info|warn|error|off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+}
+
+io::Config LoadConfigFrom(const CommonArgs& args) { return io::LoadConfig(args.config_path, args.overrides); }
+
+int RunGuarded(const CommonArgs& args, const std::function<int()>& body) {
+  spdlog::set_level(spdlog::level::from_str(args.log_level));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  try {
+    return body();
+  } catch (const io::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return kExitUsage;
+  } catch (const InvalidOption& e) {
+    spdlog::error("invalid option {}", e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace semap::tools
