@@ -1,0 +1,46 @@
+// Mesh and point-cloud files: PLY (binary little-endian or ASCII; MeshLab/Open3D property names) and
+// OFF (ASCII, the format whose size the paper reports). Every function throws io::FileError naming the
+// path and the problem on a missing, unwritable, truncated or malformed file.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "engine/core/labelled_cloud.h"
+#include "engine/core/mesh.h"
+
+namespace semap::io {
+
+// A file that cannot be read or written: the message names the path.
+class FileError : public std::runtime_error {
+ public:
+  FileError(const std::filesystem::path& path, const std::string& problem)
+      : std::runtime_error(path.string() + ": " + problem), path_(path) {}
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+enum class PlyEncoding { kBinaryLittleEndian, kAscii };
+
+// Vertex properties: x y z (float, or double when `double_precision`), red green blue (uchar) when the
+// mesh has colours, label (uchar) when it has labels; faces: vertex_indices (uchar count, int indices).
+void WriteMeshPly(const std::filesystem::path& path, const Mesh& mesh,
+                  PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian, bool double_precision = false);
+Mesh ReadMeshPly(const std::filesystem::path& path);
+
+// OFF: "OFF", counts, vertices, "3 i j k" faces; colours and labels are not stored.
+void WriteMeshOff(const std::filesystem::path& path, const Mesh& mesh);
+Mesh ReadMeshOff(const std::filesystem::path& path);
+// Bytes of the mesh written as ASCII OFF (the paper's mesh-size measure), without writing a file.
+std::uint64_t OffSizeBytes(const Mesh& mesh);
+
+// Point clouds: x y z, red green blue, label, and (when present) camera_index, confidence.
+void WriteCloudPly(const std::filesystem::path& path, const LabelledCloud& cloud,
+                   PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
+LabelledCloud ReadCloudPly(const std::filesystem::path& path);
+
+}  // namespace semap::io
