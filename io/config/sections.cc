@@ -21,6 +21,27 @@ void Bind(FieldBinder& b, FrameSourceOptions& o) {
   b.Field("class_map", &o.class_map, "YAML class map of the label ids; empty = Cityscapes 20 classes");
 }
 
+void Bind(FieldBinder& b, PipelineOptions& o) {
+  using M = PipelineOptions::Mode;
+  using E = PipelineOptions::OnError;
+  b.Enum("mode", &o.mode, {{"exhaustive", M::kExhaustive}, {"realtime", M::kRealtime}},
+         "exhaustive: every frame processed (the paper's table); realtime: read at sensor rate, drop when behind");
+  b.Field("realtime_rate_hz", &o.realtime_rate_hz, "realtime mode: frame rate when the sequence has no timestamps");
+  b.Field("depth_workers", &o.depth_workers, "threads running SGBM depth (frames are reordered after them)");
+  b.Field("queue_capacity", &o.queue_capacity, "frames each queue between stages holds at most");
+  b.Enum("on_error", &o.on_error, {{"skip", E::kSkipFrame}, {"stop", E::kStop}},
+         "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
+  b.Field("cpu_affinity", &o.cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+}
+
+void Bind(FieldBinder& b, OutputOptions& o) {
+  b.Field("dir", &o.dir, "output folder (mesh.ply, mesh.off, frames.csv, frames.jsonl, summary.json)");
+  b.Field("mesh_ply", &o.mesh_ply, "write the final mesh as PLY with colour and label");
+  b.Field("mesh_off", &o.mesh_off, "write the final mesh as ASCII OFF (the paper's size measure)");
+  b.Field("ply_ascii", &o.ply_ascii, "ASCII PLY instead of binary little-endian");
+  b.Field("frame_stats", &o.frame_stats, "per-frame statistics as frames.csv and frames.jsonl");
+}
+
 void Bind(FieldBinder& b, LcmOptions& o) {
   b.Field("enabled", &o.enabled, "publish meshes, frame stats and poses over LCM (semap run --lcm-url sets it)");
   b.Field("url", &o.url, "LCM provider URL; ttl=0 keeps multicast on this host");
@@ -44,6 +65,8 @@ Section MakeSection(std::string name, std::string doc, Options& options) {
 std::vector<Section> BindSections(Config& c) {
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
+  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
+  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
   s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
   return s;
 }
