@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/segmenter.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 
@@ -21,6 +23,8 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
+  DepthOptions depth;        // stereo matching and point cloud
+  SemanticsOptions semantics;  // where per-pixel labels come from
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
