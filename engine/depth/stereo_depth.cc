@@ -75,6 +75,37 @@ cv::Mat RunSgbm(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right
   return disparity;
 }
 
+// Disparity of the right image (positive values, right pixel u matches left pixel u + d): SGBM on the
+// mirrored pair (mirrored right as the reference image).
+cv::Mat RunSgbmRight(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  cv::Mat left_flipped, right_flipped, disparity;
+  cv::flip(left, left_flipped, 1);
+  cv::flip(right, right_flipped, 1);
+  cv::flip(RunSgbm(o, right_flipped, left_flipped, num_disparities), disparity, 1);
+  return disparity;
+}
+
+// Invalidates the left pixels whose match in the right image does not map back within max_diff_px.
+void LeftRightCheck(const cv::Mat& right_disparity, float max_diff_px, cv::Mat* left_disparity) {
+  for (int v = 0; v < left_disparity->rows; ++v) {
+    float* dl = left_disparity->ptr<float>(v);
+    const float* dr = right_disparity.ptr<float>(v);
+    for (int u = 0; u < left_disparity->cols; ++u) {
+      if (!(dl[u] > 0.0f)) continue;
+      const int ur = static_cast<int>(std::lround(u - dl[u]));
+      if (ur < 0 || !(dr[ur] > 0.0f) || std::abs(dr[ur] - dl[u]) > max_diff_px) dl[u] = 0.0f;
+    }
+  }
+}
+
+cv::Mat MatchPair(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  cv::Mat disparity = RunSgbm(o, left, right, num_disparities);
+  if (o.left_right_max_diff_px >= 0.0f) {
+    LeftRightCheck(RunSgbmRight(o, left, right, num_disparities), o.left_right_max_diff_px, &disparity);
+  }
+  return disparity;
+}
+
 }  // namespace
 
 const char* SgbmModeName(SgbmMode mode) {
@@ -105,6 +136,8 @@ void DepthOptions::Check() const {
   SEMAP_CHECK_OPTION(speckle_range_px >= 0, "speckle_range_px", speckle_range_px, "must be >= 0");
   SEMAP_CHECK_OPTION(disp12_max_diff_px >= -1, "disp12_max_diff_px", disp12_max_diff_px,
                      "must be >= 0, or -1 to disable the left-right check");
+  SEMAP_CHECK_OPTION(left_right_max_diff_px == -1.0f || left_right_max_diff_px >= 0.0f, "left_right_max_diff_px",
+                     left_right_max_diff_px, "must be >= 0, or -1 to disable the explicit left-right check");
   SEMAP_CHECK_OPTION(pre_filter_cap >= 0 && pre_filter_cap <= 63, "pre_filter_cap", pre_filter_cap,
                      "must be in [0, 63]");
   SEMAP_CHECK_OPTION(fill_max_gap_px >= 0, "fill_max_gap_px", fill_max_gap_px, "must be >= 0 (0 = off)");
@@ -128,7 +161,7 @@ DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) 
   const DepthOptions& o = options_;
   DisparityResult result;
   if (!o.half_resolution) {
-    result.disparity_px = RunSgbm(o, left, right, o.num_disparities);
+    result.disparity_px = MatchPair(o, left, right, o.num_disparities);
   } else {
     cv::Mat left_half, right_half;
     cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
@@ -139,7 +172,7 @@ DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) 
     if (left_half.empty()) {
       result.disparity_px = cv::Mat::zeros(left.size(), CV_32F);
     } else {
-      const cv::Mat half = RunSgbm(o, left_half, right_half, half_range);
+      const cv::Mat half = MatchPair(o, left_half, right_half, half_range);
       // Back to full resolution: nearest neighbour (never mixes valid and invalid pixels), values × 2.
       cv::resize(half, result.disparity_px, left.size(), 0.0, 0.0, cv::INTER_NEAREST);
       result.disparity_px *= 2.0f;

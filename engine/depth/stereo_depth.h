@@ -23,7 +23,7 @@ struct DepthOptions {
   // Disparity search range in px at full resolution (multiple of 16). KITTI at 1242 px: 128 covers ≥ 2.9 m.
   int num_disparities = 128;
   // Matched block size in px (odd, 1..11).
-  int block_size = 5;
+  int block_size = 7;
   // Smoothness penalties for disparity changes of 1 px (P1) and > 1 px (P2); 0 = 8·C·block² and 32·C·block²
   // with C the number of image channels (OpenCV's recommendation). Requires P2 > P1 when both are set.
   int p1 = 0;
@@ -34,11 +34,15 @@ struct DepthOptions {
   // speckle_range px are invalidated.
   int speckle_window_size = 100;
   int speckle_range_px = 2;
-  // Left-right consistency check: maximum difference in px between the left disparity and the right one
-  // (computed by OpenCV from the same cost volume); -1 disables it.
+  // OpenCV's built-in left-right check (disp12MaxDiff, from the same cost volume; -1 = off). OpenCV 4.6
+  // applies it in modes sgbm/hh/hh4 only, not in 3way.
   int disp12_max_diff_px = 1;
+  // Explicit left-right consistency check (any mode): a second SGBM pass matches the right image against the
+  // left; a left pixel u with disparity d is kept when the right disparity at u − d differs by at most this
+  // many px. Costs a second matching pass. -1 = off.
+  float left_right_max_diff_px = -1.0f;
   // Truncation of the x-derivative prefilter (OpenCV preFilterCap; 0 = OpenCV's default).
-  int pre_filter_cap = 63;
+  int pre_filter_cap = 31;
   SgbmMode mode = SgbmMode::kThreeWay;
   // Match at half resolution (both images downscaled by 2, disparity upscaled back): about 4× faster.
   bool half_resolution = false;
@@ -46,10 +50,10 @@ struct DepthOptions {
   // --- Post-processing of the disparity ---
   // Fill horizontal gaps of invalid disparity of at most this many px lying between two valid pixels on a row
   // with the smaller (farther, background) of the two (KITTI's interpolation rule); 0 = off.
-  int fill_max_gap_px = 0;
+  int fill_max_gap_px = 64;
   // Fill the unmatched band on the left image border (the first num_disparities columns, which SGBM cannot
   // match) with the first valid disparity of the row. The filled pixels have confidence 0.
-  bool fill_left_border = false;
+  bool fill_left_border = true;
   // Confidence given to pixels filled by the small-gap filling (matched pixels get 1).
   float filled_confidence = 0.5f;
 
@@ -61,8 +65,9 @@ struct DepthOptions {
   int pixel_stride = 1;
   // Upper bound on the points per frame after the stride (uniform decimation); 0 = no bound.
   int max_points_per_frame = 0;
-  // Pixels whose confidence is below this give no point (1 = matched pixels only).
-  float min_point_confidence = 0.5f;
+  // Pixels whose confidence is below this give no point. The default 1 keeps matched pixels only: the filled
+  // pixels improve the disparity map (D1) but are guesses, kept out of the map.
+  float min_point_confidence = 1.0f;
 
   // Throws InvalidOption naming the field on a value out of range.
   void Check() const;

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -56,8 +58,24 @@ cv::Mat EnetSegmenter::Segment(const cv::Mat& image) {
   }
   if (options_.enet_threads > 0) cv::setNumThreads(options_.enet_threads);
   const cv::Size input(options_.enet_input_width_px, options_.enet_input_height_px);
-  const cv::Mat blob = cv::dnn::blobFromImage(bgr, kEnetInputScale, input, cv::Scalar(), /*swapRB=*/true,
-                                              /*crop=*/false);
+  // Region of the network input that holds the image (all of it unless the aspect ratio is kept).
+  cv::Rect roi(0, 0, input.width, input.height);
+  cv::Mat network_image;
+  if (options_.enet_keep_aspect) {
+    const double scale = std::min(double(input.width) / bgr.cols, double(input.height) / bgr.rows);
+    roi.width = std::clamp(static_cast<int>(std::lround(bgr.cols * scale)), 1, input.width);
+    roi.height = std::clamp(static_cast<int>(std::lround(bgr.rows * scale)), 1, input.height);
+    roi.x = (input.width - roi.width) / 2;
+    roi.y = (input.height - roi.height) / 2;
+    cv::Mat scaled;
+    cv::resize(bgr, scaled, roi.size(), 0.0, 0.0, cv::INTER_AREA);
+    cv::copyMakeBorder(scaled, network_image, roi.y, input.height - roi.height - roi.y, roi.x,
+                       input.width - roi.width - roi.x, cv::BORDER_REPLICATE);
+  } else {
+    cv::resize(bgr, network_image, input, 0.0, 0.0, cv::INTER_AREA);
+  }
+  const cv::Mat blob = cv::dnn::blobFromImage(network_image, kEnetInputScale, input, cv::Scalar(),
+                                              /*swapRB=*/true, /*crop=*/false);
   impl_->net.setInput(blob);
   const cv::Mat scores = impl_->net.forward();  // 1 × C × H × W
   if (scores.dims != 4 || scores.size[0] != 1) {
@@ -87,8 +105,15 @@ cv::Mat EnetSegmenter::Segment(const cv::Mat& image) {
       }
     }
   }
+  // Output cells → input pixels (the output may be smaller than the input), then back to the image.
+  const double sx = double(w) / input.width;
+  const double sy = double(h) / input.height;
+  const cv::Rect out_roi = cv::Rect(static_cast<int>(roi.x * sx), static_cast<int>(roi.y * sy),
+                                    std::max(1, static_cast<int>(roi.width * sx)),
+                                    std::max(1, static_cast<int>(roi.height * sy))) &
+                           cv::Rect(0, 0, w, h);
   cv::Mat out;
-  cv::resize(labels, out, image.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  cv::resize(labels(out_roi), out, image.size(), 0.0, 0.0, cv::INTER_NEAREST);
   return out;
 }
 

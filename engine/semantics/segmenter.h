@@ -28,6 +28,9 @@ struct SemanticsOptions {
   // Network input size in px (the model was trained at 1024x512).
   int enet_input_width_px = 1024;
   int enet_input_height_px = 512;
+  // Keep the image's aspect ratio: scale it to fit the network input and pad the rest (border replicated)
+  // instead of stretching it. KITTI's 1242×375 frames stretched to 1024×512 look nothing like Cityscapes.
+  bool enet_keep_aspect = true;
   // Threads of the network's forward pass (cv::setNumThreads is process-wide: 0 = leave OpenCV's setting).
   int enet_threads = 0;
   // A label image of another size than the left image: resize with nearest neighbour (and report it) or

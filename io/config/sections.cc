@@ -32,6 +32,8 @@ void Bind(FieldBinder& b, DepthOptions& o) {
   b.Field("speckle_range_px", &o.speckle_range_px, "speckle filter: disparity variation within a region");
   b.Field("disp12_max_diff_px", &o.disp12_max_diff_px,
           "left-right consistency check: max left/right disparity difference in px (-1 = off)");
+  b.Field("left_right_max_diff_px", &o.left_right_max_diff_px,
+          "explicit left-right check with a second matching pass: max difference in px (-1 = off)");
   b.Field("pre_filter_cap", &o.pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
   b.Enum("mode", &o.mode,
          {{"sgbm", SgbmMode::kSgbm}, {"hh", SgbmMode::kHh}, {"3way", SgbmMode::kThreeWay}, {"hh4", SgbmMode::kHh4}},
@@ -57,6 +59,8 @@ void Bind(FieldBinder& b, SemanticsOptions& o) {
   b.Field("enet_model_path", &o.enet_model_path, "ENet Cityscapes Torch7 model file");
   b.Field("enet_input_width_px", &o.enet_input_width_px, "ENet input width in px (multiple of 8)");
   b.Field("enet_input_height_px", &o.enet_input_height_px, "ENet input height in px (multiple of 8)");
+  b.Field("enet_keep_aspect", &o.enet_keep_aspect,
+          "keep the image's aspect ratio in the network input (pad) instead of stretching it");
   b.Field("enet_threads", &o.enet_threads, "OpenCV threads for ENet (process-wide; 0 = unchanged)");
   b.Enum("size_mismatch", &o.size_mismatch,
          {{"resize", LabelSizePolicy::kResizeNearest}, {"refuse", LabelSizePolicy::kRefuse}},
