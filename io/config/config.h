@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/segmenter.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 #include "engine/pipeline/pipeline.h"
@@ -27,6 +29,8 @@ struct Config {
   PipelineOptions pipeline;  // stage threads, queues, modes
   OutputOptions output;      // files written by a run
   LcmOptions lcm;            // mesh / stats publishing over LCM
+  DepthOptions depth;        // stereo matching and point cloud
+  SemanticsOptions semantics;  // where per-pixel labels come from
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
