@@ -51,7 +51,7 @@ TEST(WindowedSimplifier, NewPointsOnDecidedAreasMostlyGo) {
     o.window_frames = 8;  // covers the 8-frame overlap of the drive (see the class comment)
     WindowedSimplifier ws(o, ClassMap::Cityscapes());
     std::vector<double> road_share, wall_share;
-    for (int n = 0; n < 6; ++n) {
+    for (int n = 0; n < 10; ++n) {
       const LabelledCloud frame = StreamFrame(n);
       const auto out = ws.Process(frame);
       road_share.push_back(Share(out.result, test::kRoad));
@@ -70,13 +70,15 @@ TEST(WindowedSimplifier, NewPointsOnDecidedAreasMostlyGo) {
     // The first frame alone keeps about the target share; later frames overlap decided ground by 7/8.
     // LS's quota counts the decided points, so only the new 1/8 strip keeps about c̄ (measured: 0.41 then
     // 0.05-0.06 per frame). PS only sees the decided points through a higher d̃ (wider P_I Gaussian), a
-    // weaker effect (measured: 0.41 then 0.26-0.34).
-    const double factor = method == SimplifyMethod::kLinearRadius ? 0.25 : 0.85;
-    for (int n = 1; n < 6; ++n) {
+    // weaker effect that builds up as decided points accumulate in the window (see the measured shares
+    // recorded as test properties).
+    const bool ls = method == SimplifyMethod::kLinearRadius;
+    const double factor = ls ? 0.25 : 0.75;
+    for (int n = ls ? 1 : 5; n < 10; ++n) {
       EXPECT_LT(road_share[n], factor * road_share[0]) << "frame " << n;
       EXPECT_LT(wall_share[n], factor * wall_share[0]) << "frame " << n;
     }
-    EXPECT_EQ(ws.frames_processed(), 6u);
+    EXPECT_EQ(ws.frames_processed(), 10u);
     std::uint64_t in = 0;
     for (const auto& t : ws.totals()) in += t.in;
     EXPECT_GT(in, 0u);
