@@ -17,6 +17,12 @@
 //   if earlier regions already kept more), so the overall conservation at average density is about c̄.
 //   (Letting later regions also remove points that earlier ones kept compounds the overlaps: on a uniform
 //   plane it kept 18 % instead of 40 % for c̄ = 0.4.)
+// - Regions centred on an already decided point are skipped: with decisions made once, such a region could
+//   only decide undecided points, which the regions centred on them (or others) decide anyway. This keeps
+//   the cost near one region query per ~c·|ρ| points instead of one per point (the paper's "a region for
+//   each point" is the upper bound).
+// - D̄ is estimated from the regions of at most density_samples random centres per group (0 = all), so that
+//   it is known before the sequential pass.
 // - Streaming (windowed) contexts: D counts every context point, while D̄ is the mean over the window of
 //   the regions' *candidate* densities (a single frame's density), so an area already covered by decided
 //   points reads as denser than average; the quota is counted on the candidates, so a region whose decided
@@ -115,19 +121,32 @@ MethodOutput RunRegional(const MethodInput& in, ConservationRule rule, RegionSha
   const PointIndex index(pts);
   const std::vector<float> rank = RankingScores(in, planes, index, o);
 
-  // Pass 1 (parallel, per centre): density and p̃.
-  std::vector<RegionStats> stats(centres.size());
-  ParallelBlocks(centres.size(), [&](std::size_t begin, std::size_t end) {
+  // D̄ per group: the mean candidate density over the regions of (at most density_samples) random centres
+  // of the group, computed in parallel.
+  std::array<std::vector<std::uint32_t>, kNumGroups> samples;
+  for (auto c : centres) samples[in.groups[c]].push_back(c);
+  std::vector<std::uint32_t> sample_centres;
+  for (auto& members : samples) {
+    const std::size_t n = o.density_samples > 0 ? std::min<std::size_t>(members.size(), o.density_samples)
+                                                : members.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      std::uniform_int_distribution<std::size_t> pick(k, members.size() - 1);
+      std::swap(members[k], members[pick(rng)]);
+      sample_centres.push_back(members[k]);
+    }
+  }
+  std::vector<double> sample_density(sample_centres.size());
+  ParallelBlocks(sample_centres.size(), [&](std::size_t begin, std::size_t end) {
     std::vector<std::uint32_t> region;
     for (std::size_t k = begin; k < end; ++k) {
-      const std::uint32_t c = centres[k];
+      const std::uint32_t c = sample_centres[k];
       QueryRegion(index, pts[c], shape, o, &region);
-      stats[k] = ComputeRegionStats(in, c, region, shape, planes.plane[in.groups[c]], o);
+      sample_density[k] = ComputeRegionStats(in, c, region, shape, planes.plane[in.groups[c]], o).candidate_density;
     }
   });
-  for (std::size_t k = 0; k < centres.size(); ++k) {
-    const GroupId g = in.groups[centres[k]];
-    out.batch_densities.sum[g] += stats[k].candidate_density;
+  for (std::size_t k = 0; k < sample_centres.size(); ++k) {
+    const GroupId g = in.groups[sample_centres[k]];
+    out.batch_densities.sum[g] += sample_density[k];
     out.batch_densities.count[g] += 1;
   }
   DensitySums all = in.prior_densities;
@@ -144,11 +163,13 @@ MethodOutput RunRegional(const MethodInput& in, ConservationRule rule, RegionSha
   auto better = [&](std::uint32_t a, std::uint32_t b) { return rank[a] != rank[b] ? rank[a] < rank[b] : a < b; };
   for (const std::uint32_t k : order) {
     const std::uint32_t c = centres[k];
+    if (decided[c]) continue;  // see the header comment: its region could only decide what others will
     const GroupId g = in.groups[c];
     const double mean = all.Mean(g);
     if (mean <= 0.0) continue;
-    const double conservation = Conservation(rule, stats[k].density / mean, stats[k].other_share, o);
     QueryRegion(index, pts[c], shape, o, &region);
+    const RegionStats stats = ComputeRegionStats(in, c, region, shape, planes.plane[g], o);
+    const double conservation = Conservation(rule, stats.density / mean, stats.other_share, o);
     std::size_t n_candidates = 0;
     std::size_t kept_already = 0;
     undecided.clear();

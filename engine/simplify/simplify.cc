@@ -76,6 +76,7 @@ bool IsSemanticMethod(SimplifyMethod method) {
 void SimplifyOptions::Check() const {
   SEMAP_CHECK_OPTION(region_radius_m > 0.0, "region_radius_m", region_radius_m, "must be > 0");
   SEMAP_CHECK_OPTION(region_k >= 3, "region_k", region_k, "must be >= 3");
+  SEMAP_CHECK_OPTION(density_samples >= 0, "density_samples", density_samples, "must be >= 0 (0 = all)");
   SEMAP_CHECK_OPTION(normal_k >= 3, "normal_k", normal_k, "must be >= 3");
   SEMAP_CHECK_OPTION(target_conservation > 0.0 && target_conservation < 1.0, "target_conservation",
                      target_conservation, "must be in (0, 1)");

@@ -53,6 +53,7 @@ struct SimplifyOptions {
   // Regions rho_i.
   double region_radius_m = 0.3;  // radius of the spherical regions (R methods, PS, LSB/ASB/PSB)
   int region_k = 32;             // neighbours per region for the K methods (the centre included)
+  int density_samples = 4096;  // regions per group whose densities estimate D̄ (LS/AS/ACS); 0 = every region
   int normal_k = 12;             // neighbours of the PCA tangent-plane normal (and GB's surface variation)
 
   // Conservation factor (LS / AS / ACS).
