@@ -8,6 +8,7 @@
 
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "io/lcm/lcm_publisher.h"
 
 namespace semap::io {
 
@@ -21,6 +22,7 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
+  LcmOptions lcm;            // mesh / stats publishing over LCM
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
