@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 #include "io/lcm/lcm_publisher.h"
@@ -23,6 +24,7 @@ class ConfigError : public std::runtime_error {
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
   LcmOptions lcm;            // mesh / stats publishing over LCM
+  SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
