@@ -8,6 +8,7 @@
 
 #include "engine/depth/stereo_depth.h"
 #include "engine/semantics/segmenter.h"
+#include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 #include "engine/pipeline/pipeline.h"
@@ -31,6 +32,7 @@ struct Config {
   LcmOptions lcm;            // mesh / stats publishing over LCM
   DepthOptions depth;        // stereo matching and point cloud
   SemanticsOptions semantics;  // where per-pixel labels come from
+  SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
