@@ -87,7 +87,7 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
     if (c->info().IsFree() && (seed == CellHandle() || c->info().free_q > seed->info().free_q)) seed = c;
   }
-  ManifoldCarver carver(&dt);
+  ManifoldCarver carver(&dt, options.grow_passes);
   if (seed != CellHandle()) carver.Grow({seed});
 
   std::vector<SurfaceFacet> facets;
@@ -109,6 +109,7 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   s.num_points = dt.number_of_vertices() - nodes.size();
   s.num_cells = dt.number_of_finite_cells();
   s.num_carved_cells = CountCarvedCells(dt);
+  s.num_free_cells = CountFreeCells(dt);
   s.num_rays = s.rays_traced;
   return result;
 }

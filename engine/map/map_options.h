@@ -20,6 +20,9 @@ struct MapOptions {
   // only its ray is added. 0 = never merge.
   double merge_distance_m = 0.05;
 
+  // Region growing retries the cells the manifold test refused, in up to this many passes (≥ 1).
+  int grow_passes = 3;
+
   // Bounding Steiner points: a jittered lattice of this spacing around every point and camera keeps the
   // convex hull (and its infinite cells) away from the data, so the carved region never touches the hull.
   double steiner_spacing_m = 20.0;

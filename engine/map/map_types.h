@@ -46,6 +46,7 @@ struct MapStatistics {
   std::size_t num_steiner_vertices = 0;
   std::size_t num_cells = 0;            // finite cells
   std::size_t num_carved_cells = 0;
+  std::size_t num_free_cells = 0;       // cells with free > matter (carved or not)
   std::size_t num_rays = 0;             // live rays
   std::uint64_t rays_traced = 0;        // walks done so far (traces and untraces)
   std::uint64_t cells_visited = 0;      // cells visited by those walks

@@ -79,12 +79,25 @@ std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
   };
   for (const CellHandle c : candidates) push(c);
   std::size_t carved = 0;
-  while (!queue.empty()) {
-    const CellHandle c = queue.top().second;
-    queue.pop();
-    if (!TryCarve(c)) continue;
-    ++carved;
-    for (int i = 0; i < 4; ++i) push(c->neighbor(i));
+  std::vector<CellHandle> failed;
+  for (int pass = 0; pass < max_passes_; ++pass) {
+    std::size_t carved_in_pass = 0;
+    while (!queue.empty()) {
+      const CellHandle c = queue.top().second;
+      queue.pop();
+      if (!TryCarve(c)) {
+        failed.push_back(c);
+        continue;
+      }
+      ++carved_in_pass;
+      for (int i = 0; i < 4; ++i) push(c->neighbor(i));
+    }
+    carved += carved_in_pass;
+    if (carved_in_pass == 0 || failed.empty()) break;
+    // A failed cell may have become carvable through cells carved around its vertices (not only through its
+    // neighbours): retry them all once more.
+    for (const CellHandle c : failed) push(c);
+    failed.clear();
   }
   return carved;
 }

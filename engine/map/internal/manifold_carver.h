@@ -16,7 +16,9 @@ namespace semap::map_internal {
 // Infinite cells are never carved. Works on a triangulation it does not own; not thread-safe.
 class ManifoldCarver {
  public:
-  explicit ManifoldCarver(Delaunay* dt) : dt_(dt) {}
+  // `max_passes`: Grow() retries the cells that failed, while a pass still carves something, at most this
+  // many passes.
+  ManifoldCarver(Delaunay* dt, int max_passes) : dt_(dt), max_passes_(max_passes) {}
 
   // True when the boundary facets around `v` form zero or one cycle on its link.
   bool IsRegular(VertexHandle v);
@@ -41,6 +43,7 @@ class ManifoldCarver {
   bool AllVerticesRegular(CellHandle cell);
 
   Delaunay* dt_;
+  int max_passes_;
   std::vector<CellHandle> cells_;                          // scratch
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
   std::vector<VertexHandle> ends_;                         // scratch

@@ -90,4 +90,10 @@ std::size_t CountCarvedCells(const Delaunay& dt) {
   return n;
 }
 
+std::size_t CountFreeCells(const Delaunay& dt) {
+  std::size_t n = 0;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) n += c->info().IsFree() ? 1 : 0;
+  return n;
+}
+
 }  // namespace semap::map_internal

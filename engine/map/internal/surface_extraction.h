@@ -38,7 +38,8 @@ Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);
 
-// Finite cells carved / total.
+// Finite cells that are carved / free.
 std::size_t CountCarvedCells(const Delaunay& dt);
+std::size_t CountFreeCells(const Delaunay& dt);
 
 }  // namespace semap::map_internal

@@ -1,7 +1,9 @@
 // Helpers shared by the map tests: mesh-to-ground-truth error and simple clouds.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <functional>
 
 #include "engine/core/labelled_cloud.h"
@@ -13,6 +15,7 @@ struct SurfaceError {
   double mean_m = 0.0;
   double rmse_m = 0.0;
   double max_m = 0.0;
+  double median_m = 0.0;
   std::size_t samples = 0;
 };
 
@@ -21,8 +24,10 @@ struct SurfaceError {
 inline SurfaceError MeshError(const Mesh& mesh, const std::function<double(const Eigen::Vector3d&)>& distance) {
   SurfaceError e;
   double sum = 0.0, sum_sq = 0.0;
+  std::vector<double> all;
   auto sample = [&](const Eigen::Vector3d& p) {
     const double d = distance(p);
+    all.push_back(d);
     sum += d;
     sum_sq += d * d;
     e.max_m = std::max(e.max_m, d);
@@ -38,6 +43,8 @@ inline SurfaceError MeshError(const Mesh& mesh, const std::function<double(const
   if (e.samples > 0) {
     e.mean_m = sum / e.samples;
     e.rmse_m = std::sqrt(sum_sq / e.samples);
+    std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
+    e.median_m = all[all.size() / 2];
   }
   return e;
 }
