@@ -16,26 +16,31 @@ bool LexLess(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 }  // namespace
 
+SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite) {
+  SurfaceFacet f;
+  for (int k = 0, n = 0; k < 4; ++k) {
+    if (k != opposite) f.vertices[n++] = carved_cell->vertex(k);
+  }
+  // Counter-clockwise seen from the carved side, where the opposite vertex lies.
+  if (CGAL::orientation(f.vertices[0]->point(), f.vertices[1]->point(), f.vertices[2]->point(),
+                        carved_cell->vertex(opposite)->point()) == CGAL::NEGATIVE) {
+    std::swap(f.vertices[1], f.vertices[2]);
+  }
+  for (int k = 0; k < 3; ++k) f.id[k] = VertexKey(f.vertices[k]);
+  std::sort(f.id.begin(), f.id.end());
+  return f;
+}
+
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets) {
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
     if (!c->info().carved) continue;
     for (int i = 0; i < 4; ++i) {
       if (c->neighbor(i)->info().carved) continue;
-      SurfaceFacet f;
-      for (int k = 0, n = 0; k < 4; ++k) {
-        if (k != i) f.vertices[n++] = c->vertex(k);
-      }
+      SurfaceFacet f = OrientedFacet(c, i);
       if (drop_steiner && std::any_of(f.vertices.begin(), f.vertices.end(),
                                       [](VertexHandle v) { return v->info().steiner; })) {
         continue;
       }
-      // Counter-clockwise seen from the carved side, where the opposite vertex lies.
-      if (CGAL::orientation(f.vertices[0]->point(), f.vertices[1]->point(), f.vertices[2]->point(),
-                            c->vertex(i)->point()) == CGAL::NEGATIVE) {
-        std::swap(f.vertices[1], f.vertices[2]);
-      }
-      for (int k = 0; k < 3; ++k) f.id[k] = VertexKey(f.vertices[k]);
-      std::sort(f.id.begin(), f.id.end());
       facets->push_back(f);
     }
   }

@@ -28,6 +28,9 @@ struct SurfaceFacet {
   TriangleId id;  // sorted vertex keys
 };
 
+// The facet of `carved_cell` opposite its vertex `opposite`, oriented counter-clockwise seen from the cell.
+SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
+
 // Boundary facets between carved and uncarved cells; with `drop_steiner`, facets touching a Steiner vertex are
 // left out. Appends to `facets`.
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets);
