@@ -89,7 +89,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   InsertVertices(&pending, &result);
   touched_.clear();
   std::vector<CellHandle> uncarved;
-  carver_.Repair(boundary_, &uncarved);
+  carver_.UncarveStars(boundary_, &uncarved);
   result.cells_uncarved = uncarved.size();
 
   // Votes: retrace the affected rays, trace the new ones.

@@ -119,4 +119,20 @@ void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<Cell
   }
 }
 
+void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved) {
+  std::vector<VertexHandle> to_check;
+  std::vector<CellHandle> star;
+  for (const VertexHandle v : vertices) {
+    star.clear();
+    dt_->incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (!c->info().carved) continue;
+      c->info().carved = false;
+      uncarved->push_back(c);
+      for (int k = 0; k < 4; ++k) to_check.push_back(c->vertex(k));
+    }
+  }
+  Repair(std::move(to_check), uncarved);
+}
+
 }  // namespace semap::map_internal

@@ -37,6 +37,10 @@ class ManifoldCarver {
   // uncarved cells to `uncarved`.
   void Repair(std::vector<VertexHandle> vertices, std::vector<CellHandle>* uncarved);
 
+  // Uncarves every carved cell incident to `vertices`, then repairs around them (Repair). Appends the
+  // uncarved cells to `uncarved`.
+  void UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved);
+
   std::uint64_t num_tests() const { return num_tests_; }
 
  private:

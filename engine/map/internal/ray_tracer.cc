@@ -31,14 +31,16 @@ bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vecto
   const Eigen::Vector3d to_point = p - camera;
   const double length = to_point.norm();
   if (!(length > 0.0)) return false;
+  const double free_saturation = SaturationDistance(geometry.sigma_free_m);
+  const double matter_saturation = SaturationDistance(geometry.sigma_matter_m);
   WalkSegment(dt, target, ToPoint(camera), [&](CellHandle cell) {
-    const double d = DistanceToClosestFacet(cell, target);
+    const double d = DistanceToClosestFacet(cell, target, free_saturation);
     votes->entries.push_back({cell, QuantiseWeight(GaussianComplement(d, geometry.sigma_free_m)), false});
   });
   if (geometry.extension_m > 0.0) {
     const Eigen::Vector3d end = p + to_point * (geometry.extension_m / length);
     WalkSegment(dt, target, ToPoint(end), [&](CellHandle cell) {
-      const double d = DistanceToClosestFacet(cell, target);
+      const double d = DistanceToClosestFacet(cell, target, matter_saturation);
       votes->entries.push_back({cell, QuantiseWeight(GaussianComplement(d, geometry.sigma_matter_m)), true});
     });
   }

@@ -32,15 +32,24 @@ double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
   return (ap - ab * v - ac * w).norm();  // face region
 }
 
-double DistanceToClosestFacet(CellHandle cell, VertexHandle target) {
+double DistanceToClosestFacet(CellHandle cell, VertexHandle target, double saturation_m) {
   std::array<VertexHandle, 4> v{cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3)};
+  const Eigen::Vector3d p = ToEigen(target->point());
+  if (v[0] != target && v[1] != target && v[2] != target && v[3] != target) {
+    Eigen::Vector3d lo = ToEigen(v[0]->point()), hi = lo;
+    for (int k = 1; k < 4; ++k) {
+      lo = lo.cwiseMin(ToEigen(v[k]->point()));
+      hi = hi.cwiseMax(ToEigen(v[k]->point()));
+    }
+    const double box_distance = (p - p.cwiseMax(lo).cwiseMin(hi)).norm();
+    if (box_distance >= saturation_m) return box_distance;
+  }
   std::sort(v.begin(), v.end(), [](VertexHandle x, VertexHandle y) {
     const Point &a = x->point(), &b = y->point();
     if (a.x() != b.x()) return a.x() < b.x();
     if (a.y() != b.y()) return a.y() < b.y();
     return a.z() < b.z();
   });
-  const Eigen::Vector3d p = ToEigen(target->point());
   double best = std::numeric_limits<double>::infinity();
   for (int skip = 0; skip < 4; ++skip) {
     std::array<Eigen::Vector3d, 3> tri;

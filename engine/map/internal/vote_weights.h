@@ -33,9 +33,18 @@ inline double GaussianComplement(double d_m, double sigma_m) {
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c);
 
-// d of the weights above for the ray to vertex `target` and the finite cell `cell`. The cell's vertices are
-// taken in lexicographic order of their coordinates so that the result does not depend on CGAL's vertex order
-// inside the cell (the same cell in two triangulations gives bit-identical distances).
-double DistanceToClosestFacet(CellHandle cell, VertexHandle target);
+// The distance beyond which the fixed-point weight with this σ is exactly kVoteScale (the Gaussian term is below
+// a quarter of a fixed-point unit, so rounding gives the full weight whatever the exact distance).
+inline double SaturationDistance(double sigma_m) {
+  return sigma_m * std::sqrt(2.0 * std::log(4.0 * kVoteScale));
+}
+
+// d of the weights above for the ray to vertex `target` and the finite cell `cell`, or some value
+// ≥ saturation_m when d ≥ saturation_m (then the fixed-point weight is the same): for a cell not incident to
+// the target, the distance from the target to the cell's bounding box is a lower bound of d and is returned
+// when it reaches saturation_m. The cell's vertices are taken in lexicographic order of their coordinates so
+// that the result does not depend on CGAL's vertex order inside the cell (the same cell in two triangulations
+// gives bit-identical distances).
+double DistanceToClosestFacet(CellHandle cell, VertexHandle target, double saturation_m);
 
 }  // namespace semap::map_internal

@@ -96,7 +96,8 @@ void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options,
   std::vector<std::array<double, 9>> diff;
   std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(diff));
   *mesh_diff = int(diff.size());
-  std::cout << "  carved: incremental " << map.Statistics().num_carved_cells << " batch " << batch.statistics.num_carved_cells << " free " << batch.statistics.num_free_cells << "\n";
+  // Measured: 0-23 % of the batch triangles on these streams (see the printed lines).
+  EXPECT_LE(double(diff.size()), 0.3 * double(b.size())) << "incremental mesh too far from the batch mesh";
   *mesh_size = int(b.size());
 }
 
@@ -172,12 +173,11 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
   RandomStream stream(11);
   std::size_t max_early = 0, max_late = 0, finalised_triangles = 0;
   std::set<std::array<double, 9>> finalised;
-  const int frames = 80;
+  const int frames = 60;
   for (int f = 0; f < frames; ++f) {
     std::vector<Observation> extra;
     stream.known_ids.clear();  // extra rays only to live points: keep none (old ids may be finalised)
-    const MapUpdateResult r = map.Update(stream.Frame(f, 250, &extra));
-    (void)r;
+    map.Update(stream.Frame(f, 200, &extra));
     const MapStatistics s = map.Statistics();
     if (f >= 15 && f < 30) max_early = std::max(max_early, s.num_cells);
     if (f >= frames - 15) max_late = std::max(max_late, s.num_cells);
@@ -192,7 +192,7 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
   const MapStatistics s = map.Statistics();
   std::cout << "live points " << s.num_points << ", cells " << s.num_cells << " (max frames 15-30: " << max_early
             << ", last 15: " << max_late << "), finalised triangles " << finalised_triangles << "\n";
-  EXPECT_LT(s.num_points, 250u * 10);
+  EXPECT_LT(s.num_points, 200u * 10);  // at most the last 9 frames live
   EXPECT_LT(double(max_late), 1.3 * double(max_early));
   EXPECT_GT(finalised_triangles, 1000u);
 }
