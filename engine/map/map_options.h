@@ -35,7 +35,7 @@ struct MapOptions {
   // Memory bound: points older than finalise_age_frames frames, or farther than finalise_distance_m from the
   // latest camera (and older than finalise_min_age_frames) are finalised: the triangles touching them are
   // emitted once, then their rays, cells and vertices are released. 0 = never finalise by that criterion.
-  int finalise_age_frames = 0;
+  int finalise_age_frames = 50;
   double finalise_distance_m = 0.0;
   int finalise_min_age_frames = 5;
 
