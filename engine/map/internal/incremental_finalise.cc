@@ -53,37 +53,54 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   }
   CollectBoundary(removing);
   std::vector<std::uint32_t> affected;
-  const std::uint32_t untraced = UntraceAffectedRays(&affected);
+  CollectAffectedRays(&affected);
+  // The finalised points' rays are untraced in full (they may cross cells far from the removed stars).
+  decreased_.clear();
   for (std::uint32_t id : finalised) {
     for (std::uint32_t ray : points_.at(id).rays) {
-      if (rays_[ray].mark != untraced) ApplyRay(ray, -1);
+      ApplyRay(ray, -1);
       auto cam = cameras_.find(rays_[ray].camera);
       if (--cam->second.live_rays == 0 && cam->second.frame < frame_) cameras_.erase(cam);
       rays_.Release(ray);
     }
+  }
+  std::vector<CellHandle> lost;  // surviving cells that lost votes
+  for (const CellHandle c : decreased_) {
+    if (c->info().stamp != cell_mark) lost.push_back(c);
   }
   std::vector<std::uint32_t> retrace;
   for (std::uint32_t ray : affected) {
     if (rays_[ray].live) retrace.push_back(ray);
   }
 
+  // Remove; the cells filling the holes are those around the boundary vertices not there before.
+  const std::uint32_t old_mark = NewMark();
+  std::vector<CellHandle> around;
+  for (const VertexHandle v : boundary_) {
+    around.clear();
+    dt_.incident_cells(v, std::back_inserter(around));
+    for (const CellHandle c : around) c->info().stamp = old_mark;
+  }
   for (const VertexHandle v : removed) dt_.remove(v);
   for (std::uint32_t id : finalised) points_.erase(id);
+  created_mark_ = NewMark();
+  MarkCreatedCells(boundary_, old_mark);
   result->points_finalised = finalised.size();
   result->vertices_removed = removed.size();
 
   touched_.clear();
   touch_mark_ = NewMark();
   std::vector<CellHandle> uncarved;
-  carver_.Repair(boundary_, &uncarved);
+  carver_.UncarveStars(boundary_, &uncarved);
+  uncarved.insert(uncarved.end(), lost.begin(), lost.end());
   for (const CellHandle c : uncarved) {
     if (c->info().stamp == touch_mark_) continue;
     c->info().stamp = touch_mark_;
     touched_.push_back(c);
   }
-  TraceRays(retrace);
+  for (std::uint32_t ray : retrace) ApplyRay(ray, +1, /*only_created=*/true);
   result->rays_retraced += retrace.size();
-  result->cells_uncarved += uncarved.size() + ShrinkNonFree();
+  result->cells_uncarved += uncarved.size() - lost.size() + ShrinkNonFree();
   result->cells_carved += Regrow();
 }
 

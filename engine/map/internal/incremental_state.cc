@@ -83,10 +83,12 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   CollectConflicts(pending);
   result.cells_destroyed = destroyed_.size();
   std::vector<std::uint32_t> affected;
-  UntraceAffectedRays(&affected);
+  CollectAffectedRays(&affected);
   result.rays_retraced = affected.size();
 
   InsertVertices(&pending, &result);
+  created_mark_ = NewMark();
+  MarkCreatedCells(inserted_, kNoMark);
   touched_.clear();
   std::vector<CellHandle> uncarved;
   carver_.UncarveStars(boundary_, &uncarved);
@@ -101,7 +103,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
     }
   }
   touch_mark_ = touch_mark;
-  TraceRays(affected);
+  for (std::uint32_t ray : affected) ApplyRay(ray, +1, /*only_created=*/true);
   std::vector<std::uint32_t> created;
   for (const auto& [point, camera] : new_rays) {
     const std::uint32_t ray = rays_.Add(point, camera);
@@ -209,7 +211,18 @@ void IncrementalState::CollectBoundary(std::uint32_t excluded_vertex_mark) {
   }
 }
 
-std::uint32_t IncrementalState::UntraceAffectedRays(std::vector<std::uint32_t>* affected) {
+void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark) {
+  std::vector<CellHandle> star;
+  for (const VertexHandle v : vertices) {
+    star.clear();
+    dt_.incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (c->info().stamp != old_mark) c->info().created = created_mark_;
+    }
+  }
+}
+
+std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* affected) {
   const std::uint32_t mark = NewMark();
   for (const CellHandle c : destroyed_) {
     for (const RayRef& ref : c->info().rays) {
@@ -218,11 +231,11 @@ std::uint32_t IncrementalState::UntraceAffectedRays(std::vector<std::uint32_t>* 
       affected->push_back(ref.ray);
     }
   }
-  for (std::uint32_t ray : *affected) ApplyRay(ray, -1);
   return mark;
 }
 
 void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result) {
+  inserted_.clear();
   VertexHandle previous;
   for (const PendingVertex& pv : *pending) {
     const std::size_t before = dt_.number_of_vertices();
@@ -239,14 +252,15 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
       ++result->steiner_inserted;
     }
     previous = v;
+    inserted_.push_back(v);
   }
 }
 
-void IncrementalState::ApplyRay(std::uint32_t ray, int sign) {
+void IncrementalState::ApplyRay(std::uint32_t ray, int sign, bool only_created) {
   RayRecord& r = rays_[ray];
   const PointRecord& point = points_.at(r.point);
   const CameraRecord& camera = cameras_.at(r.camera);
-  if (ComputeRayVotes(dt_, point.vertex, camera.center, geometry_, &votes_)) {
+  if (ComputeRayVotes(dt_, point.vertex, camera.center, geometry_, &votes_, only_created ? created_mark_ : 0)) {
     ++counters_.rays_traced;
     counters_.cells_visited += votes_.entries.size();
     for (const RayVotes::Entry& e : votes_.entries) {
@@ -258,6 +272,8 @@ void IncrementalState::ApplyRay(std::uint32_t ray, int sign) {
           info.stamp = touch_mark_;
           touched_.push_back(e.cell);
         }
+      } else {
+        decreased_.push_back(e.cell);
       }
     }
   }

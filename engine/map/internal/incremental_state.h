@@ -55,16 +55,20 @@ class IncrementalState {
   void CollectBoundary(std::uint32_t excluded_vertex_mark);
   // Uncarves the touched cells that are no longer free, then repairs the manifold around them.
   std::size_t ShrinkNonFree();
-  // Untraces the live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
-  std::uint32_t UntraceAffectedRays(std::vector<std::uint32_t>* affected);
+  // The live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
+  std::uint32_t CollectAffectedRays(std::vector<std::uint32_t>* affected);
+  // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
+  void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
   void TraceRays(const std::vector<std::uint32_t>& rays);
   std::size_t Regrow();
   void Finalise(MapUpdateResult* result);
   void EmitFinalisedFacets(const std::vector<VertexHandle>& vertices);
 
-  // Ray votes: sign +1 traces (adds votes and cell entries), -1 untraces.
-  void ApplyRay(std::uint32_t ray, int sign);
+  // Ray votes: sign +1 traces (adds votes and cell entries), -1 untraces (and lists the cells in decreased_).
+  // With `only_created`, the votes go to the cells created in this update only: the ray's votes in the cells
+  // that survived the change are still there (same cell, same point, same weight).
+  void ApplyRay(std::uint32_t ray, int sign, bool only_created = false);
   std::uint32_t NewMark() { return ++mark_; }
   AttributeLookup Attributes() const;
 
@@ -84,12 +88,15 @@ class IncrementalState {
   std::int64_t frame_ = -1;
   std::uint32_t mark_ = 0;
   std::uint32_t touch_mark_ = 0;
+  std::uint32_t created_mark_ = 0;
   Eigen::Vector3d last_camera_ = Eigen::Vector3d::Zero();
 
   // Scratch of one update.
   std::vector<CellHandle> destroyed_;       // cells (with votes) the change destroys
   std::vector<VertexHandle> boundary_;      // their vertices
   std::vector<CellHandle> touched_;         // cells whose votes or carving changed
+  std::vector<CellHandle> decreased_;       // cells that lost votes (untraced rays)
+  std::vector<VertexHandle> inserted_;      // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
   RayVotes votes_;
 

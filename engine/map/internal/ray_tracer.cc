@@ -25,7 +25,7 @@ void WalkSegment(const Delaunay& dt, VertexHandle from, const Point& to, Fn&& on
 }  // namespace
 
 bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vector3d& camera,
-                     const RayGeometry& geometry, RayVotes* votes) {
+                     const RayGeometry& geometry, RayVotes* votes, std::uint32_t only_created) {
   votes->entries.clear();
   const Eigen::Vector3d p = ToEigen(target->point());
   const Eigen::Vector3d to_point = p - camera;
@@ -33,13 +33,16 @@ bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vecto
   if (!(length > 0.0)) return false;
   const double free_saturation = SaturationDistance(geometry.sigma_free_m);
   const double matter_saturation = SaturationDistance(geometry.sigma_matter_m);
+  auto skip = [only_created](CellHandle cell) { return only_created != 0 && cell->info().created != only_created; };
   WalkSegment(dt, target, ToPoint(camera), [&](CellHandle cell) {
+    if (skip(cell)) return;
     const double d = DistanceToClosestFacet(cell, target, free_saturation);
     votes->entries.push_back({cell, QuantiseWeight(GaussianComplement(d, geometry.sigma_free_m)), false});
   });
   if (geometry.extension_m > 0.0) {
     const Eigen::Vector3d end = p + to_point * (geometry.extension_m / length);
     WalkSegment(dt, target, ToPoint(end), [&](CellHandle cell) {
+      if (skip(cell)) return;
       const double d = DistanceToClosestFacet(cell, target, matter_saturation);
       votes->entries.push_back({cell, QuantiseWeight(GaussianComplement(d, geometry.sigma_matter_m)), true});
     });

@@ -32,7 +32,9 @@ struct RayGeometry {
 // through an edge or a vertex it continues in the cell entered strictly, and it always ends (the segment is
 // finite and each step advances along it). Returns false (and no votes) for a degenerate ray (camera at the
 // point). Requires dimension 3 and the camera and the extension end inside the convex hull.
+// With `only_created` ≠ 0, only the cells whose info().created equals it get an entry (the others are walked
+// through without computing their weight).
 bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vector3d& camera,
-                     const RayGeometry& geometry, RayVotes* votes);
+                     const RayGeometry& geometry, RayVotes* votes, std::uint32_t only_created = 0);
 
 }  // namespace semap::map_internal

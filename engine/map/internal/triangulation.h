@@ -36,6 +36,7 @@ struct CellInfo {
   std::int64_t matter_q = 0;
   bool carved = false;       // inside the manifold free-space region
   std::uint32_t stamp = 0;   // scratch mark for set membership during one update
+  std::uint32_t created = 0;  // mark of the update that created the cell (incremental map)
   std::vector<RayRef> rays;  // rays whose trace gave this cell a vote (may hold stale entries)
 
   bool IsFree() const { return free_q > matter_q; }

@@ -126,6 +126,33 @@ TEST(BatchMap, StreetCorridorAccuracy) {
   EXPECT_LT(error.median_m, 0.02);
   EXPECT_LT(error.mean_m, 0.1);
   EXPECT_LT(error.rmse_m, 0.5);  // dominated by ~1 % of triangles closing the unobserved sky (up to 6 m off)
+
+  // Mesh depth vs exact depth per camera, on a sparse grid of pixel rays (distance along the ray, both sides
+  // defined the same way), where the scene has a surface within range.
+  std::vector<double> abs_errors;
+  std::size_t with_truth = 0;
+  for (const Eigen::Vector3d& camera : cloud.camera_centers_world) {
+    for (int j = 0; j < 12; ++j) {
+      for (int i = 0; i < 16; ++i) {
+        const Eigen::Vector3d dir = Eigen::Vector3d((i + 0.37) / 16 * 1.6 - 0.8, 1.0, (j + 0.41) / 12 * 1.0 - 0.5).normalized();
+        const auto truth = scene.Cast(camera, dir);
+        if (!truth || truth->first > so.max_range_m - 5.0) continue;
+        ++with_truth;
+        if (const auto depth = test::RayMeshDistance(r.mesh, camera, dir)) abs_errors.push_back(std::abs(*depth - truth->first));
+      }
+    }
+  }
+  ASSERT_GT(with_truth, 500u);
+  std::sort(abs_errors.begin(), abs_errors.end());
+  double mean = 0.0;
+  for (double e : abs_errors) mean += e / abs_errors.size();
+  const double median = abs_errors[abs_errors.size() / 2];
+  const double p90 = abs_errors[abs_errors.size() * 9 / 10];
+  std::cout << "street depth: " << abs_errors.size() << " of " << with_truth << " rays hit the mesh, |error| mean "
+            << mean << " m, median " << median << " m, p90 " << p90 << " m\n";
+  EXPECT_GT(abs_errors.size(), with_truth * 95 / 100);
+  EXPECT_LT(median, 0.02);
+  EXPECT_LT(p90, 0.1);
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <vector>
 #include <functional>
+#include <optional>
+
+#include <Eigen/Geometry>
 
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh.h"
@@ -47,6 +50,28 @@ inline SurfaceError MeshError(const Mesh& mesh, const std::function<double(const
     e.median_m = all[all.size() / 2];
   }
   return e;
+}
+
+// Distance along origin + t·dir (t > 0) to the first triangle of `mesh` hit (Möller–Trumbore), if any.
+inline std::optional<double> RayMeshDistance(const Mesh& mesh, const Eigen::Vector3d& origin,
+                                             const Eigen::Vector3d& dir) {
+  std::optional<double> best;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[t[0]];
+    const Eigen::Vector3d e1 = mesh.vertices[t[1]] - a, e2 = mesh.vertices[t[2]] - a;
+    const Eigen::Vector3d h = dir.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-15) continue;
+    const Eigen::Vector3d s = origin - a;
+    const double u = s.dot(h) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = dir.dot(q) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double dist = e2.dot(q) / det;
+    if (dist > 1e-9 && (!best || dist < *best)) best = dist;
+  }
+  return best;
 }
 
 }  // namespace semap::test
