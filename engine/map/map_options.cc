@@ -17,6 +17,7 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(finalise_distance_m >= 0.0, "finalise_distance_m", finalise_distance_m, "must be >= 0");
   SEMAP_CHECK_OPTION(finalise_min_age_frames >= 1, "finalise_min_age_frames", finalise_min_age_frames,
                      "must be >= 1");
+  SEMAP_CHECK_OPTION(finalise_every_frames >= 1, "finalise_every_frames", finalise_every_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(steiner_spacing_m > 2.0 * ray_extension_m(), "steiner_spacing_m", steiner_spacing_m,
                      "must exceed twice the ray extension (ray_extension_factor * sigma_matter_m)");
 }

@@ -38,6 +38,9 @@ struct MapOptions {
   int finalise_age_frames = 50;
   double finalise_distance_m = 0.0;
   int finalise_min_age_frames = 5;
+  // Finalisation runs every this many frames (≥ 1): each run retraces the rays through the released cells,
+  // so batching the releases amortises that cost; the live window grows by up to this many frames.
+  int finalise_every_frames = 10;
 
   // Throws semap::InvalidOption naming the offending field.
   void Check() const;

@@ -38,6 +38,8 @@ void Bind(FieldBinder& b, MapOptions& o) {
   b.Field("finalise_distance_m", &o.finalise_distance_m,
           "finalise points farther than this from the latest camera; 0 = never by distance");
   b.Field("finalise_min_age_frames", &o.finalise_min_age_frames, "minimum age before finalising by distance");
+  b.Field("finalise_every_frames", &o.finalise_every_frames,
+          "run finalisation every this many frames (amortises the retracing it causes)");
 }
 
 template <typename Options>

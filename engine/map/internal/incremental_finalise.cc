@@ -7,7 +7,7 @@ namespace semap::map_internal {
 void IncrementalState::Finalise(MapUpdateResult* result) {
   const int max_age = options_.finalise_age_frames;
   const double max_distance = options_.finalise_distance_m;
-  if (max_age <= 0 && max_distance <= 0.0) return;
+  if ((max_age <= 0 && max_distance <= 0.0) || frame_ % options_.finalise_every_frames != 0) return;
 
   // Points to finalise: the oldest first (the distance test is made on the oldest points only, in order).
   std::vector<std::uint32_t> finalised;
