@@ -39,5 +39,6 @@ void RegisterLcmMeshCommand(CLI::App& app, int* exit_code);
 void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
 void RegisterInfoCommand(CLI::App& app, int* exit_code);
 void RegisterEvalCommand(CLI::App& app, int* exit_code);
+void RegisterRunCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "semap 0.1.0");
   int exit_code = kExitOk;
   const RegisterFn commands[] = {
+      RegisterRunCommand,
       RegisterConfigCommand,
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,

@@ -24,4 +24,26 @@ LabelledCloud WindowedSimplifyStage::Process(LabelledCloud cloud, std::vector<Cl
   return std::move(result.kept);
 }
 
+MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&) {
+  // The cloud's camera (its frame's left camera) is where every ray of this frame starts.
+  map_.Update(cloud);
+  last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
+  return Report(map_.TakeMeshDelta(last_frame_id_));
+}
+
+MapUpdate IncrementalMapStage::Finish() { return Report(map_.TakeMeshDelta(last_frame_id_)); }
+
+MapUpdate IncrementalMapStage::Report(MeshDelta delta) {
+  published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
+                          static_cast<std::int64_t>(delta.removed_triangle_ids.size());
+  const MapStatistics s = map_.Statistics();
+  MapUpdate u;
+  u.delta = std::move(delta);
+  u.vertices = static_cast<std::int64_t>(s.num_points + s.num_steiner_vertices);
+  u.cells = static_cast<std::int64_t>(s.num_cells);
+  u.rays = static_cast<std::int64_t>(s.num_rays);
+  u.mesh_triangles = published_triangles_;
+  return u;
+}
+
 }  // namespace semap

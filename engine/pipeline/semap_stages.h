@@ -6,6 +6,7 @@
 
 #include "engine/core/class_map.h"
 #include "engine/depth/stereo_depth.h"
+#include "engine/map/incremental_map.h"
 #include "engine/pipeline/stages.h"
 #include "engine/semantics/labelling.h"
 #include "engine/semantics/segmenter.h"
@@ -35,6 +36,21 @@ class WindowedSimplifyStage : public SimplifyStage {
 
  private:
   WindowedSimplifier simplifier_;
+};
+
+// The incremental Delaunay map: each frame's kept points with their camera update the map, and the change of
+// the published mesh (live surface + finalised regions) goes out as a delta.
+class IncrementalMapStage : public MapStage {
+ public:
+  explicit IncrementalMapStage(const MapOptions& options) : map_(options) {}
+  MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override;
+  MapUpdate Finish() override;
+
+ private:
+  MapUpdate Report(MeshDelta delta);
+  IncrementalMap map_;
+  std::int64_t published_triangles_ = 0;
+  std::int64_t last_frame_id_ = -1;
 };
 
 }  // namespace semap

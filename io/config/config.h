@@ -9,6 +9,7 @@
 #include "engine/depth/stereo_depth.h"
 #include "engine/semantics/segmenter.h"
 #include "engine/simplify/simplify.h"
+#include "engine/map/map_options.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 #include "engine/eval/depth_accuracy.h"
@@ -35,6 +36,7 @@ struct Config {
   DepthOptions depth;        // stereo matching and point cloud
   SemanticsOptions semantics;  // where per-pixel labels come from
   SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
+  MapOptions map;            // the Delaunay map: votes, manifold, incremental update, memory bound
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).

@@ -1,0 +1,77 @@
+// The incremental Delaunay map used by the pipeline: per frame, new points and rays update only the region
+// they affect; regions far behind the camera are finalised and released (memory bound).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/core/labelled_cloud.h"
+#include "engine/core/mesh.h"
+#include "engine/core/mesh_delta.h"
+#include "engine/map/map_options.h"
+#include "engine/map/map_types.h"
+
+namespace semap {
+
+inline constexpr std::uint32_t kDroppedPoint = 0xFFFFFFFFu;
+
+struct MapUpdateResult {
+  // Per input point: the id of the point it became or was merged into, or kDroppedPoint (beyond
+  // max_ray_length_m). Ids name points in later Observations.
+  std::vector<std::uint32_t> point_ids;
+  std::size_t inserted = 0;         // new vertices (data points)
+  std::size_t merged = 0;           // points merged into an existing one (their ray added)
+  std::size_t dropped = 0;
+  std::size_t steiner_inserted = 0;
+  std::size_t cells_destroyed = 0;  // cells with votes replaced by the insertion
+  std::size_t rays_retraced = 0;    // existing rays untraced and traced again
+  std::size_t rays_traced = 0;      // new rays
+  std::size_t cells_uncarved = 0;   // local shrink
+  std::size_t cells_carved = 0;     // local growth
+  std::size_t points_finalised = 0;
+  std::size_t vertices_removed = 0;  // finalised points and released Steiner vertices
+};
+
+// The live map as batch-map input: cloud point i is live point `point_ids[i]`; its first camera is the camera
+// of its first ray, its other rays are `extra` observations. Cameras are the live ones.
+struct MapSnapshot {
+  LabelledCloud cloud;
+  std::vector<Observation> extra;
+  std::vector<std::uint32_t> point_ids;
+};
+
+// Not thread-safe: one thread calls Update and the readers, in turn.
+class IncrementalMap {
+ public:
+  explicit IncrementalMap(const MapOptions& options);  // throws InvalidOption
+  ~IncrementalMap();
+  IncrementalMap(IncrementalMap&&) noexcept;
+  IncrementalMap& operator=(IncrementalMap&&) noexcept;
+
+  // One frame: `frame_points` with their cameras (camera_index into frame_points.camera_centers_world, usually
+  // the frame's one camera), plus `extra` rays to existing points (Observation.point = an id from an earlier
+  // update, Observation.camera indexes frame_points.camera_centers_world). A point within merge_distance_m of
+  // an existing point (or of an earlier point of the frame) is merged: its ray goes to that point.
+  // Throws std::invalid_argument for an unknown point id in `extra`.
+  MapUpdateResult Update(const LabelledCloud& frame_points, const std::vector<Observation>& extra = {});
+
+  // The current live surface (Steiner triangles dropped if the options say so).
+  Mesh ExtractMesh() const;
+  // The change of the published mesh since the previous call (the first call adds the whole surface):
+  // live surface triangles that appeared or disappeared, plus the triangles of regions finalised since the
+  // last call, added once and never removed afterwards (a subscriber keeps them; the map has released them).
+  // Vertex ids are the map's vertex keys (point ids; Steiner nodes have bit 63 set).
+  MeshDelta TakeMeshDelta(std::int64_t frame_id = -1);
+
+  std::vector<CellVotes> CellVotesSnapshot() const;
+  MapSnapshot ExportSnapshot() const;
+  MapStatistics Statistics() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+  MeshDiffer differ_;  // turns successive surfaces into deltas with stable triangle ids
+};
+
+}  // namespace semap

@@ -1,0 +1,324 @@
+#include "engine/map/internal/incremental_state.h"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
+
+#include "engine/core/check.h"
+
+namespace semap::map_internal {
+namespace {
+
+// Voxel key of the frame-local merge grid.
+std::int64_t VoxelKey(const Eigen::Vector3d& p, double size) {
+  const Eigen::Array3d c = (p / size).array().floor();
+  constexpr std::int64_t kOffset = 1 << 20;
+  return ((std::int64_t(c.x()) + kOffset) << 42) | ((std::int64_t(c.y()) + kOffset) << 21) |
+         (std::int64_t(c.z()) + kOffset);
+}
+
+// Sorts `pending` along a space-filling curve so consecutive insertions are neighbours (cheap locate).
+void SpatialSort(std::vector<PendingVertex>* pending) {
+  std::vector<Point> points;
+  points.reserve(pending->size());
+  for (const auto& p : *pending) points.push_back(ToPoint(p.position));
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), 0);
+  using Traits = CGAL::Spatial_sort_traits_adapter_3<Kernel, CGAL::Pointer_property_map<Point>::type>;
+  CGAL::spatial_sort(order.begin(), order.end(), Traits(CGAL::make_property_map(points)));
+  std::vector<PendingVertex> sorted;
+  sorted.reserve(order.size());
+  for (std::size_t i : order) sorted.push_back((*pending)[i]);
+  *pending = std::move(sorted);
+}
+
+}  // namespace
+
+IncrementalState::IncrementalState(const MapOptions& options)
+    : options_(options),
+      geometry_{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()},
+      carver_(&dt_, options.grow_passes),
+      lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
+
+AttributeLookup IncrementalState::Attributes() const {
+  return [this](std::uint32_t id) { return points_.at(id).attributes; };
+}
+
+MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::vector<Observation>& extra) {
+  frame.AssertConsistent();
+  SEMAP_ASSERT(frame.empty() || frame.camera_index.size() == frame.size(), "every point needs its camera");
+  ++frame_;
+  MapUpdateResult result;
+  for (const Observation& o : extra) {
+    if (!points_.count(o.point)) {
+      throw std::invalid_argument("map update: observation of unknown point id " + std::to_string(o.point));
+    }
+    SEMAP_ASSERT(o.camera < frame.camera_centers_world.size(), "observation camera out of range");
+  }
+
+  // Cameras of this frame.
+  std::vector<std::uint32_t> camera_ids;
+  std::vector<LatticeKey> nodes;
+  for (const Eigen::Vector3d& c : frame.camera_centers_world) {
+    camera_ids.push_back(next_camera_id_);
+    cameras_[next_camera_id_++] = CameraRecord{c, frame_, 0};
+    lattice_.Use(c, frame_, &nodes);
+    last_camera_ = c;
+  }
+
+  std::vector<PendingVertex> pending;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> new_rays;  // (point id, camera id)
+  ClassifyPoints(frame, camera_ids, &result, &pending, &new_rays);
+  for (const Observation& o : extra) new_rays.emplace_back(o.point, camera_ids[o.camera]);
+  for (const PendingVertex& p : pending) lattice_.Use(p.position, frame_, &nodes);
+  for (LatticeKey node : nodes) pending.push_back({lattice_.Position(node), kNoId, node});
+  SpatialSort(&pending);
+
+  // Destroyed cells and the rays through them, untraced in the old triangulation.
+  destroyed_.clear();
+  CollectConflicts(pending);
+  result.cells_destroyed = destroyed_.size();
+  std::vector<std::uint32_t> affected;
+  CollectAffectedRays(&affected);
+  result.rays_retraced = affected.size();
+
+  InsertVertices(&pending, &result);
+  created_mark_ = NewMark();
+  MarkCreatedCells(inserted_, kNoMark);
+  touched_.clear();
+  std::vector<CellHandle> uncarved;
+  carver_.UncarveStars(boundary_, &uncarved);
+  result.cells_uncarved = uncarved.size();
+
+  // Votes: retrace the affected rays, trace the new ones.
+  const std::uint32_t touch_mark = NewMark();
+  for (CellHandle c : uncarved) {
+    if (c->info().stamp != touch_mark) {
+      c->info().stamp = touch_mark;
+      touched_.push_back(c);
+    }
+  }
+  touch_mark_ = touch_mark;
+  for (std::uint32_t ray : affected) ApplyRay(ray, +1, /*only_created=*/true);
+  std::vector<std::uint32_t> created;
+  for (const auto& [point, camera] : new_rays) {
+    const std::uint32_t ray = rays_.Add(point, camera);
+    points_.at(point).rays.push_back(ray);
+    ++cameras_.at(camera).live_rays;
+    created.push_back(ray);
+  }
+  TraceRays(created);
+  result.rays_traced = created.size();
+  result.cells_uncarved += ShrinkNonFree();
+  result.cells_carved = Regrow();
+  Finalise(&result);
+  return result;
+}
+
+void IncrementalState::ClassifyPoints(const LabelledCloud& frame, const std::vector<std::uint32_t>& camera_ids,
+                                      MapUpdateResult* result, std::vector<PendingVertex>* pending,
+                                      std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays) {
+  const double merge = options_.merge_distance_m;
+  const double voxel = std::max(merge, 1e-3);
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;  // frame-local new points by voxel
+  result->point_ids.assign(frame.size(), kDroppedPoint);
+  CellHandle hint;
+  for (std::uint32_t i = 0; i < frame.size(); ++i) {
+    const Eigen::Vector3d& p = frame.positions_world[i];
+    const std::uint32_t camera = camera_ids[frame.camera_index[i]];
+    const double range = (p - cameras_.at(camera).center).norm();
+    if (!(range > 0.0) || (options_.max_ray_length_m > 0.0 && range > options_.max_ray_length_m)) {
+      ++result->dropped;
+      continue;
+    }
+    std::uint32_t target = kNoId;
+    if (dt_.dimension() == 3) {
+      const VertexHandle v = dt_.nearest_vertex(ToPoint(p), hint);
+      hint = v->cell();
+      if (!dt_.is_infinite(v) && !v->info().steiner && (ToEigen(v->point()) - p).norm() <= merge) {
+        target = v->info().id;
+      }
+    }
+    if (target == kNoId) {
+      const Eigen::Array3d base = (p / voxel).array().floor();
+      for (int dx = -1; dx <= 1 && target == kNoId; ++dx)
+        for (int dy = -1; dy <= 1 && target == kNoId; ++dy)
+          for (int dz = -1; dz <= 1 && target == kNoId; ++dz) {
+            auto it = grid.find(VoxelKey((base + Eigen::Array3d(dx, dy, dz) + 0.5).matrix() * voxel, voxel));
+            if (it == grid.end()) continue;
+            for (std::uint32_t id : it->second) {
+              if ((points_.at(id).position - p).norm() <= merge) {
+                target = id;
+                break;
+              }
+            }
+          }
+    }
+    if (target != kNoId) {
+      ++result->merged;
+    } else {
+      target = next_point_id_++;
+      PointRecord& record = points_[target];
+      record.position = p;
+      record.frame = frame_;
+      if (!frame.labels.empty()) record.attributes.label = frame.labels[i];
+      if (!frame.colors_rgb.empty()) record.attributes.color_rgb = frame.colors_rgb[i];
+      grid[VoxelKey(p, voxel)].push_back(target);
+      pending->push_back({p, target, 0});
+    }
+    result->point_ids[i] = target;
+    new_rays->emplace_back(target, camera);
+  }
+}
+
+void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pending) {
+  boundary_.clear();
+  if (dt_.dimension() < 3) return;
+  const std::uint32_t mark = NewMark();
+  CellHandle hint;
+  for (const PendingVertex& pv : pending) {
+    const Point p = ToPoint(pv.position);
+    Delaunay::Locate_type lt;
+    int li, lj;
+    const CellHandle c = dt_.locate(p, lt, li, lj, hint);
+    hint = c;
+    SEMAP_ASSERT(lt != Delaunay::VERTEX, "a new vertex coincides with an existing one at " << pv.position.transpose());
+    conflict_scratch_.clear();
+    dt_.find_conflicts(p, c, CGAL::Emptyset_iterator(), std::back_inserter(conflict_scratch_));
+    for (const CellHandle cc : conflict_scratch_) {
+      if (cc->info().stamp == mark) continue;
+      cc->info().stamp = mark;
+      destroyed_.push_back(cc);
+    }
+  }
+  CollectBoundary(kNoMark);
+}
+
+void IncrementalState::CollectBoundary(std::uint32_t excluded_vertex_mark) {
+  boundary_.clear();
+  const std::uint32_t mark = NewMark();
+  for (const CellHandle c : destroyed_) {
+    for (int k = 0; k < 4; ++k) {
+      const VertexHandle v = c->vertex(k);
+      if (dt_.is_infinite(v) || v->info().stamp == mark || v->info().stamp == excluded_vertex_mark) continue;
+      v->info().stamp = mark;
+      boundary_.push_back(v);
+    }
+  }
+}
+
+void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark) {
+  std::vector<CellHandle> star;
+  for (const VertexHandle v : vertices) {
+    star.clear();
+    dt_.incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (c->info().stamp != old_mark) c->info().created = created_mark_;
+    }
+  }
+}
+
+std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* affected) {
+  const std::uint32_t mark = NewMark();
+  for (const CellHandle c : destroyed_) {
+    for (const RayRef& ref : c->info().rays) {
+      if (!rays_.IsLive(ref) || rays_[ref.ray].mark == mark) continue;
+      rays_[ref.ray].mark = mark;
+      affected->push_back(ref.ray);
+    }
+  }
+  return mark;
+}
+
+void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result) {
+  inserted_.clear();
+  VertexHandle previous;
+  for (const PendingVertex& pv : *pending) {
+    const std::size_t before = dt_.number_of_vertices();
+    const VertexHandle v = dt_.insert(ToPoint(pv.position), previous == VertexHandle() ? CellHandle() : previous->cell());
+    SEMAP_ASSERT(dt_.number_of_vertices() == before + 1, "vertex at an occupied position " << pv.position.transpose());
+    if (pv.point_id != kNoId) {
+      v->info() = VertexInfo{pv.point_id, false, 0};
+      points_.at(pv.point_id).vertex = v;
+      arrival_.push_back(pv.point_id);
+      ++result->inserted;
+    } else {
+      v->info() = VertexInfo{next_steiner_id_++, true, 0};
+      steiner_[pv.node] = v;
+      ++result->steiner_inserted;
+    }
+    previous = v;
+    inserted_.push_back(v);
+  }
+}
+
+void IncrementalState::ApplyRay(std::uint32_t ray, int sign, bool only_created) {
+  RayRecord& r = rays_[ray];
+  const PointRecord& point = points_.at(r.point);
+  const CameraRecord& camera = cameras_.at(r.camera);
+  if (ComputeRayVotes(dt_, point.vertex, camera.center, geometry_, &votes_, only_created ? created_mark_ : 0)) {
+    ++counters_.rays_traced;
+    counters_.cells_visited += votes_.entries.size();
+    for (const RayVotes::Entry& e : votes_.entries) {
+      CellInfo& info = e.cell->info();
+      (e.matter ? info.matter_q : info.free_q) += sign * e.weight_q;
+      if (sign > 0) {
+        rays_.AddRef(e.cell, ray);
+        if (info.stamp != touch_mark_) {
+          info.stamp = touch_mark_;
+          touched_.push_back(e.cell);
+        }
+      } else {
+        decreased_.push_back(e.cell);
+      }
+    }
+  }
+  if (sign < 0) ++r.epoch;
+}
+
+void IncrementalState::TraceRays(const std::vector<std::uint32_t>& rays) {
+  for (std::uint32_t ray : rays) ApplyRay(ray, +1);
+}
+
+std::size_t IncrementalState::ShrinkNonFree() {
+  std::vector<VertexHandle> vertices;
+  std::size_t uncarved = 0;
+  for (const CellHandle c : touched_) {
+    if (!c->info().carved || c->info().IsFree()) continue;
+    c->info().carved = false;
+    ++uncarved;
+    for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
+  }
+  std::vector<CellHandle> more;
+  carver_.Repair(vertices, &more);
+  for (const CellHandle c : more) {
+    if (c->info().stamp != touch_mark_) {
+      c->info().stamp = touch_mark_;
+      touched_.push_back(c);
+    }
+  }
+  return uncarved + more.size();
+}
+
+std::size_t IncrementalState::Regrow() {
+  std::vector<CellHandle> seeds;
+  CellHandle best;
+  for (const CellHandle c : touched_) {
+    if (c->info().carved || !c->info().IsFree() || dt_.is_infinite(c)) continue;
+    if (best == CellHandle() || c->info().free_q > best->info().free_q) best = c;
+    for (int i = 0; i < 4; ++i) {
+      if (c->neighbor(i)->info().carved) {
+        seeds.push_back(c);
+        break;
+      }
+    }
+  }
+  if (seeds.empty() && best != CellHandle()) seeds.push_back(best);
+  return carver_.Grow(seeds);
+}
+
+}  // namespace semap::map_internal

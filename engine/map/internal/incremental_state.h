@@ -1,0 +1,112 @@
+// The state of the incremental map and its update steps (engine/map/incremental_map.cc drives them).
+#pragma once
+
+#include <deque>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/core/mesh_delta.h"
+#include "engine/map/incremental_map.h"
+#include "engine/map/internal/manifold_carver.h"
+#include "engine/map/internal/ray_registry.h"
+#include "engine/map/internal/ray_tracer.h"
+#include "engine/map/internal/steiner_lattice.h"
+#include "engine/map/internal/surface_extraction.h"
+#include "engine/map/internal/triangulation.h"
+
+namespace semap::map_internal {
+
+struct SurfaceKeyHash {
+  std::size_t operator()(const SurfaceKey& t) const {
+    std::size_t h = 0;
+    for (auto k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<std::uint64_t>()(k);
+    return h;
+  }
+};
+
+// A pending insertion: a data point (id) or a Steiner node (node key).
+inline constexpr std::uint32_t kNoMark = 0xFFFFFFFFu;  // a stamp never given
+
+struct PendingVertex {
+  Eigen::Vector3d position;
+  std::uint32_t point_id = kNoId;  // kNoId for a Steiner node
+  LatticeKey node = 0;
+};
+
+class IncrementalState {
+ public:
+  explicit IncrementalState(const MapOptions& options);
+
+  MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
+  Mesh ExtractMesh() const;
+  // The live surface with each vertex's key (point id, or Steiner node key with bit 63 set).
+  IdentifiedMesh ExtractIdentifiedMesh() const;
+  // Triangles of finalised regions not yet taken (each exactly once), with vertex keys.
+  IdentifiedMesh TakeFinalisedMesh();
+  std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
+  MapSnapshot ExportSnapshot() const;
+  MapStatistics Statistics() const;
+
+ private:
+  // Update steps.
+  void ClassifyPoints(const LabelledCloud& frame, const std::vector<std::uint32_t>& camera_ids,
+                      MapUpdateResult* result, std::vector<PendingVertex>* pending,
+                      std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays);
+  void CollectConflicts(const std::vector<PendingVertex>& pending);
+  // boundary_ = the finite vertices of destroyed_, except those stamped `excluded_vertex_mark`.
+  void CollectBoundary(std::uint32_t excluded_vertex_mark);
+  // Uncarves the touched cells that are no longer free, then repairs the manifold around them.
+  std::size_t ShrinkNonFree();
+  // The live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
+  std::uint32_t CollectAffectedRays(std::vector<std::uint32_t>* affected);
+  // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
+  void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark);
+  void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
+  void TraceRays(const std::vector<std::uint32_t>& rays);
+  std::size_t Regrow();
+  void Finalise(MapUpdateResult* result);
+  void EmitFinalisedFacets(const std::vector<VertexHandle>& vertices);
+
+  // Ray votes: sign +1 traces (adds votes and cell entries), -1 untraces (and lists the cells in decreased_).
+  // With `only_created`, the votes go to the cells created in this update only: the ray's votes in the cells
+  // that survived the change are still there (same cell, same point, same weight).
+  void ApplyRay(std::uint32_t ray, int sign, bool only_created = false);
+  std::uint32_t NewMark() { return ++mark_; }
+  AttributeLookup Attributes() const;
+
+  MapOptions options_;
+  RayGeometry geometry_;
+  Delaunay dt_;
+  ManifoldCarver carver_;
+  SteinerLattice lattice_;
+  RayRegistry rays_;
+  std::unordered_map<std::uint32_t, PointRecord> points_;
+  std::unordered_map<std::uint32_t, CameraRecord> cameras_;
+  std::unordered_map<LatticeKey, VertexHandle> steiner_;
+  std::deque<std::uint32_t> arrival_;  // live point ids in insertion order (for finalisation by age)
+  std::uint32_t next_point_id_ = 0;
+  std::uint32_t next_camera_id_ = 0;
+  std::uint32_t next_steiner_id_ = 0;
+  std::int64_t frame_ = -1;
+  std::uint32_t mark_ = 0;
+  std::uint32_t touch_mark_ = 0;
+  std::uint32_t created_mark_ = 0;
+  Eigen::Vector3d last_camera_ = Eigen::Vector3d::Zero();
+
+  // Scratch of one update.
+  std::vector<CellHandle> destroyed_;       // cells (with votes) the change destroys
+  std::vector<VertexHandle> boundary_;      // their vertices
+  std::vector<CellHandle> touched_;         // cells whose votes or carving changed
+  std::vector<CellHandle> decreased_;       // cells that lost votes (untraced rays)
+  std::vector<VertexHandle> inserted_;      // vertices inserted in this update
+  std::vector<CellHandle> conflict_scratch_;
+  RayVotes votes_;
+
+  // Outputs.
+  IdentifiedMesh finalised_mesh_;
+  std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // vertex key → finalised_mesh_ vertex
+  MapStatistics counters_;
+};
+
+}  // namespace semap::map_internal

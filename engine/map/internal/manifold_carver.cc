@@ -1,0 +1,149 @@
+#include "engine/map/internal/manifold_carver.h"
+
+#include <algorithm>
+#include <queue>
+
+namespace semap::map_internal {
+namespace {
+
+constexpr int kNeighbourShift = 56;
+constexpr std::int64_t kMaxVoteKey = (std::int64_t(1) << kNeighbourShift) - 1;
+
+}  // namespace
+
+bool ManifoldCarver::IsRegular(VertexHandle v) {
+  ++num_tests_;
+  cells_.clear();
+  edges_.clear();
+  dt_->incident_cells(v, std::back_inserter(cells_));
+  for (const CellHandle c : cells_) {
+    if (!c->info().carved) continue;
+    const int iv = c->index(v);
+    for (int i = 0; i < 4; ++i) {
+      if (i == iv || c->neighbor(i)->info().carved) continue;
+      // Boundary facet opposite i: its link edge joins the two vertices other than v and c->vertex(i).
+      VertexHandle ends[2];
+      int n = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (k != iv && k != i) ends[n++] = c->vertex(k);
+      }
+      edges_.emplace_back(ends[0], ends[1]);
+    }
+  }
+  if (edges_.empty()) return true;
+  // Every link vertex must have exactly two boundary edges...
+  ends_.clear();
+  for (const auto& [a, b] : edges_) {
+    ends_.push_back(a);
+    ends_.push_back(b);
+  }
+  std::sort(ends_.begin(), ends_.end());
+  for (std::size_t i = 0; i < ends_.size(); i += 2) {
+    if (ends_[i] != ends_[i + 1] || (i + 2 < ends_.size() && ends_[i + 2] == ends_[i])) return false;
+  }
+  // ...and the edges must form one cycle, not several.
+  const VertexHandle start = edges_[0].first;
+  VertexHandle current = edges_[0].second;
+  std::size_t previous = 0, steps = 1;
+  while (current != start) {
+    std::size_t next = edges_.size();
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      if (e != previous && (edges_[e].first == current || edges_[e].second == current)) {
+        next = e;
+        break;
+      }
+    }
+    if (next == edges_.size()) return false;
+    current = edges_[next].first == current ? edges_[next].second : edges_[next].first;
+    previous = next;
+    ++steps;
+  }
+  return steps == edges_.size();
+}
+
+bool ManifoldCarver::AllVerticesRegular(CellHandle cell) {
+  for (int k = 0; k < 4; ++k) {
+    if (!IsRegular(cell->vertex(k))) return false;
+  }
+  return true;
+}
+
+bool ManifoldCarver::TryCarve(CellHandle cell) {
+  if (cell->info().carved || dt_->is_infinite(cell)) return false;
+  cell->info().carved = true;
+  if (AllVerticesRegular(cell)) return true;
+  cell->info().carved = false;
+  return false;
+}
+
+std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
+  using Entry = std::pair<std::int64_t, CellHandle>;
+  auto lower = [](const Entry& a, const Entry& b) { return a.first < b.first; };
+  std::priority_queue<Entry, std::vector<Entry>, decltype(lower)> queue(lower);
+  // Cells closing more of the region (more carved neighbours) first, then by free vote: a cell with several
+  // carved facets rarely pinches the surface, while growing thin fingers first blocks later additions.
+  auto push = [&](CellHandle c) {
+    if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c)) return;
+    std::int64_t carved_neighbours = 0;
+    for (int i = 0; i < 4; ++i) carved_neighbours += c->neighbor(i)->info().carved ? 1 : 0;
+    queue.emplace((carved_neighbours << kNeighbourShift) + std::min(c->info().free_q, kMaxVoteKey), c);
+  };
+  for (const CellHandle c : candidates) push(c);
+  std::size_t carved = 0;
+  std::vector<CellHandle> failed;
+  for (int pass = 0; pass < max_passes_; ++pass) {
+    std::size_t carved_in_pass = 0;
+    while (!queue.empty()) {
+      const CellHandle c = queue.top().second;
+      queue.pop();
+      if (!TryCarve(c)) {
+        failed.push_back(c);
+        continue;
+      }
+      ++carved_in_pass;
+      for (int i = 0; i < 4; ++i) push(c->neighbor(i));
+    }
+    carved += carved_in_pass;
+    if (carved_in_pass == 0 || failed.empty()) break;
+    // A failed cell may have become carvable through cells carved around its vertices (not only through its
+    // neighbours): retry them all once more.
+    for (const CellHandle c : failed) push(c);
+    failed.clear();
+  }
+  return carved;
+}
+
+void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<CellHandle>* uncarved) {
+  std::vector<CellHandle> star;
+  while (!vertices.empty()) {
+    const VertexHandle v = vertices.back();
+    vertices.pop_back();
+    if (dt_->is_infinite(v) || IsRegular(v)) continue;
+    star.clear();
+    dt_->incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (!c->info().carved) continue;
+      c->info().carved = false;
+      uncarved->push_back(c);
+      for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
+    }
+  }
+}
+
+void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved) {
+  std::vector<VertexHandle> to_check;
+  std::vector<CellHandle> star;
+  for (const VertexHandle v : vertices) {
+    star.clear();
+    dt_->incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (!c->info().carved) continue;
+      c->info().carved = false;
+      uncarved->push_back(c);
+      for (int k = 0; k < 4; ++k) to_check.push_back(c->vertex(k));
+    }
+  }
+  Repair(std::move(to_check), uncarved);
+}
+
+}  // namespace semap::map_internal

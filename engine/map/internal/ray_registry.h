@@ -1,0 +1,60 @@
+// Compact bookkeeping of the live points, cameras and rays of the incremental map.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/map/internal/surface_extraction.h"
+#include "engine/map/internal/triangulation.h"
+
+namespace semap::map_internal {
+
+struct PointRecord {
+  VertexHandle vertex;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  PointAttributes attributes;
+  std::int64_t frame = 0;           // frame of insertion
+  std::vector<std::uint32_t> rays;  // its rays, the first one from its first camera
+};
+
+struct CameraRecord {
+  Eigen::Vector3d center;
+  std::int64_t frame = 0;
+  std::uint32_t live_rays = 0;
+};
+
+struct RayRecord {
+  std::uint32_t point = kNoId;
+  std::uint32_t camera = kNoId;
+  std::uint32_t epoch = 0;  // bumped at each untrace and release: older cell entries become stale
+  std::uint32_t mark = 0;   // scratch set membership
+  bool live = false;
+};
+
+// Rays in a slot vector with a free list (slot ids are reused; the epoch keeps old cell entries stale).
+// Each cell keeps a vector of RayRef entries; stale ones are purged when the vector would grow, so a cell
+// holds at most about twice its live entries. Not thread-safe.
+class RayRegistry {
+ public:
+  std::uint32_t Add(std::uint32_t point, std::uint32_t camera);
+  void Release(std::uint32_t ray);
+  RayRecord& operator[](std::uint32_t ray) { return rays_[ray]; }
+  const RayRecord& operator[](std::uint32_t ray) const { return rays_[ray]; }
+  bool IsLive(const RayRef& ref) const {
+    return ref.ray < rays_.size() && rays_[ref.ray].live && rays_[ref.ray].epoch == ref.epoch;
+  }
+  // Appends a live entry of `ray` to `cell`, purging stale entries first when the vector is full.
+  void AddRef(CellHandle cell, std::uint32_t ray) const;
+  std::size_t num_live() const { return num_live_; }
+  std::size_t capacity() const { return rays_.size(); }
+
+ private:
+  std::vector<RayRecord> rays_;
+  std::vector<std::uint32_t> free_;
+  std::size_t num_live_ = 0;
+};
+
+}  // namespace semap::map_internal

@@ -1,0 +1,40 @@
+// Walks a visibility ray through the triangulation and computes its votes.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/map/internal/triangulation.h"
+
+namespace semap::map_internal {
+
+// The cells one ray votes on, with their fixed-point weights.
+struct RayVotes {
+  struct Entry {
+    CellHandle cell;
+    std::int64_t weight_q = 0;
+    bool matter = false;  // true: behind the point (matter vote); false: between camera and point (free vote)
+  };
+  std::vector<Entry> entries;
+};
+
+struct RayGeometry {
+  double sigma_free_m = 0.05;
+  double sigma_matter_m = 0.01;
+  double extension_m = 0.1;
+};
+
+// Fills `votes` with the finite cells whose interior the segment target → camera crosses (free votes) and
+// those crossed by the extension of camera → target behind the target by `extension_m` (matter votes).
+// The walk uses CGAL's segment traverser: exact orientation predicates, facet by facet; when the segment goes
+// through an edge or a vertex it continues in the cell entered strictly, and it always ends (the segment is
+// finite and each step advances along it). Returns false (and no votes) for a degenerate ray (camera at the
+// point). Requires dimension 3 and the camera and the extension end inside the convex hull.
+// With `only_created` ≠ 0, only the cells whose info().created equals it get an entry (the others are walked
+// through without computing their weight).
+bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vector3d& camera,
+                     const RayGeometry& geometry, RayVotes* votes, std::uint32_t only_created = 0);
+
+}  // namespace semap::map_internal

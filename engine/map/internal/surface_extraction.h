@@ -1,0 +1,50 @@
+// Reads the surface (boundary of the carved region) and the per-cell votes out of the triangulation.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "engine/core/mesh.h"
+#include "engine/map/map_types.h"
+#include "engine/map/internal/triangulation.h"
+
+namespace semap::map_internal {
+
+struct PointAttributes {
+  Label label = 0;
+  std::array<std::uint8_t, 3> color_rgb{0, 0, 0};
+};
+// Attributes of a data point by id.
+using AttributeLookup = std::function<PointAttributes(std::uint32_t point_id)>;
+
+// The key of a vertex in SurfaceKey.
+inline std::uint64_t VertexKey(VertexHandle v) {
+  return v->info().steiner ? (std::uint64_t(1) << 63) | v->info().id : v->info().id;
+}
+
+// One boundary facet, oriented counter-clockwise seen from the carved (free) side.
+struct SurfaceFacet {
+  std::array<VertexHandle, 3> vertices;
+  SurfaceKey id;  // sorted vertex keys
+};
+
+// The facet of `carved_cell` opposite its vertex `opposite`, oriented counter-clockwise seen from the cell.
+SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
+
+// Boundary facets between carved and uncarved cells; with `drop_steiner`, facets touching a Steiner vertex are
+// left out. Appends to `facets`.
+void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets);
+
+// Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey).
+// With `vertex_keys`, the VertexKey of each mesh vertex is appended (parallel to mesh.vertices).
+Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes, Label unlabelled,
+                  std::vector<std::uint64_t>* vertex_keys = nullptr);
+
+// Votes of every finite cell.
+std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);
+
+// Finite cells that are carved / free.
+std::size_t CountCarvedCells(const Delaunay& dt);
+std::size_t CountFreeCells(const Delaunay& dt);
+
+}  // namespace semap::map_internal

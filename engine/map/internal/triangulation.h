@@ -1,0 +1,57 @@
+// The CGAL triangulation behind the map. Private to engine/map: never include it from a public header.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_data_structure_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <Eigen/Core>
+
+namespace semap::map_internal {
+
+inline constexpr std::uint32_t kNoId = std::numeric_limits<std::uint32_t>::max();
+
+struct VertexInfo {
+  std::uint32_t id = kNoId;  // point id, or Steiner node slot when `steiner`
+  bool steiner = false;
+  std::uint32_t stamp = 0;   // scratch mark for set membership during one update
+};
+
+// One (ray, trace epoch) entry of a cell's ray list. An entry is live while the ray's epoch equals `epoch`;
+// untracing a ray bumps its epoch, so stale entries are dropped lazily (see RayRegistry::AddRef).
+struct RayRef {
+  std::uint32_t ray = kNoId;
+  std::uint32_t epoch = 0;
+};
+
+// Votes are fixed-point integers (VoteScale units per unit weight): sums are exact and order independent, so
+// untracing a ray restores the previous value bit for bit, and incremental votes equal batch votes exactly.
+struct CellInfo {
+  std::int64_t free_q = 0;
+  std::int64_t matter_q = 0;
+  bool carved = false;       // inside the manifold free-space region
+  std::uint32_t stamp = 0;   // scratch mark for set membership during one update
+  std::uint32_t created = 0;  // mark of the update that created the cell (incremental map)
+  std::vector<RayRef> rays;  // rays whose trace gave this cell a vote (may hold stale entries)
+
+  bool IsFree() const { return free_q > matter_q; }
+};
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<VertexInfo, Kernel>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<CellInfo, Kernel>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
+using Point = Delaunay::Point;
+using VertexHandle = Delaunay::Vertex_handle;
+using CellHandle = Delaunay::Cell_handle;
+
+inline Point ToPoint(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
+inline Eigen::Vector3d ToEigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+}  // namespace semap::map_internal

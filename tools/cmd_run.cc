@@ -1,0 +1,128 @@
+// `semap run PATH`: stream a sequence through the whole engine (depth → labels → simplification →
+// incremental Delaunay map) and write / publish the mesh.
+#include <csignal>
+
+#include <spdlog/spdlog.h>
+
+#include "engine/pipeline/pipeline.h"
+#include "engine/pipeline/semap_stages.h"
+#include "io/mesh/ply_off.h"
+#include "io/output/output_sinks.h"
+#include "tools/cli_common.h"
+#include "tools/progress_sink.h"
+
+namespace semap::tools {
+namespace {
+
+// A signal handler receives no context: this is the one way for SIGINT to reach the running pipeline.
+std::atomic<Pipeline*> g_running_pipeline{nullptr};
+
+extern "C" void StopOnSignal(int) {
+  if (Pipeline* p = g_running_pipeline.load()) p->RequestStop();
+}
+
+struct RunArgs {
+  CommonArgs common;
+  std::string path;
+  std::string out;
+  std::string method;
+  std::string mode;
+  std::string lcm_url;
+  int frames = -1;
+  double progress_s = 1.0;
+};
+
+// Command-line shortcuts become config overrides, so that they are validated like any config value.
+std::vector<std::string> Overrides(const RunArgs& a) {
+  std::vector<std::string> o = a.common.overrides;
+  if (!a.out.empty()) o.push_back("output.dir=" + a.out);
+  if (!a.method.empty()) o.push_back("simplify.method=" + a.method);
+  if (!a.mode.empty()) o.push_back("pipeline.mode=" + a.mode);
+  if (a.frames >= 0) o.push_back("input.max_frames=" + std::to_string(a.frames));
+  if (!a.lcm_url.empty()) {
+    o.push_back("lcm.enabled=true");
+    o.push_back("lcm.url=" + a.lcm_url);
+  }
+  return o;
+}
+
+int Run(const RunArgs& args) {
+  const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
+  auto source = io::OpenFrameSource(args.path, config.input);
+  const std::int64_t total = source->size();
+  const ClassMap class_map = source->class_map();
+  spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers", args.path, total,
+               io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
+               config.pipeline.mode == PipelineOptions::Mode::kRealtime ? "realtime" : "exhaustive",
+               config.pipeline.depth_workers);
+
+  // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
+  io::MeshFileSink mesh_sink(config.output);
+  std::unique_ptr<io::StatsFileSink> stats_sink;
+  if (config.output.frame_stats) stats_sink = std::make_unique<io::StatsFileSink>(config.output);
+  std::unique_ptr<io::LcmSink> lcm_sink;
+  if (config.lcm.enabled) lcm_sink = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
+  ProgressSink progress(total, args.progress_s);
+
+  Pipeline pipeline(
+      config.pipeline, std::move(source),
+      [&] { return std::make_unique<StereoLabelStage>(config.depth, config.semantics, class_map); },
+      std::make_unique<WindowedSimplifyStage>(config.simplify, class_map),
+      std::make_unique<IncrementalMapStage>(config.map));
+  pipeline.AddSink(&mesh_sink);
+  if (stats_sink) pipeline.AddSink(stats_sink.get());
+  if (lcm_sink) pipeline.AddSink(lcm_sink.get());
+  pipeline.AddSink(&progress);
+
+  g_running_pipeline.store(&pipeline);
+  auto previous = std::signal(SIGINT, StopOnSignal);
+  const PipelineSummary summary = pipeline.Run();
+  std::signal(SIGINT, previous);
+  g_running_pipeline.store(nullptr);
+
+  const FrameStats& s = summary.final_stats;
+  spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
+               s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps, summary.stopped_early ? " (stopped early)" : "");
+  for (const auto& st : s.stages) {
+    spdlog::info("  {:<9} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
+                 st.p95_ms, st.max_ms);
+  }
+  const Mesh mesh = mesh_sink.mesh();
+  spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF", mesh.num_vertices(), mesh.num_triangles(),
+               static_cast<double>(io::OffSizeBytes(mesh)) / 1e6);
+  for (const auto& f : mesh_sink.written()) spdlog::info("wrote {}", f.string());
+  if (lcm_sink) {
+    const auto c = lcm_sink->publisher().counters();
+    spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
+                 c.other_messages, c.send_failures, c.dropped);
+  }
+  if (summary.sink_errors > 0) {
+    spdlog::error("{} output errors; first: {}", summary.sink_errors, summary.first_sink_error);
+    return kExitFailure;
+  }
+  if (!summary.fatal_error.empty()) {
+    spdlog::error("run stopped: {}", summary.fatal_error);
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterRunCommand(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<RunArgs>();
+  auto* cmd = app.add_subcommand("run", "Stream a sequence through the engine (SGBM depth → semantic labels → "
+                                        "simplification → incremental Delaunay map) and write/publish the mesh");
+  AddCommonOptions(cmd, &args->common);
+  cmd->add_option("PATH", args->path, "dataset folder (KITTI raw, odometry or stereo-2015 layout)")->required();
+  cmd->add_option("--out", args->out, "output folder (output.dir)");
+  cmd->add_option("--method", args->method, "simplification method, e.g. PS or O (simplify.method)");
+  cmd->add_option("--mode", args->mode, "exhaustive | realtime (pipeline.mode)");
+  cmd->add_option("--frames", args->frames, "frames to process, 0 = all (input.max_frames)");
+  cmd->add_option("--lcm-url", args->lcm_url,
+                  "publish over LCM at this URL, e.g. udpm://239.255.76.67:7667?ttl=0 (lcm.url)");
+  cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")->capture_default_str();
+  cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Run(*args); }); });
+}
+
+}  // namespace semap::tools
