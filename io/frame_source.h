@@ -10,6 +10,7 @@
 
 #include "engine/core/class_map.h"
 #include "engine/core/frame.h"
+#include "engine/pipeline/stages.h"
 #include "io/file_error.h"
 
 namespace semap::io {
@@ -44,15 +45,16 @@ struct FrameSourceOptions {
 };
 
 // A lazily read sequence of frames. Not thread-safe: one consumer calls Next().
-class FrameSource {
+// It is the pipeline's FrameReader: `semap run` hands it to the Pipeline as is.
+class FrameSource : public FrameReader {
  public:
-  virtual ~FrameSource() = default;
+  ~FrameSource() override = default;
   virtual DatasetLayout layout() const = 0;
   // Total number of frames this source will yield (after first_frame / max_frames).
   virtual std::int64_t size() const = 0;
   // The next frame, or std::nullopt at the end. A frame that cannot be read throws FrameError (the
   // caller logs, counts and goes on with the next one).
-  virtual std::optional<Frame> Next() = 0;
+  std::optional<Frame> Next() override = 0;
   virtual const ClassMap& class_map() const = 0;
 };
 

@@ -104,6 +104,47 @@ void Bind(FieldBinder& b, SemanticsOptions& o) {
          "label image of another size than the image: resize with nearest neighbour (warned) or refuse");
 }
 
+void Bind(FieldBinder& b, SimplifyOptions& o) {
+  std::vector<std::pair<std::string, SimplifyMethod>> methods;
+  for (auto m : AllSimplifyMethods()) methods.emplace_back(SimplifyMethodName(m), m);
+  b.Enum("method", &o.method, methods,
+         "O = none; LSR/LSK, ASR/ASK, ACSR/ACSK = linear / adaptive / adaptive-class with radius / KNN regions; "
+         "PS = probabilistic; baselines without semantics: LSB, ASB, PSB, GB (curvature), voxel, hierarchy (CGAL)");
+  b.Field("region_radius_m", &o.region_radius_m, "radius of the spherical regions (R methods, PS, LSB/ASB/PSB)");
+  b.Field("region_k", &o.region_k, "neighbours per region of the K methods");
+  b.Field("density_samples", &o.density_samples,
+          "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS); 0 = every region");
+  b.Field("normal_k", &o.normal_k, "neighbours of the PCA normals (ranking r) and of GB's surface variation");
+  b.Field("target_conservation", &o.target_conservation,
+          "c̄: share of points kept in a region of average density (paper: 0.4 / 0.5)");
+  b.Field("adaptive_stretch", &o.adaptive_stretch, "w of AS/ACS's f(x) = 0.5 + w x / (2 (1 + w |x|)), x in units of D̄");
+  b.Field("min_conservation", &o.min_conservation, "lower clamp of c (paper: 0)");
+  b.Field("ps_region_divisor", &o.ps_region_divisor, "PS: N_r = |points of the class group| / divisor (paper: 8)");
+  b.Field("ps_boundary_share", &o.ps_boundary_share,
+          "PS: regions with a share of other labels p̃ below this use P_I, others P_B (paper: 0.1)");
+  b.Field("ps_interior_sigma_m", &o.ps_interior_sigma_m, "PS: σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²))");
+  b.Field("ps_boundary_sigma_m", &o.ps_boundary_sigma_m, "PS: σ of P_B = exp(−d² / (2 σ²)), d to the SVM boundary");
+  b.Field("ps_svm_c", &o.ps_svm_c, "PS: soft-margin C of the linear SVM (coordinates in region radii)");
+  b.Field("ransac_threshold_m", &o.ransac_threshold_m, "class planes: RANSAC inlier distance");
+  b.Field("ransac_iterations", &o.ransac_iterations, "class planes: RANSAC hypotheses per class group");
+  b.Field("ransac_max_points", &o.ransac_max_points, "class planes: inliers counted on at most this many points");
+  b.Field("gb_flatness_threshold", &o.gb_flatness_threshold, "GB: surface variation below this is flat");
+  b.Field("gb_flat_keep_probability", &o.gb_flat_keep_probability, "GB: probability of keeping a flat point");
+  b.Field("voxel_size_m", &o.voxel_size_m, "voxel: grid cell edge");
+  b.Field("hierarchy_cluster_size", &o.hierarchy_cluster_size, "hierarchy: CGAL maximum cluster size");
+  b.Field("hierarchy_max_variation", &o.hierarchy_max_variation, "hierarchy: CGAL maximum surface variation");
+  b.Field("window_frames", &o.window_frames,
+          "streaming: frames whose kept points stay in the window (should cover the frames that overlap)");
+  b.Field("seed", &o.seed, "seed of the random generator (same seed, same output)");
+}
+
+void Bind(FieldBinder& b, DepthAccuracyOptions& o) {
+  b.Field("min_depth_m", &o.min_depth_m, "reference depths (camera-frame z, not range) nearer than this are ignored");
+  b.Field("max_depth_m", &o.max_depth_m, "reference depths farther than this are ignored");
+  b.Field("max_abs_error_m", &o.max_abs_error_m,
+          "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all");
+}
+
 template <typename Options>
 Section MakeSection(std::string name, std::string doc, Options& options) {
   Section s{std::move(name), std::move(doc), {}, [&options]() { options.Check(); }};
@@ -114,14 +155,19 @@ Section MakeSection(std::string name, std::string doc, Options& options) {
 }  // namespace
 
 std::vector<Section> BindSections(Config& c) {
+  // In the order of the data flow.
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
-  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
-  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
-  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
   s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
   s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
                           c.semantics));
+  s.push_back(MakeSection("simplify", "Semantic simplification of ground and walls (paper Sec. III) and baselines.",
+                          c.simplify));
+  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
+  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
+  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
+  s.push_back(MakeSection("eval", "Accuracy of a mesh against Velodyne / exact depth (semap eval, table, compare).",
+                          c.eval));
   return s;
 }
 
