@@ -60,7 +60,7 @@ std::unique_ptr<SequenceSource> OpenKittiOdometry(const fs::path& path, const Fr
   info.calibration = calib.stereo;
   scan.right_dir = seq / (color ? "image_3" : "image_1");
   scan.imread_flags = color ? cv::IMREAD_COLOR : cv::IMREAD_GRAYSCALE;
-  scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d+)\.png)"));
+  scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d{1,12})\.png)"));
   SelectFrames(options, &scan);
   if (!fs::is_directory(scan.right_dir)) throw FileError(scan.right_dir, "right image folder not found");
 

@@ -3,30 +3,83 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
 namespace semap::io {
 
-OxtsPacket ParseOxtsLine(const std::string& line, const std::filesystem::path& path) {
+std::array<double, kOxtsValuesPerLine> OxtsValues(const OxtsPacket& p) {
+  return {p.lat_deg,
+          p.lon_deg,
+          p.alt_m,
+          p.roll_rad,
+          p.pitch_rad,
+          p.yaw_rad,
+          p.vn,
+          p.ve,
+          p.vf,
+          p.vl,
+          p.vu,
+          p.ax,
+          p.ay,
+          p.az,
+          p.af,
+          p.al,
+          p.au,
+          p.wx,
+          p.wy,
+          p.wz,
+          p.wf,
+          p.wl,
+          p.wu,
+          p.pos_accuracy,
+          p.vel_accuracy,
+          double(p.navstat),
+          double(p.numsats),
+          double(p.posmode),
+          double(p.velmode),
+          double(p.orimode)};
+}
+
+OxtsPacket OxtsFromValues(const std::array<double, kOxtsValuesPerLine>& v) {
   OxtsPacket p;
+  double* doubles[] = {&p.lat_deg, &p.lon_deg, &p.alt_m, &p.roll_rad,     &p.pitch_rad,
+                       &p.yaw_rad, &p.vn,      &p.ve,    &p.vf,           &p.vl,
+                       &p.vu,      &p.ax,      &p.ay,    &p.az,           &p.af,
+                       &p.al,      &p.au,      &p.wx,    &p.wy,           &p.wz,
+                       &p.wf,      &p.wl,      &p.wu,    &p.pos_accuracy, &p.vel_accuracy};
+  for (size_t i = 0; i < std::size(doubles); ++i) *doubles[i] = v[i];
+  int* ints[] = {&p.navstat, &p.numsats, &p.posmode, &p.velmode, &p.orimode};
+  for (size_t i = 0; i < std::size(ints); ++i) *ints[i] = static_cast<int>(v[std::size(doubles) + i]);
+  return p;
+}
+
+OxtsPacket ParseOxtsLine(const std::string& line, const std::filesystem::path& path) {
+  std::array<double, kOxtsValuesPerLine> values{};
   std::istringstream is(line);
   std::string token;
   size_t n = 0;
   while (is >> token) {
-    if (n == p.values.size()) throw FileError(path, "OXTS line has more than 30 values");
+    if (n == values.size()) throw FileError(path, "OXTS line has more than 30 values");
     double v = 0.0;
     const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
     if (ec != std::errc() || ptr != token.data() + token.size()) {
       throw FileError(path, "OXTS value " + std::to_string(n + 1) + " '" + token + "' is not a number");
     }
     if (!std::isfinite(v)) throw FileError(path, "OXTS value " + std::to_string(n + 1) + " is not finite");
-    p.values[n++] = v;
+    // navstat, numsats, posmode, velmode, orimode are integers.
+    if (n >= values.size() - 5 && (v != std::floor(v) || std::abs(v) > std::numeric_limits<int>::max())) {
+      throw FileError(path, "OXTS value " + std::to_string(n + 1) + " '" + token + "' is not an integer");
+    }
+    values[n++] = v;
   }
-  if (n != p.values.size()) {
+  if (n != values.size()) {
     throw FileError(path, "OXTS line has " + std::to_string(n) + " values, expected 30");
   }
-  if (!(std::abs(p.lat_deg()) < 90.0)) throw FileError(path, "OXTS latitude is outside (-90, 90) degrees");
+  const OxtsPacket p = OxtsFromValues(values);
+  if (!(std::abs(p.lat_deg) < 90.0)) throw FileError(path, "OXTS latitude is outside (-90, 90) degrees");
   return p;
 }
 
@@ -42,9 +95,10 @@ OxtsPacket ReadOxtsFile(const std::filesystem::path& path) {
 void WriteOxtsFile(const std::filesystem::path& path, const OxtsPacket& packet) {
   std::ofstream out(path, std::ios::trunc);
   if (!out) throw FileError(path, "cannot open for writing");
-  for (size_t i = 0; i < packet.values.size(); ++i) {
+  const auto values = OxtsValues(packet);
+  for (size_t i = 0; i < values.size(); ++i) {
     char buf[64];
-    const auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), packet.values[i]);
+    const auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), values[i]);
     out << (i ? " " : "") << std::string_view(buf, static_cast<size_t>(ptr - buf));
   }
   out << "\n";
@@ -53,21 +107,21 @@ void WriteOxtsFile(const std::filesystem::path& path, const OxtsPacket& packet) 
 }
 
 OxtsPoseConverter::OxtsPoseConverter(const OxtsPacket& first)
-    : scale_(std::cos(first.lat_deg() * std::numbers::pi / 180.0)) {
+    : scale_(std::cos(first.lat_deg * std::numbers::pi / 180.0)) {
   first_from_mercator_ = MercatorPose(first).inverse();
 }
 
 Pose3d OxtsPoseConverter::MercatorPose(const OxtsPacket& p) const {
   constexpr double pi = std::numbers::pi;
   const double er = kOxtsEarthRadiusM;
-  const double tx = scale_ * p.lon_deg() * pi * er / 180.0;
-  const double ty = scale_ * er * std::log(std::tan((90.0 + p.lat_deg()) * pi / 360.0));
+  const double tx = scale_ * p.lon_deg * pi * er / 180.0;
+  const double ty = scale_ * er * std::log(std::tan((90.0 + p.lat_deg) * pi / 360.0));
   Pose3d pose = Pose3d::Identity();
-  pose.linear() = (Eigen::AngleAxisd(p.yaw_rad(), Eigen::Vector3d::UnitZ()) *
-                   Eigen::AngleAxisd(p.pitch_rad(), Eigen::Vector3d::UnitY()) *
-                   Eigen::AngleAxisd(p.roll_rad(), Eigen::Vector3d::UnitX()))
+  pose.linear() = (Eigen::AngleAxisd(p.yaw_rad, Eigen::Vector3d::UnitZ()) *
+                   Eigen::AngleAxisd(p.pitch_rad, Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(p.roll_rad, Eigen::Vector3d::UnitX()))
                       .toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(tx, ty, p.alt_m());
+  pose.translation() = Eigen::Vector3d(tx, ty, p.alt_m);
   return pose;
 }
 

@@ -91,7 +91,7 @@ std::unique_ptr<SequenceSource> OpenKittiRaw(const fs::path& path, const FrameSo
   info.calibration = calib.stereo;
   scan.right_dir = *drive / "image_03" / "data";
   scan.imread_flags = cv::IMREAD_COLOR;
-  scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d+)\.png)"));
+  scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d{1,12})\.png)"));
   SelectFrames(options, &scan);
   if (!fs::is_directory(scan.right_dir)) throw FileError(scan.right_dir, "right image folder not found");
 

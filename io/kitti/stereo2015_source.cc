@@ -30,7 +30,7 @@ std::unique_ptr<SequenceSource> OpenKittiStereo2015(const fs::path& path, const 
   info.calibration = calib.stereo;
   scan.right_dir = path / "image_3";
   scan.imread_flags = cv::IMREAD_COLOR;
-  scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d+)_10\.png)"));
+  scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d{1,12})_10\.png)"));
   SelectFrames(options, &scan);
   if (!fs::is_directory(scan.right_dir)) throw FileError(scan.right_dir, "right image folder not found");
   // Frames are unrelated; their timestamps only order them (position × period).

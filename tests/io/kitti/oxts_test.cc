@@ -16,12 +16,12 @@ constexpr double kPi = std::numbers::pi;
 
 OxtsPacket Packet(double lat, double lon, double alt, double roll, double pitch, double yaw) {
   OxtsPacket p;
-  p.values[0] = lat;
-  p.values[1] = lon;
-  p.values[2] = alt;
-  p.values[3] = roll;
-  p.values[4] = pitch;
-  p.values[5] = yaw;
+  p.lat_deg = lat;
+  p.lon_deg = lon;
+  p.alt_m = alt;
+  p.roll_rad = roll;
+  p.pitch_rad = pitch;
+  p.yaw_rad = yaw;
   return p;
 }
 
@@ -90,10 +90,21 @@ TEST(Oxts, ScaleComesFromTheFirstFrame) {
 
 TEST(Oxts, FileRoundTripAndBadLines) {
   const auto dir = test::TempDir();
-  OxtsPacket p = Packet(49.011, 8.4237, 112.5, 0.01, -0.02, 1.5);
-  for (int i = 6; i < 30; ++i) p.values[i] = i * 0.5;
+  std::array<double, kOxtsValuesPerLine> values{49.011, 8.4237, 112.5, 0.01, -0.02, 1.5};
+  for (int i = 6; i < 25; ++i) values[i] = i * 0.5 - 3.0;
+  for (int i = 25; i < 30; ++i) values[i] = i;  // navstat numsats posmode velmode orimode
+  const OxtsPacket p = OxtsFromValues(values);
+  EXPECT_EQ(p.vn, 0.0);
+  EXPECT_EQ(p.vel_accuracy, 9.0);
+  EXPECT_EQ(p.navstat, 25);
+  EXPECT_EQ(p.orimode, 29);
+  EXPECT_EQ(OxtsValues(p), values);
   WriteOxtsFile(dir / "a.txt", p);
-  EXPECT_EQ(ReadOxtsFile(dir / "a.txt").values, p.values);
+  EXPECT_EQ(OxtsValues(ReadOxtsFile(dir / "a.txt")), values);
+  std::string fractional_navstat = "49 8 100";
+  for (int i = 3; i < 30; ++i) fractional_navstat += i == 25 ? " 4.5" : " 0";
+  test::WriteTextFile(dir / "navstat.txt", fractional_navstat + "\n");
+  EXPECT_THROW(ReadOxtsFile(dir / "navstat.txt"), FileError);
   test::WriteTextFile(dir / "short.txt", "49 8 100 0 0 0\n");
   EXPECT_THROW(ReadOxtsFile(dir / "short.txt"), FileError);
   try {

@@ -127,11 +127,10 @@ TinyRaw WriteTinyRaw(const fs::path& root, const TinyRawOptions& o) {
     // Heading north (yaw = π/2), one step north per frame: Δlat = step / er in radians.
     for (int i = 0; i < o.num_frames; ++i) {
       io::OxtsPacket p;
-      p.values[0] = g.lat0_deg + i * g.step_north_m / io::kOxtsEarthRadiusM * 180.0 / std::numbers::pi;
-      p.values[1] = g.lon0_deg;
-      p.values[2] = g.alt0_m;
-      p.values[5] = std::numbers::pi / 2;
-      p.values[24] = 4;  // navstat
+      p.lat_deg = g.lat0_deg + i * g.step_north_m / io::kOxtsEarthRadiusM * 180.0 / std::numbers::pi;
+      p.lon_deg = g.lon0_deg;
+      p.alt_m = g.alt0_m;
+      p.yaw_rad = std::numbers::pi / 2;
       io::WriteOxtsFile(t.drive / "oxts/data" / (Frame10(i) + ".txt"), p);
     }
   }

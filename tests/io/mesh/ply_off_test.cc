@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <functional>
+#include <random>
 #include <sstream>
 
 #include "tests/common/test_data.h"
@@ -343,6 +344,52 @@ TEST(MeshFilesBadInput, MalformedOff) {
   const fs::path bad_counts = dir / "bad_counts.off";
   WriteText(bad_counts, "OFF\n-3 1 0\n");
   ExpectFileError([&] { ReadMeshOff(bad_counts); }, bad_counts, "bad counts");
+}
+
+// Every prefix of a valid file is either read (when the cut only drops trailing whitespace) or rejected
+// with a FileError; random byte flips never crash the readers.
+TEST(MeshFilesBadInput, EveryTruncationAndRandomCorruption) {
+  const fs::path dir = semap::test::TempDir();
+  const Mesh m = MakeMesh();
+  const LabelledCloud c = MakeCloud();
+  struct Kind {
+    std::string name;
+    std::function<void(const fs::path&)> write;
+    std::function<void(const fs::path&)> read;
+  };
+  const std::vector<Kind> kinds = {
+      {"bin.ply", [&](const fs::path& p) { WriteMeshPly(p, m); }, [](const fs::path& p) { ReadMeshPly(p); }},
+      {"ascii.ply", [&](const fs::path& p) { WriteMeshPly(p, m, PlyEncoding::kAscii); },
+       [](const fs::path& p) { ReadMeshPly(p); }},
+      {"cloud.ply", [&](const fs::path& p) { WriteCloudPly(p, c); },
+       [](const fs::path& p) { ReadCloudPly(p); }},
+      {"mesh.off", [&](const fs::path& p) { WriteMeshOff(p, m); }, [](const fs::path& p) { ReadMeshOff(p); }},
+  };
+  std::mt19937 rng(7);
+  for (const auto& kind : kinds) {
+    const fs::path full = dir / kind.name;
+    kind.write(full);
+    const std::string text = ReadText(full);
+    const size_t last_non_space = text.find_last_not_of(" \n");
+    const fs::path cut = dir / ("cut_" + kind.name);
+    for (size_t n = 0; n < text.size(); ++n) {
+      WriteText(cut, text.substr(0, n));
+      if (n > last_non_space) {
+        EXPECT_NO_THROW(kind.read(cut)) << kind.name << " cut at " << n;
+      } else {
+        EXPECT_THROW(kind.read(cut), FileError) << kind.name << " cut at " << n;
+      }
+    }
+    for (int trial = 0; trial < 60; ++trial) {
+      std::string bad = text;
+      for (int k = 0; k < 3; ++k) bad[rng() % bad.size()] = static_cast<char>(rng() % 256);
+      WriteText(cut, bad);
+      try {
+        kind.read(cut);  // may still be a valid file
+      } catch (const FileError&) {
+      }
+    }
+  }
 }
 
 }  // namespace
