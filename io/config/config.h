@@ -10,6 +10,7 @@
 #include "engine/semantics/segmenter.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "io/lcm/lcm_publisher.h"
 
 namespace semap::io {
 
@@ -25,6 +26,7 @@ struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
   DepthOptions depth;        // stereo matching and point cloud
   SemanticsOptions semantics;  // where per-pixel labels come from
+  LcmOptions lcm;            // mesh / stats publishing over LCM
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).

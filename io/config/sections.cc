@@ -67,6 +67,17 @@ void Bind(FieldBinder& b, SemanticsOptions& o) {
          "label image of another size than the image: resize with nearest neighbour (warned) or refuse");
 }
 
+void Bind(FieldBinder& b, LcmOptions& o) {
+  b.Field("enabled", &o.enabled, "publish meshes, frame stats and poses over LCM (semap run --lcm-url sets it)");
+  b.Field("url", &o.url, "LCM provider URL; ttl=0 keeps multicast on this host");
+  b.Field("channel_prefix", &o.channel_prefix,
+          "channel prefix: <prefix>MESH_SNAPSHOT, MESH_DELTA, FRAME_STATS, CAMERA_POSE");
+  b.Field("snapshot_every", &o.snapshot_every,
+          "full mesh snapshot every N mesh messages for late subscribers (0 = first only; N > 0 keeps the whole "
+          "published mesh in memory)");
+  b.Field("queue_capacity", &o.queue_capacity, "stats/pose messages queued at most; more are dropped and counted");
+}
+
 template <typename Options>
 Section MakeSection(std::string name, std::string doc, Options& options) {
   Section s{std::move(name), std::move(doc), {}, [&options]() { options.Check(); }};
@@ -82,6 +93,7 @@ std::vector<Section> BindSections(Config& c) {
   s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
   s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
                           c.semantics));
+  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
   return s;
 }
 
