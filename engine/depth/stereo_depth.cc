@@ -218,11 +218,12 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   cloud.camera_centers_world.push_back(world_from_cam.translation());
   cloud.camera_frame_ids.push_back(frame.id);
   const bool colour = image.channels() == 3;
-  for (int v = 0; v < disparity_px.rows; v += o.pixel_stride) {
+  const int stride = o.half_resolution ? 2 * o.pixel_stride : o.pixel_stride;
+  for (int v = 0; v < disparity_px.rows; v += stride) {
     const float* d_row = disparity_px.ptr<float>(v);
     const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(v);
     const std::uint8_t* img_row = image.ptr<std::uint8_t>(v);
-    for (int u = 0; u < disparity_px.cols; u += o.pixel_stride) {
+    for (int u = 0; u < disparity_px.cols; u += stride) {
       const float d = d_row[u];
       if (!std::isfinite(d) || d <= 0.0f || d < min_disparity || d > max_disparity) continue;
       const float c = c_row ? c_row[u] : 1.0f;

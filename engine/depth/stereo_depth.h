@@ -61,7 +61,8 @@ struct DepthOptions {
   // Depth range of the emitted points (camera-frame z).
   double min_depth_m = 1.0;
   double max_depth_m = 40.0;
-  // Only every pixel_stride-th pixel on every pixel_stride-th row gives a point (1 = every pixel).
+  // Only every pixel_stride-th pixel on every pixel_stride-th row gives a point (1 = every pixel). With
+  // half_resolution the stride is doubled (one point per matched half-resolution pixel, no duplicates).
   int pixel_stride = 1;
   // Upper bound on the points per frame after the stride (uniform decimation); 0 = no bound.
   int max_points_per_frame = 0;

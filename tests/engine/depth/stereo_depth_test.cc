@@ -224,6 +224,9 @@ TEST(StereoDepth, StrideAndPointBudget) {
     EXPECT_EQ(int(px.x()) % 4, 0);
     EXPECT_EQ(int(px.y()) % 4, 0);
   }
+  o.half_resolution = true;  // doubles the stride: one point per half-resolution pixel
+  EXPECT_EQ(StereoDepth(o).ToCloud(f, disparity).size(), size_t((kWidth / 8) * (kHeight / 8)));
+  o.half_resolution = false;
   o.pixel_stride = 1;
   o.max_points_per_frame = 1000;
   const LabelledCloud budget = StereoDepth(o).ToCloud(f, disparity);
