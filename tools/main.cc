@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   const RegisterFn commands[] = {
       RegisterConfigCommand,
       RegisterLcmMeshCommand,
+      RegisterSimplifyCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

@@ -21,6 +21,38 @@ void Bind(FieldBinder& b, FrameSourceOptions& o) {
   b.Field("class_map", &o.class_map, "YAML class map of the label ids; empty = Cityscapes 20 classes");
 }
 
+void Bind(FieldBinder& b, PipelineOptions& o) {
+  using M = PipelineOptions::Mode;
+  using E = PipelineOptions::OnError;
+  b.Enum("mode", &o.mode, {{"exhaustive", M::kExhaustive}, {"realtime", M::kRealtime}},
+         "exhaustive: every frame processed (the paper's table); realtime: read at sensor rate, drop when behind");
+  b.Field("realtime_rate_hz", &o.realtime_rate_hz, "realtime mode: frame rate when the sequence has no timestamps");
+  b.Field("depth_workers", &o.depth_workers, "threads running SGBM depth (frames are reordered after them)");
+  b.Field("queue_capacity", &o.queue_capacity, "frames each queue between stages holds at most");
+  b.Enum("on_error", &o.on_error, {{"skip", E::kSkipFrame}, {"stop", E::kStop}},
+         "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
+  b.Field("cpu_affinity", &o.cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+}
+
+void Bind(FieldBinder& b, OutputOptions& o) {
+  b.Field("dir", &o.dir, "output folder (mesh.ply, mesh.off, frames.csv, frames.jsonl, summary.json)");
+  b.Field("mesh_ply", &o.mesh_ply, "write the final mesh as PLY with colour and label");
+  b.Field("mesh_off", &o.mesh_off, "write the final mesh as ASCII OFF (the paper's size measure)");
+  b.Field("ply_ascii", &o.ply_ascii, "ASCII PLY instead of binary little-endian");
+  b.Field("frame_stats", &o.frame_stats, "per-frame statistics as frames.csv and frames.jsonl");
+}
+
+void Bind(FieldBinder& b, LcmOptions& o) {
+  b.Field("enabled", &o.enabled, "publish meshes, frame stats and poses over LCM (semap run --lcm-url sets it)");
+  b.Field("url", &o.url, "LCM provider URL; ttl=0 keeps multicast on this host");
+  b.Field("channel_prefix", &o.channel_prefix,
+          "channel prefix: <prefix>MESH_SNAPSHOT, MESH_DELTA, FRAME_STATS, CAMERA_POSE");
+  b.Field("snapshot_every", &o.snapshot_every,
+          "full mesh snapshot every N mesh messages for late subscribers (0 = first only; N > 0 keeps the whole "
+          "published mesh in memory)");
+  b.Field("queue_capacity", &o.queue_capacity, "stats/pose messages queued at most; more are dropped and counted");
+}
+
 void Bind(FieldBinder& b, DepthOptions& o) {
   b.Field("num_disparities", &o.num_disparities, "disparity search range in px at full resolution (multiple of 16)");
   b.Field("block_size", &o.block_size, "SGBM matched block size in px (odd, 1..11)");
@@ -67,15 +99,38 @@ void Bind(FieldBinder& b, SemanticsOptions& o) {
          "label image of another size than the image: resize with nearest neighbour (warned) or refuse");
 }
 
-void Bind(FieldBinder& b, LcmOptions& o) {
-  b.Field("enabled", &o.enabled, "publish meshes, frame stats and poses over LCM (semap run --lcm-url sets it)");
-  b.Field("url", &o.url, "LCM provider URL; ttl=0 keeps multicast on this host");
-  b.Field("channel_prefix", &o.channel_prefix,
-          "channel prefix: <prefix>MESH_SNAPSHOT, MESH_DELTA, FRAME_STATS, CAMERA_POSE");
-  b.Field("snapshot_every", &o.snapshot_every,
-          "full mesh snapshot every N mesh messages for late subscribers (0 = first only; N > 0 keeps the whole "
-          "published mesh in memory)");
-  b.Field("queue_capacity", &o.queue_capacity, "stats/pose messages queued at most; more are dropped and counted");
+void Bind(FieldBinder& b, SimplifyOptions& o) {
+  std::vector<std::pair<std::string, SimplifyMethod>> methods;
+  for (auto m : AllSimplifyMethods()) methods.emplace_back(SimplifyMethodName(m), m);
+  b.Enum("method", &o.method, methods,
+         "O = none; LSR/LSK, ASR/ASK, ACSR/ACSK = linear / adaptive / adaptive-class with radius / KNN regions; "
+         "PS = probabilistic; baselines without semantics: LSB, ASB, PSB, GB (curvature), voxel, hierarchy (CGAL)");
+  b.Field("region_radius_m", &o.region_radius_m, "radius of the spherical regions (R methods, PS, LSB/ASB/PSB)");
+  b.Field("region_k", &o.region_k, "neighbours per region of the K methods");
+  b.Field("density_samples", &o.density_samples,
+          "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS); 0 = every region");
+  b.Field("normal_k", &o.normal_k, "neighbours of the PCA normals (ranking r) and of GB's surface variation");
+  b.Field("target_conservation", &o.target_conservation,
+          "c̄: share of points kept in a region of average density (paper: 0.4 / 0.5)");
+  b.Field("adaptive_stretch", &o.adaptive_stretch, "w of AS/ACS's f(x) = 0.5 + w x / (2 (1 + w |x|)), x in units of D̄");
+  b.Field("min_conservation", &o.min_conservation, "lower clamp of c (paper: 0)");
+  b.Field("ps_region_divisor", &o.ps_region_divisor, "PS: N_r = |points of the class group| / divisor (paper: 8)");
+  b.Field("ps_boundary_share", &o.ps_boundary_share,
+          "PS: regions with a share of other labels p̃ below this use P_I, others P_B (paper: 0.1)");
+  b.Field("ps_interior_sigma_m", &o.ps_interior_sigma_m, "PS: σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²))");
+  b.Field("ps_boundary_sigma_m", &o.ps_boundary_sigma_m, "PS: σ of P_B = exp(−d² / (2 σ²)), d to the SVM boundary");
+  b.Field("ps_svm_c", &o.ps_svm_c, "PS: soft-margin C of the linear SVM (coordinates in region radii)");
+  b.Field("ransac_threshold_m", &o.ransac_threshold_m, "class planes: RANSAC inlier distance");
+  b.Field("ransac_iterations", &o.ransac_iterations, "class planes: RANSAC hypotheses per class group");
+  b.Field("ransac_max_points", &o.ransac_max_points, "class planes: inliers counted on at most this many points");
+  b.Field("gb_flatness_threshold", &o.gb_flatness_threshold, "GB: surface variation below this is flat");
+  b.Field("gb_flat_keep_probability", &o.gb_flat_keep_probability, "GB: probability of keeping a flat point");
+  b.Field("voxel_size_m", &o.voxel_size_m, "voxel: grid cell edge");
+  b.Field("hierarchy_cluster_size", &o.hierarchy_cluster_size, "hierarchy: CGAL maximum cluster size");
+  b.Field("hierarchy_max_variation", &o.hierarchy_max_variation, "hierarchy: CGAL maximum surface variation");
+  b.Field("window_frames", &o.window_frames,
+          "streaming: frames whose kept points stay in the window (should cover the frames that overlap)");
+  b.Field("seed", &o.seed, "seed of the random generator (same seed, same output)");
 }
 
 template <typename Options>
@@ -90,10 +145,14 @@ Section MakeSection(std::string name, std::string doc, Options& options) {
 std::vector<Section> BindSections(Config& c) {
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
+  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
+  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
+  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
   s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
   s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
                           c.semantics));
-  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
+  s.push_back(MakeSection("simplify", "Semantic simplification of ground and walls (paper Sec. III) and baselines.",
+                          c.simplify));
   return s;
 }
 
