@@ -1,11 +1,11 @@
 // Depth stage micro-benchmarks on a real KITTI stereo-2015 frame (1242×375): SGBM disparity and the full
 // stage (disparity + point cloud) at full and half resolution, on one core (cv::setNumThreads(1)).
 // Run: ./build/bench/depth_bench  (SEMAP_SHARED overrides the shared folder)
-#include <cstdlib>
-#include <string>
-
 #include <benchmark/benchmark.h>
+
+#include <cstdlib>
 #include <opencv2/core/utility.hpp>
+#include <string>
 
 #include "engine/depth/stereo_depth.h"
 #include "tests/common/kitti2015_subset.h"

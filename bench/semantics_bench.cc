@@ -1,11 +1,11 @@
 // Semantic stage micro-benchmarks: ENet Cityscapes on a real KITTI frame (one core, cv::setNumThreads(1)),
 // and the first-camera labelling of a dense frame cloud.
 // Run: ./build/bench/semantics_bench
-#include <cstdlib>
-#include <string>
-
 #include <benchmark/benchmark.h>
+
+#include <cstdlib>
 #include <opencv2/core/utility.hpp>
+#include <string>
 
 #include "engine/depth/stereo_depth.h"
 #include "engine/semantics/labelling.h"
@@ -45,8 +45,7 @@ void BM_FirstCameraLabels(benchmark::State& state) {
   const cv::Mat labels(f.left.size(), CV_8UC1, cv::Scalar(3));
   for (auto _ : state) {
     semap::LabelledCloud c = cloud;
-    benchmark::DoNotOptimize(
-        semap::ApplyFirstCameraLabels(c, f.id, labels, f.left.size(), 0));
+    benchmark::DoNotOptimize(semap::ApplyFirstCameraLabels(c, f.id, labels, f.left.size(), 0));
   }
   state.counters["points"] = static_cast<double>(cloud.size());
 }

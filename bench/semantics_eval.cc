@@ -2,16 +2,16 @@
 // the share of pixels per class, a geometric plausibility check of the ground classes against the Velodyne
 // (LiDAR returns near the ground plane under the camera vs those well above it) and an overlay image.
 //
-// Usage: semap_semantics_eval [--data DIR] [--model FILE] [--overlay OUT.png] [--overlay-index K] [--stretch] [--threads N]
-#include <chrono>
-#include <ctime>
-#include <cstdio>
-#include <string>
-#include <vector>
-
+// Usage: semap_semantics_eval [--data DIR] [--model FILE] [--overlay OUT.png] [--overlay-index K] [--stretch]
+// [--threads N]
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 #include "engine/semantics/labelling.h"
 #include "engine/semantics/segmenter.h"
@@ -70,8 +70,8 @@ int main(int argc, char** argv) {
         if (c.z() <= 1.0 || c.z() > 40.0) continue;
         const Eigen::Vector2d uv = f.frame.calibration.Project(c);
         if (!f.frame.calibration.InImage(uv)) continue;
-        const bool is_ground = classes.Role(labels.at<semap::Label>(int(uv.y()), int(uv.x()))) ==
-                               semap::ClassRole::kGround;
+        const bool is_ground =
+            classes.Role(labels.at<semap::Label>(int(uv.y()), int(uv.x()))) == semap::ClassRole::kGround;
         if (std::abs(c.y() - camera_height_m) < ground_band_m) {
           ++ground_height;
           ground_height_labelled_ground += is_ground;
@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
     }
     const double n = static_cast<double>(names.size());
     std::printf("ENet (%s) on %zu frames, OpenCV threads %d: %.1f ms/frame wall, %.1f ms/frame CPU\n",
-                stretch ? "stretched" : "aspect kept", names.size(), cv::getNumThreads(), 1000.0 * seconds / n,
-                1000.0 * cpu_seconds / n);
+                stretch ? "stretched" : "aspect kept", names.size(), cv::getNumThreads(),
+                1000.0 * seconds / n, 1000.0 * cpu_seconds / n);
     std::printf("pixel shares:");
     for (size_t c = 0; c < share.size(); ++c) {
       if (share[c] / total_px >= 0.005) {

@@ -8,11 +8,10 @@
 // those and over all points.
 //
 // Usage: semap_synth_label_eval DRIVE_DIR [--frames N] [--no-enet]
-#include <cstdio>
-#include <string>
-
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
 
 #include "engine/depth/stereo_depth.h"
 #include "engine/semantics/labelling.h"
@@ -25,10 +24,11 @@ struct Tally {
   size_t points = 0, correct = 0, on_surface = 0, on_surface_correct = 0;
   size_t ground_wall_other_correct = 0;  // agreement on the simplifier's roles only (ground / wall / keep)
   void Print(const char* title) const {
-    std::printf("%-22s all points %6.2f %% of %zu | on the exact surface %6.2f %% of %zu | role (ground/wall/"
-                "keep) %6.2f %%\n",
-                title, 100.0 * correct / points, points, 100.0 * on_surface_correct / on_surface, on_surface,
-                100.0 * ground_wall_other_correct / points);
+    std::printf(
+        "%-22s all points %6.2f %% of %zu | on the exact surface %6.2f %% of %zu | role (ground/wall/"
+        "keep) %6.2f %%\n",
+        title, 100.0 * correct / points, points, 100.0 * on_surface_correct / on_surface, on_surface,
+        100.0 * ground_wall_other_correct / points);
   }
 };
 
@@ -71,8 +71,10 @@ int main(int argc, char** argv) {
       f.left = cv::imread((dir / "image_02" / "data" / name).string(), cv::IMREAD_COLOR);
       f.right = cv::imread((dir / "image_03" / "data" / name).string(), cv::IMREAD_COLOR);
       if (f.left.empty()) break;
-      const cv::Mat exact_labels = cv::imread((dir / "semantic" / "data" / name).string(), cv::IMREAD_UNCHANGED);
-      const cv::Mat exact_depth_mm = cv::imread((dir / "depth" / "data" / name).string(), cv::IMREAD_UNCHANGED);
+      const cv::Mat exact_labels =
+          cv::imread((dir / "semantic" / "data" / name).string(), cv::IMREAD_UNCHANGED);
+      const cv::Mat exact_depth_mm =
+          cv::imread((dir / "depth" / "data" / name).string(), cv::IMREAD_UNCHANGED);
       if (exact_labels.type() != CV_8UC1 || exact_depth_mm.type() != CV_16UC1) {
         throw std::runtime_error(std::string("bad exact labels or depth for ") + name);
       }
@@ -114,7 +116,8 @@ int main(int argc, char** argv) {
     exact_tally.Print("exact label PNGs");
     if (enet) {
       enet_tally.Print("ENet");
-      std::printf("ENet pixel accuracy on the generated images: %.2f %%\n", 100.0 * enet_pixels_correct / enet_pixels);
+      std::printf("ENet pixel accuracy on the generated images: %.2f %%\n",
+                  100.0 * enet_pixels_correct / enet_pixels);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "semap_synth_label_eval: %s\n", e.what());

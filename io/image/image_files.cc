@@ -1,7 +1,6 @@
 #include "io/image/image_files.h"
 
 #include <cmath>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -33,7 +32,8 @@ void WriteKittiDisparityPng(const std::filesystem::path& path, const cv::Mat& di
     const float* d = disparity_px.ptr<float>(v);
     std::uint16_t* o = out.ptr<std::uint16_t>(v);
     for (int u = 0; u < disparity_px.cols; ++u) {
-      const double scaled = std::isfinite(d[u]) && d[u] > 0.0f ? std::round(d[u] * kKittiDisparityScale) : 0.0;
+      const double scaled =
+          std::isfinite(d[u]) && d[u] > 0.0f ? std::round(d[u] * kKittiDisparityScale) : 0.0;
       o[u] = static_cast<std::uint16_t>(std::min(scaled, kMaxUint16));
     }
   }

@@ -7,20 +7,19 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "engine/core/frame.h"
 
 namespace semap::test {
 
 struct Stereo2015Frame {
-  std::string name;     // e.g. "000002_10"
-  Frame frame;          // left/right (BGR), calibration, velodyne (cam_from_velo into camera 2), id
+  std::string name;         // e.g. "000002_10"
+  Frame frame;              // left/right (BGR), calibration, velodyne (cam_from_velo into camera 2), id
   cv::Mat gt_disparity_px;  // CV_32F, 0 = no ground truth (disp_occ_0)
 };
 

@@ -1,8 +1,8 @@
 #include "engine/depth/stereo_depth.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "engine/core/check.h"
@@ -270,7 +270,8 @@ TEST(StereoDepth, BadPairsThrowClearErrors) {
     }
     return "no error";
   };
-  EXPECT_NE(message(f.left, f.right(cv::Rect(0, 0, 100, 100)).clone()).find("sizes differ"), std::string::npos);
+  EXPECT_NE(message(f.left, f.right(cv::Rect(0, 0, 100, 100)).clone()).find("sizes differ"),
+            std::string::npos);
   cv::Mat gray;
   cv::cvtColor(f.right, gray, cv::COLOR_BGR2GRAY);
   EXPECT_NE(message(f.left, gray).find("grayscale/colour"), std::string::npos);

@@ -1,6 +1,7 @@
 #include "engine/semantics/labelling.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
 
 #include "engine/depth/stereo_depth.h"

@@ -1,12 +1,12 @@
 #include "engine/semantics/segmenter.h"
 
-#include <fstream>
-#include <set>
-#include <vector>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
+#include <vector>
 
 #include "engine/core/check.h"
 #include "tests/common/test_data.h"

@@ -1,8 +1,8 @@
 #include "io/image/image_files.h"
 
-#include <limits>
-
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 
 #include "io/mesh/ply_off.h"
