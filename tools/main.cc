@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
       RegisterConfigCommand,
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,
+      RegisterInfoCommand,
+      RegisterDepthCommand,
+      RegisterSegmentCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

@@ -19,6 +19,11 @@ void Bind(FieldBinder& b, FrameSourceOptions& o) {
   b.Field("labels_dir", &o.labels_dir,
           "folder of label PNGs, one per frame with the image's stem; empty = the dataset's own if any");
   b.Field("class_map", &o.class_map, "YAML class map of the label ids; empty = Cityscapes 20 classes");
+  b.Enum("odometry_pair", &o.odometry_pair,
+         {{"auto", CameraPair::kAuto}, {"gray", CameraPair::kGray}, {"color", CameraPair::kColor}},
+         "KITTI odometry: stereo pair to read (gray image_0/1, colour image_2/3; auto = colour if present)");
+  b.Field("default_frame_period_s", &o.default_frame_period_s,
+          "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)");
 }
 
 void Bind(FieldBinder& b, PipelineOptions& o) {
