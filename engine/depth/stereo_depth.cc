@@ -58,6 +58,9 @@ void CheckPair(const cv::Mat& left, const cv::Mat& right) {
 }
 
 cv::Mat RunSgbm(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  // An image no wider than the search range has no pixel with a full search range; OpenCV 4.6's 3-way
+  // matcher aborts the process on it (an exception inside its parallel loop): no disparity instead.
+  if (left.cols <= num_disparities) return cv::Mat::zeros(left.size(), CV_32F);
   const int channels = left.channels();
   const int area = o.block_size * o.block_size;
   const int p1 = o.p1 > 0 ? o.p1 : 8 * channels * area;

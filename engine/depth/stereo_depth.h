@@ -89,7 +89,8 @@ class StereoDepth {
   const DepthOptions& options() const { return options_; }
 
   // Disparity of the left image. Requires two non-empty images of the same size and type, both CV_8UC1 or
-  // both CV_8UC3 (throws std::invalid_argument naming the mismatch otherwise). Invalid pixels are 0.
+  // both CV_8UC3 (throws std::invalid_argument naming the mismatch otherwise). Invalid pixels are 0. An image
+  // no wider than num_disparities (at the matching resolution) cannot be matched: every pixel is invalid.
   DisparityResult Compute(const cv::Mat& left, const cv::Mat& right) const;
   // Compute(left, right).disparity_px.
   cv::Mat ComputeDisparity(const cv::Mat& left, const cv::Mat& right) const;

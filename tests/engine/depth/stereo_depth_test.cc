@@ -259,6 +259,29 @@ TEST(StereoDepth, TexturelessPairGivesNoPointsButKeepsItsCamera) {
   cloud.AssertConsistent();
 }
 
+TEST(StereoDepth, ImagesNarrowerThanTheSearchRangeGiveNoDisparity) {
+  // OpenCV 4.6's 3-way SGBM aborts the process on these; the stage must not call it.
+  for (const SgbmMode mode : {SgbmMode::kThreeWay, SgbmMode::kSgbm, SgbmMode::kHh, SgbmMode::kHh4}) {
+    for (const int width : {8, 32, 64}) {
+      DepthOptions o;
+      o.num_disparities = 64;
+      o.mode = mode;
+      const Frame f = PlaneFrame();
+      const cv::Mat left = f.left.colRange(0, width).clone();
+      const cv::Mat right = f.right.colRange(0, width).clone();
+      const cv::Mat d = StereoDepth(o).ComputeDisparity(left, right);
+      ASSERT_EQ(d.size(), left.size());
+      EXPECT_EQ(cv::countNonZero(d), 0) << SgbmModeName(mode) << " width " << width;
+      o.half_resolution = true;
+      EXPECT_EQ(cv::countNonZero(StereoDepth(o).ComputeDisparity(left, right)), 0);
+    }
+  }
+  const Frame f = PlaneFrame();
+  DepthOptions o;
+  o.num_disparities = 32;
+  EXPECT_EQ(StereoDepth(o).ComputeDisparity(f.left.rowRange(0, 1), f.right.rowRange(0, 1)).rows, 1);
+}
+
 TEST(StereoDepth, BadPairsThrowClearErrors) {
   const Frame f = PlaneFrame();
   const StereoDepth depth(SmallOptions());
