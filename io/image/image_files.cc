@@ -40,15 +40,6 @@ void WriteKittiDisparityPng(const std::filesystem::path& path, const cv::Mat& di
   Write(path, out);
 }
 
-cv::Mat ReadKittiDisparityPng(const std::filesystem::path& path) {
-  const cv::Mat raw = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  if (raw.empty()) throw FileError(path, "cannot read the disparity PNG (missing or not an image)");
-  if (raw.type() != CV_16UC1) throw FileError(path, "a KITTI disparity PNG must be 16-bit single channel");
-  cv::Mat disparity;
-  raw.convertTo(disparity, CV_32F, 1.0 / kKittiDisparityScale);
-  return disparity;
-}
-
 cv::Mat FalseColourDisparity(const cv::Mat& disparity_px, float max_disparity_px) {
   CV_Assert(disparity_px.type() == CV_32FC1);
   cv::Mat valid = disparity_px > 0.0f;

@@ -10,8 +10,7 @@ namespace semap::io {
 // KITTI's disparity format: uint16 PNG, value = round(disparity_px · 256), 0 = no disparity. Disparities
 // ≤ 0 or non-finite are written as 0; values above 65535 / 256 px are clamped. `disparity_px` is CV_32F.
 void WriteKittiDisparityPng(const std::filesystem::path& path, const cv::Mat& disparity_px);
-// CV_32F disparity in px, 0 where the file has 0.
-cv::Mat ReadKittiDisparityPng(const std::filesystem::path& path);
+// (Reading: io::ReadKittiDisparityPng in io/kitti/ground_truth.h.)
 
 // A false-colour rendering (BGR, OpenCV's TURBO map, near = red) of a CV_32F disparity, scaled to
 // [0, max_disparity_px]; invalid pixels are black. max_disparity_px ≤ 0: the map's maximum.

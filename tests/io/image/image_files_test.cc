@@ -5,6 +5,7 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/kitti/ground_truth.h"
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
 
