@@ -40,5 +40,6 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
 void RegisterInfoCommand(CLI::App& app, int* exit_code);
 void RegisterDepthCommand(CLI::App& app, int* exit_code);
 void RegisterSegmentCommand(CLI::App& app, int* exit_code);
+void RegisterEvalCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

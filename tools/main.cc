@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       RegisterInfoCommand,
       RegisterDepthCommand,
       RegisterSegmentCommand,
+      RegisterEvalCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {
