@@ -5,13 +5,13 @@
 // frame of the depth stage (Compute + ToCloud) on one core (cv::setNumThreads(1)).
 //
 // Usage: semap_depth_eval [--data DIR] [--config FILE] [--set depth.key=value ...] [--no-reference]
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
+#include <opencv2/core/utility.hpp>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
-#include <opencv2/core/utility.hpp>
 
 #include "engine/depth/depth_metrics.h"
 #include "engine/depth/stereo_depth.h"
@@ -48,33 +48,40 @@ void Evaluate(const std::string& title, const DepthOptions& options,
   const semap::StereoDepth depth(options);
   semap::DisparityMetrics total;
   std::vector<double> errors;
-  double seconds = 0.0;
+  double seconds = 0.0, cpu_seconds = 0.0;
   size_t points = 0;
   for (const auto& f : frames) {
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     const semap::DisparityResult r = depth.Compute(f.frame.left, f.frame.right);
     const semap::LabelledCloud cloud = depth.ToCloud(f.frame, r.disparity_px, r.confidence);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    cpu_seconds += double(std::clock() - c0) / CLOCKS_PER_SEC;
     points += cloud.size();
     total += semap::EvaluateDisparity(r.disparity_px, f.gt_disparity_px);
     if (f.frame.velodyne) {
-      const cv::Mat lidar = semap::LidarDepthImage(*f.frame.velodyne, f.frame.calibration, options.max_depth_m);
-      const auto e = semap::DepthErrorsAgainstLidar(cloud, semap::Pose3d::Identity(), lidar, options.max_depth_m);
+      const cv::Mat lidar =
+          semap::LidarDepthImage(*f.frame.velodyne, f.frame.calibration, options.max_depth_m);
+      const auto e =
+          semap::DepthErrorsAgainstLidar(cloud, semap::Pose3d::Identity(), lidar, options.max_depth_m);
       errors.insert(errors.end(), e.begin(), e.end());
     }
   }
   const auto stats = semap::SummarizeErrors(errors);
   const double n = static_cast<double>(frames.size());
-  std::printf("%-28s D1-all %6.2f %%  density %6.2f %%  D1-est %6.2f %%  | LiDAR: %8zu pts median %.3f m "
-              "RMSE %.3f m mean %.3f m | %6.0f pts/frame %7.1f ms/frame\n",
-              title.c_str(), 100.0 * total.d1_all(), 100.0 * total.density(), 100.0 * total.d1_estimated(),
-              stats.count, stats.median_m, stats.rmse_m, stats.mean_abs_m, points / n, 1000.0 * seconds / n);
+  std::printf(
+      "%-28s D1-all %6.2f %%  density %6.2f %%  D1-est %6.2f %%  | LiDAR: %8zu pts median %.3f m "
+      "RMSE %.3f m mean %.3f m | %6.0f pts/frame %7.1f ms/frame wall %7.1f ms CPU\n",
+      title.c_str(), 100.0 * total.d1_all(), 100.0 * total.density(), 100.0 * total.d1_estimated(),
+      stats.count, stats.median_m, stats.rmse_m, stats.mean_abs_m, points / n, 1000.0 * seconds / n,
+      1000.0 * cpu_seconds / n);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Depth-stage quality (D1-all, density, LiDAR errors) and speed on the KITTI stereo-2015 subset"};
+  CLI::App app{
+      "Depth-stage quality (D1-all, density, LiDAR errors) and speed on the KITTI stereo-2015 subset"};
   std::string data = std::string(SEMAP_SHARED_DIR) + "/data/kitti_stereo2015_subset";
   std::string config_path;
   std::vector<std::string> overrides;

@@ -38,6 +38,8 @@ void RegisterConfigCommand(CLI::App& app, int* exit_code);
 void RegisterLcmMeshCommand(CLI::App& app, int* exit_code);
 void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
 void RegisterInfoCommand(CLI::App& app, int* exit_code);
+void RegisterDepthCommand(CLI::App& app, int* exit_code);
+void RegisterSegmentCommand(CLI::App& app, int* exit_code);
 void RegisterEvalCommand(CLI::App& app, int* exit_code);
 void RegisterRunCommand(CLI::App& app, int* exit_code);
 

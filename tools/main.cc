@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,
       RegisterInfoCommand,
+      RegisterDepthCommand,
+      RegisterSegmentCommand,
       RegisterEvalCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);

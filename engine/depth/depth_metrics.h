@@ -3,9 +3,8 @@
 #pragma once
 
 #include <cstddef>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "engine/core/frame.h"
 #include "engine/core/labelled_cloud.h"
@@ -13,9 +12,9 @@
 namespace semap {
 
 struct DisparityMetrics {
-  std::size_t gt_pixels = 0;        // pixels with ground truth (gt > 0)
-  std::size_t estimated = 0;        // of those, pixels with an estimate (est > 0)
-  std::size_t outliers = 0;         // estimated pixels with |err| > 3 px and > 5 % of the true disparity
+  std::size_t gt_pixels = 0;  // pixels with ground truth (gt > 0)
+  std::size_t estimated = 0;  // of those, pixels with an estimate (est > 0)
+  std::size_t outliers = 0;   // estimated pixels with |err| > 3 px and > 5 % of the true disparity
   // KITTI D1-all: (outliers + gt pixels without an estimate) / gt pixels.
   double d1_all() const { return gt_pixels ? double(outliers + gt_pixels - estimated) / gt_pixels : 0.0; }
   // Outliers among the estimated pixels only.
@@ -40,8 +39,8 @@ DisparityMetrics EvaluateDisparity(const cv::Mat& estimate_px, const cv::Mat& gr
 cv::Mat LidarDepthImage(const VelodyneScan& scan, const StereoCalibration& calibration, double max_depth_m);
 
 struct DepthErrorStats {
-  std::size_t count = 0;     // points compared
-  double median_m = 0.0;     // median |z_point − z_lidar|
+  std::size_t count = 0;  // points compared
+  double median_m = 0.0;  // median |z_point − z_lidar|
   double rmse_m = 0.0;
   double mean_abs_m = 0.0;
 };

@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-#include <string>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <string>
 
 #include "engine/core/check.h"
 #include "engine/depth/internal/disparity_fill.h"
@@ -59,6 +58,9 @@ void CheckPair(const cv::Mat& left, const cv::Mat& right) {
 }
 
 cv::Mat RunSgbm(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  // An image no wider than the search range has no pixel with a full search range; OpenCV 4.6's 3-way
+  // matcher aborts the process on it (an exception inside its parallel loop): no disparity instead.
+  if (left.cols <= num_disparities) return cv::Mat::zeros(left.size(), CV_32F);
   const int channels = left.channels();
   const int area = o.block_size * o.block_size;
   const int p1 = o.p1 > 0 ? o.p1 : 8 * channels * area;
@@ -70,7 +72,8 @@ cv::Mat RunSgbm(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right
   sgbm->compute(left, right, disparity_fixed);
   cv::Mat disparity;
   disparity_fixed.convertTo(disparity, CV_32F, 1.0 / kSgbmDisparityScale);
-  // OpenCV marks invalid pixels with (minDisparity - 1); a zero disparity is a point at infinity: both invalid.
+  // OpenCV marks invalid pixels with (minDisparity - 1); a zero disparity is a point at infinity: both
+  // invalid.
   cv::threshold(disparity, disparity, 0.0, 0.0, cv::THRESH_TOZERO);
   return disparity;
 }
@@ -136,8 +139,9 @@ void DepthOptions::Check() const {
   SEMAP_CHECK_OPTION(speckle_range_px >= 0, "speckle_range_px", speckle_range_px, "must be >= 0");
   SEMAP_CHECK_OPTION(disp12_max_diff_px >= -1, "disp12_max_diff_px", disp12_max_diff_px,
                      "must be >= 0, or -1 to disable the left-right check");
-  SEMAP_CHECK_OPTION(left_right_max_diff_px == -1.0f || left_right_max_diff_px >= 0.0f, "left_right_max_diff_px",
-                     left_right_max_diff_px, "must be >= 0, or -1 to disable the explicit left-right check");
+  SEMAP_CHECK_OPTION(left_right_max_diff_px == -1.0f || left_right_max_diff_px >= 0.0f,
+                     "left_right_max_diff_px", left_right_max_diff_px,
+                     "must be >= 0, or -1 to disable the explicit left-right check");
   SEMAP_CHECK_OPTION(pre_filter_cap >= 0 && pre_filter_cap <= 63, "pre_filter_cap", pre_filter_cap,
                      "must be in [0, 63]");
   SEMAP_CHECK_OPTION(fill_max_gap_px >= 0, "fill_max_gap_px", fill_max_gap_px, "must be >= 0 (0 = off)");
@@ -166,9 +170,8 @@ DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) 
     cv::Mat left_half, right_half;
     cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
     cv::resize(right, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-    const int half_range =
-        std::max(kDisparityMultiple, (o.num_disparities / 2 + kDisparityMultiple - 1) / kDisparityMultiple *
-                                         kDisparityMultiple);
+    const int half_range = std::max(kDisparityMultiple, (o.num_disparities / 2 + kDisparityMultiple - 1) /
+                                                            kDisparityMultiple * kDisparityMultiple);
     if (left_half.empty()) {
       result.disparity_px = cv::Mat::zeros(left.size(), CV_32F);
     } else {
@@ -218,11 +221,12 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   cloud.camera_centers_world.push_back(world_from_cam.translation());
   cloud.camera_frame_ids.push_back(frame.id);
   const bool colour = image.channels() == 3;
-  for (int v = 0; v < disparity_px.rows; v += o.pixel_stride) {
+  const int stride = o.half_resolution ? 2 * o.pixel_stride : o.pixel_stride;
+  for (int v = 0; v < disparity_px.rows; v += stride) {
     const float* d_row = disparity_px.ptr<float>(v);
     const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(v);
     const std::uint8_t* img_row = image.ptr<std::uint8_t>(v);
-    for (int u = 0; u < disparity_px.cols; u += o.pixel_stride) {
+    for (int u = 0; u < disparity_px.cols; u += stride) {
       const float d = d_row[u];
       if (!std::isfinite(d) || d <= 0.0f || d < min_disparity || d > max_disparity) continue;
       const float c = c_row ? c_row[u] : 1.0f;

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 #include "engine/core/frame.h"
@@ -61,7 +60,8 @@ struct DepthOptions {
   // Depth range of the emitted points (camera-frame z).
   double min_depth_m = 1.0;
   double max_depth_m = 40.0;
-  // Only every pixel_stride-th pixel on every pixel_stride-th row gives a point (1 = every pixel).
+  // Only every pixel_stride-th pixel on every pixel_stride-th row gives a point (1 = every pixel). With
+  // half_resolution the stride is doubled (one point per matched half-resolution pixel, no duplicates).
   int pixel_stride = 1;
   // Upper bound on the points per frame after the stride (uniform decimation); 0 = no bound.
   int max_points_per_frame = 0;
@@ -89,7 +89,8 @@ class StereoDepth {
   const DepthOptions& options() const { return options_; }
 
   // Disparity of the left image. Requires two non-empty images of the same size and type, both CV_8UC1 or
-  // both CV_8UC3 (throws std::invalid_argument naming the mismatch otherwise). Invalid pixels are 0.
+  // both CV_8UC3 (throws std::invalid_argument naming the mismatch otherwise). Invalid pixels are 0. An image
+  // no wider than num_disparities (at the matching resolution) cannot be matched: every pixel is invalid.
   DisparityResult Compute(const cv::Mat& left, const cv::Mat& right) const;
   // Compute(left, right).disparity_px.
   cv::Mat ComputeDisparity(const cv::Mat& left, const cv::Mat& right) const;

@@ -1,11 +1,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <stdexcept>
-#include <string>
-
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <string>
 
 #include "engine/core/check.h"
 #include "engine/semantics/segmenter.h"

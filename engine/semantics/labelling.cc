@@ -1,10 +1,9 @@
 #include "engine/semantics/labelling.h"
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
-
-#include <opencv2/imgproc.hpp>
 
 #include "engine/core/check.h"
 
@@ -15,8 +14,9 @@ std::string SizeText(cv::Size s) { return std::to_string(s.width) + "x" + std::t
 
 }  // namespace
 
-LabellingReport ApplyFirstCameraLabels(LabelledCloud& cloud, std::int64_t frame_id, const cv::Mat& label_image,
-                                       cv::Size image_size, Label unlabelled_id, LabelSizePolicy policy) {
+LabellingReport ApplyFirstCameraLabels(LabelledCloud& cloud, std::int64_t frame_id,
+                                       const cv::Mat& label_image, cv::Size image_size, Label unlabelled_id,
+                                       LabelSizePolicy policy) {
   SEMAP_ASSERT(cloud.pixels_px.size() == cloud.size(), "labelling needs the pixel of every point");
   SEMAP_ASSERT(cloud.camera_index.size() == cloud.size(), "labelling needs the camera of every point");
   SEMAP_ASSERT(cloud.camera_frame_ids.size() == cloud.camera_centers_world.size());

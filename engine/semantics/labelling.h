@@ -13,9 +13,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <optional>
-
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "engine/core/class_map.h"
 #include "engine/core/labelled_cloud.h"
@@ -33,10 +32,10 @@ enum class LabelSizePolicy {
 inline Label KeepFirstLabel(std::optional<Label> first, Label observed) { return first.value_or(observed); }
 
 struct LabellingReport {
-  std::size_t labelled = 0;        // points of this camera that received a label
-  std::size_t outside_image = 0;   // points of this camera whose pixel fell outside (→ unlabelled id)
-  std::size_t other_cameras = 0;   // points first observed by another camera (left unchanged)
-  bool resized = false;            // the label image was rescaled to the image size (kResizeNearest)
+  std::size_t labelled = 0;       // points of this camera that received a label
+  std::size_t outside_image = 0;  // points of this camera whose pixel fell outside (→ unlabelled id)
+  std::size_t other_cameras = 0;  // points first observed by another camera (left unchanged)
+  bool resized = false;           // the label image was rescaled to the image size (kResizeNearest)
 };
 
 // Labels the points of `cloud` whose first camera (camera_frame_ids[camera_index[i]]) is `frame_id` with
@@ -46,8 +45,8 @@ struct LabellingReport {
 // this camera's points `unlabelled_id` (label source "none"). Requires pixels_px and camera indices
 // (programmer error otherwise); throws std::invalid_argument on a label image that is not CV_8UC1 or, under
 // kRefuse, of another size.
-LabellingReport ApplyFirstCameraLabels(LabelledCloud& cloud, std::int64_t frame_id, const cv::Mat& label_image,
-                                       cv::Size image_size, Label unlabelled_id,
+LabellingReport ApplyFirstCameraLabels(LabelledCloud& cloud, std::int64_t frame_id,
+                                       const cv::Mat& label_image, cv::Size image_size, Label unlabelled_id,
                                        LabelSizePolicy policy = LabelSizePolicy::kResizeNearest);
 
 // `label_image` as a colour image (BGR) using the class map's display colours; unknown ids are black.

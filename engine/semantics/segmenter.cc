@@ -26,8 +26,8 @@ const char* LabelSourceName(LabelSource source) {
 }
 
 void SemanticsOptions::Check() const {
-  SEMAP_CHECK_OPTION(source != LabelSource::kEnet || !enet_model_path.empty(), "enet_model_path",
-                     "(empty)", "must name the ENet model file when source is enet");
+  SEMAP_CHECK_OPTION(source != LabelSource::kEnet || !enet_model_path.empty(), "enet_model_path", "(empty)",
+                     "must name the ENet model file when source is enet");
   SEMAP_CHECK_OPTION(enet_input_width_px >= kEnetStride && enet_input_width_px <= kEnetMaxInputPx &&
                          enet_input_width_px % kEnetStride == 0,
                      "enet_input_width_px", enet_input_width_px, "must be a multiple of 8 in [8, 4096]");

@@ -75,7 +75,7 @@ void Bind(FieldBinder& b, DepthOptions& o) {
   b.Enum("mode", &o.mode,
          {{"sgbm", SgbmMode::kSgbm}, {"hh", SgbmMode::kHh}, {"3way", SgbmMode::kThreeWay}, {"hh4", SgbmMode::kHh4}},
          "OpenCV SGBM mode");
-  b.Field("half_resolution", &o.half_resolution, "match at half resolution (about 4x faster)");
+  b.Field("half_resolution", &o.half_resolution, "match at half resolution (about 4x faster; doubles pixel_stride)");
   b.Field("fill_max_gap_px", &o.fill_max_gap_px,
           "fill horizontal gaps up to this many px with the background disparity (0 = off)");
   b.Field("fill_left_border", &o.fill_left_border,

@@ -1,26 +1,28 @@
-// Reads ../shared/data/kitti_stereo2015_subset without the io readers (test and benchmark helper): the
-// left/right images, the ground-truth disparity, the Velodyne scan and the raw-data calibration
-// (P_rect_02 / P_rect_03, R_rect_00, velo-to-cam R, T). Header-only so benchmarks can use it too.
+// ../shared/data/kitti_stereo2015_subset for tests and benchmarks: frames through the io reader with their
+// ground-truth disparity, and a small parser of the KITTI raw calibration files (P_rect_02 / P_rect_03,
+// R_rect_00, velo-to-cam R, T) for generated sequences. Header-only so benchmarks can use it too.
 #pragma once
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "engine/core/frame.h"
+#include "io/frame_source.h"
+#include "io/kitti/ground_truth.h"
 
 namespace semap::test {
 
 struct Stereo2015Frame {
-  std::string name;     // e.g. "000002_10"
-  Frame frame;          // left/right (BGR), calibration, velodyne (cam_from_velo into camera 2), id
+  std::string name;         // e.g. "000002_10"
+  Frame frame;              // left/right (BGR), calibration, velodyne (cam_from_velo into camera 2), id
   cv::Mat gt_disparity_px;  // CV_32F, 0 = no ground truth (disp_occ_0)
 };
 
@@ -85,31 +87,21 @@ inline std::vector<std::string> ListStereo2015Frames(const std::filesystem::path
   return names;
 }
 
+// Frame `name` (e.g. "000002_10") read through the io reader (io::OpenFrameSource, stereo-2015 layout:
+// images, calibration, Velodyne with cam_from_velo into camera 2) plus its disp_occ_0 ground truth.
 inline Stereo2015Frame LoadStereo2015Frame(const std::filesystem::path& dir, const std::string& name) {
+  io::FrameSourceOptions options;
+  options.layout = io::DatasetLayout::kKittiStereo2015;
+  options.first_frame = std::stoi(name.substr(0, name.find('_')));
+  options.max_frames = 1;
+  options.load_velodyne = true;
+  auto source = io::OpenFrameSource(dir, options);
+  std::optional<Frame> frame = source->Next();
+  if (!frame || frame->id != options.first_frame) throw std::runtime_error("no frame " + name + " in " + dir.string());
   Stereo2015Frame f;
   f.name = name;
-  f.frame.id = std::stoll(name.substr(0, name.find('_')));
-  f.frame.left = cv::imread((dir / "image_2" / (name + ".png")).string(), cv::IMREAD_COLOR);
-  f.frame.right = cv::imread((dir / "image_3" / (name + ".png")).string(), cv::IMREAD_COLOR);
-  if (f.frame.left.empty() || f.frame.right.empty()) throw std::runtime_error("cannot read images " + name);
-  VelodyneScan scan;
-  ReadStereo2015Calibration(dir, &f.frame.calibration, &scan.cam_from_velo);
-  f.frame.calibration.width_px = f.frame.left.cols;
-  f.frame.calibration.height_px = f.frame.left.rows;
-  const cv::Mat gt = cv::imread((dir / "disp_occ_0" / (name + ".png")).string(), cv::IMREAD_UNCHANGED);
-  if (gt.type() != CV_16UC1) throw std::runtime_error("bad ground truth disparity " + name);
-  gt.convertTo(f.gt_disparity_px, CV_32F, 1.0 / 256.0);
-  {
-    std::ifstream in(dir / "velodyne" / (name + ".bin"), std::ios::binary | std::ios::ate);
-    if (in) {
-      const auto bytes = static_cast<std::size_t>(in.tellg());
-      in.seekg(0);
-      scan.points_velo.resize(bytes / sizeof(Eigen::Vector4f));
-      in.read(reinterpret_cast<char*>(scan.points_velo.data()),
-              static_cast<std::streamsize>(scan.points_velo.size() * sizeof(Eigen::Vector4f)));
-      f.frame.velodyne = std::move(scan);
-    }
-  }
+  f.frame = std::move(*frame);
+  f.gt_disparity_px = io::ReadKittiDisparityPng(dir / "disp_occ_0" / (name + ".png"));
   return f;
 }
 

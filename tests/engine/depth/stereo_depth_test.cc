@@ -1,8 +1,8 @@
 #include "engine/depth/stereo_depth.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "engine/core/check.h"
@@ -224,6 +224,9 @@ TEST(StereoDepth, StrideAndPointBudget) {
     EXPECT_EQ(int(px.x()) % 4, 0);
     EXPECT_EQ(int(px.y()) % 4, 0);
   }
+  o.half_resolution = true;  // doubles the stride: one point per half-resolution pixel
+  EXPECT_EQ(StereoDepth(o).ToCloud(f, disparity).size(), size_t((kWidth / 8) * (kHeight / 8)));
+  o.half_resolution = false;
   o.pixel_stride = 1;
   o.max_points_per_frame = 1000;
   const LabelledCloud budget = StereoDepth(o).ToCloud(f, disparity);
@@ -256,6 +259,29 @@ TEST(StereoDepth, TexturelessPairGivesNoPointsButKeepsItsCamera) {
   cloud.AssertConsistent();
 }
 
+TEST(StereoDepth, ImagesNarrowerThanTheSearchRangeGiveNoDisparity) {
+  // OpenCV 4.6's 3-way SGBM aborts the process on these; the stage must not call it.
+  for (const SgbmMode mode : {SgbmMode::kThreeWay, SgbmMode::kSgbm, SgbmMode::kHh, SgbmMode::kHh4}) {
+    for (const int width : {8, 32, 64}) {
+      DepthOptions o;
+      o.num_disparities = 64;
+      o.mode = mode;
+      const Frame f = PlaneFrame();
+      const cv::Mat left = f.left.colRange(0, width).clone();
+      const cv::Mat right = f.right.colRange(0, width).clone();
+      const cv::Mat d = StereoDepth(o).ComputeDisparity(left, right);
+      ASSERT_EQ(d.size(), left.size());
+      EXPECT_EQ(cv::countNonZero(d), 0) << SgbmModeName(mode) << " width " << width;
+      o.half_resolution = true;
+      EXPECT_EQ(cv::countNonZero(StereoDepth(o).ComputeDisparity(left, right)), 0);
+    }
+  }
+  const Frame f = PlaneFrame();
+  DepthOptions o;
+  o.num_disparities = 32;
+  EXPECT_EQ(StereoDepth(o).ComputeDisparity(f.left.rowRange(0, 1), f.right.rowRange(0, 1)).rows, 1);
+}
+
 TEST(StereoDepth, BadPairsThrowClearErrors) {
   const Frame f = PlaneFrame();
   const StereoDepth depth(SmallOptions());
@@ -267,7 +293,8 @@ TEST(StereoDepth, BadPairsThrowClearErrors) {
     }
     return "no error";
   };
-  EXPECT_NE(message(f.left, f.right(cv::Rect(0, 0, 100, 100)).clone()).find("sizes differ"), std::string::npos);
+  EXPECT_NE(message(f.left, f.right(cv::Rect(0, 0, 100, 100)).clone()).find("sizes differ"),
+            std::string::npos);
   cv::Mat gray;
   cv::cvtColor(f.right, gray, cv::COLOR_BGR2GRAY);
   EXPECT_NE(message(f.left, gray).find("grayscale/colour"), std::string::npos);

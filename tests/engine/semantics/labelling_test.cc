@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/segmenter.h"
+
 namespace semap {
 namespace {
 
@@ -94,6 +99,68 @@ TEST(ColorizeLabels, UsesTheClassColoursAndBlendsOverTheImage) {
   EXPECT_EQ(overlay.type(), CV_8UC3);
   EXPECT_EQ(overlay.at<cv::Vec3b>(1, 1), cv::Vec3b(50, 50, 50));
   EXPECT_THROW(OverlayLabels(cv::Mat(3, 3, CV_8UC1), labels, cityscapes, 0.5), std::invalid_argument);
+}
+
+// A textured fronto-parallel plane at disparity 16 px with a label image: top half 3, bottom half 7.
+Frame LabelledPlane() {
+  cv::RNG rng(3);
+  cv::Mat noise(120, 216, CV_8UC1);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(noise, noise, cv::Size(3, 3), 0.8);
+  Frame f;
+  f.id = 5;
+  f.left = noise(cv::Rect(0, 0, 200, 120)).clone();
+  f.right = noise(cv::Rect(16, 0, 200, 120)).clone();
+  f.calibration = {300.0, 300.0, 100.0, 60.0, 0.5, 200, 120};
+  f.labels = cv::Mat(120, 200, CV_8UC1, cv::Scalar(3));
+  f.labels.rowRange(60, 120).setTo(7);
+  return f;
+}
+
+// The depth stage's composition (as the pipeline's StereoLabelStage does it): SGBM cloud, the frame's
+// label image from the configured source, the first-camera rule.
+LabelledCloud DepthThenLabels(const Frame& f, const SemanticsOptions& semantics, LabellingReport* report) {
+  DepthOptions o;
+  o.num_disparities = 32;
+  LabelledCloud cloud = StereoDepth(o).Process(f);
+  const LabellingReport r = ApplyFirstCameraLabels(cloud, f.id, FrameLabels(f, semantics, nullptr),
+                                                   f.left.size(), 0, semantics.size_mismatch);
+  if (report) *report = r;
+  return cloud;
+}
+
+TEST(StereoThenFirstCameraLabels, LabelsEachPointFromItsPixelInTheFramesLabelImage) {
+  const Frame f = LabelledPlane();
+  LabellingReport report;
+  const LabelledCloud cloud = DepthThenLabels(f, SemanticsOptions{}, &report);
+  ASSERT_GT(cloud.size(), 1000u);
+  ASSERT_EQ(cloud.labels.size(), cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    EXPECT_EQ(cloud.labels[i], cloud.pixels_px[i].y() < 60 ? 3 : 7) << "point " << i;
+  }
+  EXPECT_EQ(report.labelled, cloud.size());
+  EXPECT_FALSE(report.resized);
+}
+
+TEST(StereoThenFirstCameraLabels, NoneSourceLeavesEveryPointUnlabelled) {
+  const Frame f = LabelledPlane();
+  SemanticsOptions s;
+  s.source = LabelSource::kNone;
+  const LabelledCloud cloud = DepthThenLabels(f, s, nullptr);
+  ASSERT_GT(cloud.size(), 0u);
+  EXPECT_EQ(cloud.labels, std::vector<Label>(cloud.size(), 0));
+}
+
+TEST(StereoThenFirstCameraLabels, LabelImageOfAnotherSizeIsResizedOrRefused) {
+  Frame f = LabelledPlane();
+  cv::resize(f.labels, f.labels, cv::Size(100, 60), 0, 0, cv::INTER_NEAREST);
+  LabellingReport report;
+  const LabelledCloud cloud = DepthThenLabels(f, SemanticsOptions{}, &report);
+  EXPECT_TRUE(report.resized);
+  for (size_t i = 0; i < cloud.size(); ++i) EXPECT_EQ(cloud.labels[i], cloud.pixels_px[i].y() < 60 ? 3 : 7);
+  SemanticsOptions refuse;
+  refuse.size_mismatch = LabelSizePolicy::kRefuse;
+  EXPECT_THROW(DepthThenLabels(f, refuse, nullptr), std::invalid_argument);
 }
 
 }  // namespace

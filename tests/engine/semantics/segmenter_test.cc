@@ -1,11 +1,12 @@
 #include "engine/semantics/segmenter.h"
 
-#include <fstream>
-#include <set>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
+#include <vector>
 
 #include "engine/core/check.h"
 #include "tests/common/test_data.h"
@@ -76,6 +77,26 @@ TEST(EnetSegmenter, AFileThatIsNotANetworkIsAClearError) {
     ADD_FAILURE() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("garbage.net"), std::string::npos) << e.what();
+  }
+}
+
+TEST(EnetSegmenter, ATruncatedModelIsAClearError) {
+  SEMAP_REQUIRE_SHARED(kEnetModel);
+  SemanticsOptions o;
+  o.source = LabelSource::kEnet;
+  o.enet_model_path = (test::TempDir() / "truncated.net").string();
+  {
+    std::ifstream in(test::SharedDir() / kEnetModel, std::ios::binary);
+    std::vector<char> head(1 << 20);
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    std::ofstream out(o.enet_model_path, std::ios::binary);
+    out.write(head.data(), in.gcount());
+  }
+  try {
+    EnetSegmenter s(o);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated.net"), std::string::npos) << e.what();
   }
 }
 

@@ -1,0 +1,56 @@
+// Semantic stage micro-benchmarks: ENet Cityscapes on a real KITTI frame (one core, cv::setNumThreads(1)),
+// and the first-camera labelling of a dense frame cloud.
+// Run: ./build/bench/semantics_bench
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <opencv2/core/utility.hpp>
+#include <string>
+
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/labelling.h"
+#include "engine/semantics/segmenter.h"
+#include "tests/common/kitti2015_subset.h"
+
+namespace {
+
+std::string Shared() {
+  const char* env = std::getenv("SEMAP_SHARED");
+  return env ? env : std::string(SEMAP_SHARED_DIR);
+}
+
+const semap::test::Stereo2015Frame& TestFrame() {
+  static const semap::test::Stereo2015Frame frame =
+      semap::test::LoadStereo2015Frame(Shared() + "/data/kitti_stereo2015_subset", "000002_10");
+  return frame;
+}
+
+void BM_EnetSegment(benchmark::State& state) {
+  cv::setNumThreads(static_cast<int>(state.range(0)));
+  semap::SemanticsOptions o;
+  o.source = semap::LabelSource::kEnet;
+  o.enet_model_path = Shared() + "/models/enet-cityscapes/enet-model.net";
+  auto segmenter = semap::MakeSegmenter(o);
+  const cv::Mat& image = TestFrame().frame.left;
+  segmenter->Segment(image);  // first call allocates the network's buffers
+  for (auto _ : state) benchmark::DoNotOptimize(segmenter->Segment(image));
+  state.SetLabel(std::to_string(cv::getNumThreads()) + " thread(s)");
+}
+BENCHMARK(BM_EnetSegment)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+
+void BM_FirstCameraLabels(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const auto& f = TestFrame().frame;
+  const semap::LabelledCloud cloud = semap::StereoDepth(semap::DepthOptions{}).Process(f);
+  const cv::Mat labels(f.left.size(), CV_8UC1, cv::Scalar(3));
+  for (auto _ : state) {
+    semap::LabelledCloud c = cloud;
+    benchmark::DoNotOptimize(semap::ApplyFirstCameraLabels(c, f.id, labels, f.left.size(), 0));
+  }
+  state.counters["points"] = static_cast<double>(cloud.size());
+}
+BENCHMARK(BM_FirstCameraLabels)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
