@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/sim/synth_options.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 
@@ -21,6 +22,7 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
+  sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
