@@ -96,14 +96,18 @@ cv::Mat CameraRenderer::Rasterize(const StereoCalibration& cal, const Pose3d& sc
         const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({sv[a], sv[b], sv[c]}))));
         const int y1 = std::min(h - 1, static_cast<int>(std::floor(std::max({sv[a], sv[b], sv[c]}))));
         if (x0 > x1 || y0 > y1) continue;
+        // Barycentric weights as affine functions of the pixel centre (x, y); inclusive edges (no cracks).
         const double inv_area = 1.0 / area;
+        const double aa = -(sv[c] - sv[b]) * inv_area, ba = (su[c] - su[b]) * inv_area;
+        const double ca = (su[b] * sv[c] - su[c] * sv[b]) * inv_area;
+        const double ab = -(sv[a] - sv[c]) * inv_area, bb = (su[a] - su[c]) * inv_area;
+        const double cb = (su[c] * sv[a] - su[a] * sv[c]) * inv_area;
         for (int y = y0; y <= y1; ++y) {
           auto* id_row = ids.ptr<std::int32_t>(y);
           auto* z_row = inv_z.ptr<double>(y);
+          const double ra = ba * y + ca, rb = bb * y + cb;
           for (int x = x0; x <= x1; ++x) {
-            // Barycentric weights of the pixel centre (x, y); inclusive edges (no cracks).
-            const double wa = ((su[b] - x) * (sv[c] - y) - (su[c] - x) * (sv[b] - y)) * inv_area;
-            const double wb = ((su[c] - x) * (sv[a] - y) - (su[a] - x) * (sv[c] - y)) * inv_area;
+            const double wa = ra + aa * x, wb = rb + ab * x;
             const double wc = 1.0 - wa - wb;
             if (wa < 0.0 || wb < 0.0 || wc < 0.0) continue;
             const double iz = wa * sz[a] + wb * sz[b] + wc * sz[c];
@@ -166,7 +170,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
     for (int x = 0; x < w; ++x) {
       const Vector3d ray_cam((x - cal.cx_px) / cal.fx_px, (y - cal.cy_px) / cal.fy_px, 1.0);
       const Vector3d d = r * ray_cam;
-      const double rr = (std::pow(x - cal.cx_px, 2) + std::pow(y - cal.cy_px, 2)) / r_max2;
+      const double rr = ((x - cal.cx_px) * (x - cal.cx_px) + (y - cal.cy_px) * (y - cal.cy_px)) / r_max2;
       const float vignette = static_cast<float>((1.0 - options_.vignetting * rr) * exposure.gain);
       const int t = id_row[x];
       Vector3f rgb;

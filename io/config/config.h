@@ -9,6 +9,7 @@
 #include "engine/sim/synth_options.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "io/lcm/lcm_publisher.h"
 
 namespace semap::io {
 
@@ -23,6 +24,7 @@ class ConfigError : public std::runtime_error {
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
   sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
+  LcmOptions lcm;            // mesh / stats publishing over LCM
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).

@@ -66,6 +66,17 @@ void Bind(FieldBinder& b, sim::SynthOptions& o) {
   b.Field("origin_heading_deg", &o.origin_heading_deg, "heading of the first street, deg counter-clockwise from east");
 }
 
+void Bind(FieldBinder& b, LcmOptions& o) {
+  b.Field("enabled", &o.enabled, "publish meshes, frame stats and poses over LCM (semap run --lcm-url sets it)");
+  b.Field("url", &o.url, "LCM provider URL; ttl=0 keeps multicast on this host");
+  b.Field("channel_prefix", &o.channel_prefix,
+          "channel prefix: <prefix>MESH_SNAPSHOT, MESH_DELTA, FRAME_STATS, CAMERA_POSE");
+  b.Field("snapshot_every", &o.snapshot_every,
+          "full mesh snapshot every N mesh messages for late subscribers (0 = first only; N > 0 keeps the whole "
+          "published mesh in memory)");
+  b.Field("queue_capacity", &o.queue_capacity, "stats/pose messages queued at most; more are dropped and counted");
+}
+
 template <typename Options>
 Section MakeSection(std::string name, std::string doc, Options& options) {
   Section s{std::move(name), std::move(doc), {}, [&options]() { options.Check(); }};
@@ -79,6 +90,7 @@ std::vector<Section> BindSections(Config& c) {
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
   s.push_back(MakeSection("synth", "Synthetic KITTI-format sequences (`semap synth`).", c.synth));
+  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
   return s;
 }
 

@@ -35,23 +35,32 @@ class Rng {
   // Uniform integer in [lo, hi].
   int UniformInt(int lo, int hi) { return lo + static_cast<int>(Uniform() * (hi - lo + 1)); }
   bool Bernoulli(double p) { return Uniform() < p; }
-  // Standard normal (Box-Muller, one value per call).
+  // Standard normal (Box-Muller; the second value of each pair is kept for the next call).
   double Normal() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
     const double u1 = 1.0 - Uniform();  // (0, 1]
     const double u2 = Uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+    const double r = std::sqrt(-2.0 * std::log(u1)), a = 6.283185307179586 * u2;
+    spare_ = r * std::sin(a);
+    has_spare_ = true;
+    return r * std::cos(a);
   }
 
  private:
   std::uint64_t state_;
+  double spare_ = 0.0;
+  bool has_spare_ = false;
 };
 
-// Uniform value in [0, 1) from a lattice point and a seed.
+// Uniform value in [0, 1) from a lattice point and a seed (one 64-bit mix: fast enough for per-pixel noise).
 inline float LatticeValue(std::int64_t x, std::int64_t y, std::int64_t z, std::uint64_t seed) {
-  std::uint64_t h = HashCombine(seed, static_cast<std::uint64_t>(x));
-  h = HashCombine(h, static_cast<std::uint64_t>(y));
-  h = HashCombine(h, static_cast<std::uint64_t>(z));
-  return static_cast<float>(h >> 40) * (1.0f / 16777216.0f);
+  const std::uint64_t h = seed ^ (static_cast<std::uint64_t>(x) * 0x9e3779b97f4a7c15ULL) ^
+                          (static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4fULL) ^
+                          (static_cast<std::uint64_t>(z) * 0x165667b19e3779f9ULL);
+  return static_cast<float>(Mix64(h) >> 40) * (1.0f / 16777216.0f);
 }
 
 inline float Smooth(float t) { return t * t * (3.0f - 2.0f * t); }
