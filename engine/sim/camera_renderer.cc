@@ -19,8 +19,10 @@ using Eigen::Vector3f;
 const Vector3d kSunDirection = Vector3d(0.45, 0.30, 0.84).normalized();
 constexpr float kAmbient = 0.55f;
 constexpr float kSunStrength = 0.55f;
-// Grazing surfaces: the pixel footprint grows as 1 / cos(incidence), capped.
-constexpr double kMaxFootprintStretch = 20.0;
+// Grazing surfaces: the pixel footprint grows as 1 / cos(incidence) along the viewing direction only; the
+// texture LOD uses an isotropic footprint, so the stretch is capped low to keep the horizontal detail stereo
+// needs (vertical aliasing is the same in both rectified images).
+constexpr double kMaxFootprintStretch = 1.5;
 
 
 // Clips a polygon against z >= near (Sutherland-Hodgman, one plane).

@@ -55,7 +55,7 @@ struct SynthOptions {
   // Nearest rendered depth (camera z).
   double near_m = 0.3;
   // Standard deviation of the additive Gaussian image noise, in 8-bit grey levels.
-  double image_noise_sigma = 2.5;
+  double image_noise_sigma = 2.0;
   // Standard deviation of the Gaussian optical blur, in pixels (0 = none).
   double blur_sigma_px = 0.6;
   // Exposure (gain) of the right camera relative to the left one.

@@ -40,8 +40,8 @@ Vector3f ObjectTint(std::uint64_t seed, std::uint32_t id, float amount) {
 
 float Asphalt(const TextureContext& c, const Vector3d& p, double fp) {
   const float coarse = Fbm(p.x(), p.y(), 0.0, 6.0, 2, fp, c.seed + 11);
-  const float grain = Fbm(p.x(), p.y(), 0.0, 0.12, 3, fp, c.seed + 12);
-  float v = 0.30f + 0.16f * (coarse - 0.5f) + 0.30f * (grain - 0.5f);
+  const float grain = Fbm(p.x(), p.y(), 0.0, 0.25, 4, fp, c.seed + 12);
+  float v = 0.30f + 0.16f * (coarse - 0.5f) + 0.40f * (grain - 0.5f);
   // Dashed centre lines: 3 m dash, 3 m gap, 12 cm wide, not inside intersections.
   const double pitch = c.block_pitch_m, hw = 0.5 * c.road_width_m;
   auto off_grid = [&](double x) { return std::abs(x - pitch * std::round(x / pitch)); };
@@ -58,8 +58,8 @@ Vector3f Paving(const TextureContext& c, const Vector3d& p, double fp) {
   const auto ix = static_cast<std::int64_t>(std::floor(fx)), iy = static_cast<std::int64_t>(std::floor(fy));
   const double gx = std::min(fx - ix, 1.0 + ix - fx), gy = std::min(fy - iy, 1.0 + iy - fy);
   const float tile_v = 0.50f + 0.14f * (LatticeValue(ix, iy, 0, c.seed + 21) - 0.5f);
-  const float grain = Fbm(p.x(), p.y(), 0.0, 0.08, 2, fp, c.seed + 22);
-  float v = tile_v + 0.16f * (grain - 0.5f);
+  const float grain = Fbm(p.x(), p.y(), 0.0, 0.15, 3, fp, c.seed + 22);
+  float v = tile_v + 0.35f * (grain - 0.5f);
   const bool grout = std::min(gx, gy) * tile < 0.008;
   v = Fade(grout ? 0.30f : v, 0.48f, 0.03, fp);
   const float stain = Fbm(p.x(), p.y(), 0.0, 3.0, 2, fp, c.seed + 23);
@@ -92,8 +92,8 @@ Vector3f Plaster(const TextureContext& c, std::uint32_t id, const Vector3d& p, d
   // Deliberately weak texture: plain rendered walls are hard for stereo, as in real streets.
   const Vector3f base = Vector3f(0.78f, 0.74f, 0.66f).cwiseProduct(ObjectTint(c.seed + 5, id, 0.3f));
   const float low = Fbm(p.x(), p.y(), p.z(), 3.0, 2, fp, c.seed + 41);
-  const float fine = Fbm(p.x(), p.y(), p.z(), 0.06, 3, fp, c.seed + 42);
-  return base * (0.88f + 0.18f * low + 0.08f * (fine - 0.5f));
+  const float fine = Fbm(p.x(), p.y(), p.z(), 0.3, 4, fp, c.seed + 42);
+  return base * (0.88f + 0.18f * low + 0.16f * (fine - 0.5f));
 }
 
 Vector3f Leaves(const TextureContext& c, std::uint32_t id, const Vector3d& p, double fp) {
@@ -151,7 +151,7 @@ Vector3f Albedo(const TextureContext& c, Material m, std::uint32_t id, const Vec
       static constexpr float kPalette[6][3] = {{0.85f, 0.85f, 0.85f}, {0.08f, 0.08f, 0.09f}, {0.55f, 0.56f, 0.58f},
                                                {0.55f, 0.08f, 0.06f}, {0.10f, 0.18f, 0.45f}, {0.30f, 0.30f, 0.32f}};
       const int k = static_cast<int>(Hash01(c.seed + 121, id) * 6.0f) % 6;
-      const float v = 0.92f + 0.16f * Fbm(p.x(), p.y(), p.z(), 0.4, 2, fp, c.seed + 122);
+      const float v = 0.85f + 0.3f * Fbm(p.x(), p.y(), p.z(), 0.4, 4, fp, c.seed + 122);
       return Vector3f(kPalette[k][0], kPalette[k][1], kPalette[k][2]) * v;
     }
     case Material::kTyre: return {0.07f, 0.07f, 0.07f};
