@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
 #include <tbb/blocked_range.h>
@@ -32,9 +33,13 @@ std::string Num(double v) {
 }
 
 std::string Nums(std::initializer_list<double> vs) {
-  std::string s;
-  for (double v : vs) s += (s.empty() ? "" : " ") + Num(v);
-  return s;
+  std::ostringstream os;
+  bool first = true;
+  for (double v : vs) {
+    os << (first ? "" : " ") << Num(v);
+    first = false;
+  }
+  return os.str();
 }
 
 std::string Matrix(const Eigen::Matrix3d& m) {
@@ -126,33 +131,39 @@ std::string FormatCalibCamToCam(const sim::SensorRig& rig) {
   // x offsets of the rectified cameras from cam 0 (x_camN = x_cam0 + t): gray pair 0/1, colour pair 2/3.
   const double t[4] = {0.0, -c.baseline_m, rig.cam2_offset_x_m, rig.cam2_offset_x_m - c.baseline_m};
   const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
-  std::string s = std::string("calib_time: ") + kCalibTime + "\ncorner_dist: " + Num(0.0995) + "\n";
+  const double w = c.width_px, h = c.height_px;
+  std::ostringstream os;
+  os << "calib_time: " << kCalibTime << "\ncorner_dist: " << Num(0.0995) << "\n";
   for (int k = 0; k < 4; ++k) {
     char n[8];
     std::snprintf(n, sizeof(n), "%02d", k);
-    s += std::string("S_") + n + ": " + Nums({double(c.width_px), double(c.height_px)}) + "\n";
-    s += std::string("K_") + n + ": " + Nums({c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1}) + "\n";
-    s += std::string("D_") + n + ": " + Nums({0, 0, 0, 0, 0}) + "\n";
-    s += std::string("R_") + n + ": " + Matrix(id) + "\n";
-    s += std::string("T_") + n + ": " + Nums({t[k], 0, 0}) + "\n";
-    s += std::string("S_rect_") + n + ": " + Nums({double(c.width_px), double(c.height_px)}) + "\n";
-    s += std::string("R_rect_") + n + ": " + Matrix(id) + "\n";
-    s += std::string("P_rect_") + n + ": " +
-         Nums({c.fx_px, 0, c.cx_px, c.fx_px * t[k], 0, c.fy_px, c.cy_px, 0, 0, 0, 1, 0}) + "\n";
+    os << "S_" << n << ": " << Nums({w, h}) << "\n";
+    os << "K_" << n << ": " << Nums({c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1}) << "\n";
+    os << "D_" << n << ": " << Nums({0, 0, 0, 0, 0}) << "\n";
+    os << "R_" << n << ": " << Matrix(id) << "\n";
+    os << "T_" << n << ": " << Nums({t[k], 0, 0}) << "\n";
+    os << "S_rect_" << n << ": " << Nums({w, h}) << "\n";
+    os << "R_rect_" << n << ": " << Matrix(id) << "\n";
+    os << "P_rect_" << n << ": " << Nums({c.fx_px, 0, c.cx_px, c.fx_px * t[k], 0, c.fy_px, c.cy_px, 0, 0, 0, 1, 0})
+       << "\n";
   }
-  return s;
+  return os.str();
 }
 
 std::string FormatCalibVeloToCam(const sim::SensorRig& rig) {
   const Eigen::Vector3d& t = rig.velo_to_cam_T;
-  return std::string("calib_time: ") + kCalibTime + "\nR: " + Matrix(rig.velo_to_cam_R) + "\nT: " +
-         Nums({t.x(), t.y(), t.z()}) + "\ndelta_f: " + Nums({0, 0}) + "\ndelta_c: " + Nums({0, 0}) + "\n";
+  std::ostringstream os;
+  os << "calib_time: " << kCalibTime << "\nR: " << Matrix(rig.velo_to_cam_R) << "\nT: " << Nums({t.x(), t.y(), t.z()})
+     << "\ndelta_f: " << Nums({0, 0}) << "\ndelta_c: " << Nums({0, 0}) << "\n";
+  return os.str();
 }
 
 std::string FormatCalibImuToVelo(const sim::SensorRig& rig) {
   const Eigen::Vector3d& t = rig.imu_to_velo_T;
-  return std::string("calib_time: ") + kCalibTime + "\nR: " + Matrix(rig.imu_to_velo_R) + "\nT: " +
-         Nums({t.x(), t.y(), t.z()}) + "\n";
+  std::ostringstream os;
+  os << "calib_time: " << kCalibTime << "\nR: " << Matrix(rig.imu_to_velo_R) << "\nT: " << Nums({t.x(), t.y(), t.z()})
+     << "\n";
+  return os.str();
 }
 
 std::vector<OxtsPacket> SynthOxtsPackets(const sim::SyntheticSequence& seq) {
@@ -219,9 +230,11 @@ SynthWriteSummary WriteSyntheticKittiRaw(const sim::SyntheticSequence& seq, cons
   for (int i = 0; i < n; ++i) {
     stamps += FormatKittiTimestamp(seq.trajectory().timestamp_s(i)) + "\n";
     const Eigen::Matrix4d m = seq.world_from_cam2(i).matrix();
+    std::ostringstream os;
     for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 4; ++c) gt += Num(m(r, c)) + (r == 2 && c == 3 ? "\n" : " ");
+      for (int c = 0; c < 4; ++c) os << Num(m(r, c)) << (r == 2 && c == 3 ? "\n" : " ");
     }
+    gt += os.str();
   }
   for (const char* d : data_dirs) WriteText(drive / d / "timestamps.txt", stamps);
   WriteText(drive / "oxts" / "dataformat.txt", kOxtsDataFormat);
