@@ -36,5 +36,7 @@ int RunGuarded(const CommonArgs& args, const std::function<int()>& body);
 using RegisterFn = void (*)(CLI::App& app, int* exit_code);
 void RegisterConfigCommand(CLI::App& app, int* exit_code);
 void RegisterSynthCommand(CLI::App& app, int* exit_code);
+void RegisterLcmMeshCommand(CLI::App& app, int* exit_code);
+void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

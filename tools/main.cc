@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   const RegisterFn commands[] = {
       RegisterConfigCommand,
       RegisterSynthCommand,
+      RegisterLcmMeshCommand,
+      RegisterSimplifyCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

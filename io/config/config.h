@@ -7,9 +7,14 @@
 #include <vector>
 
 #include "engine/sim/synth_options.h"
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/segmenter.h"
+#include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "engine/pipeline/pipeline.h"
 #include "io/lcm/lcm_publisher.h"
+#include "io/output/output_sinks.h"
 
 namespace semap::io {
 
@@ -24,7 +29,12 @@ class ConfigError : public std::runtime_error {
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
   sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
+  PipelineOptions pipeline;  // stage threads, queues, modes
+  OutputOptions output;      // files written by a run
   LcmOptions lcm;            // mesh / stats publishing over LCM
+  DepthOptions depth;        // stereo matching and point cloud
+  SemanticsOptions semantics;  // where per-pixel labels come from
+  SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
