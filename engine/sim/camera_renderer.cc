@@ -216,7 +216,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
     auto* dst = out.color.ptr<cv::Vec3b>(y);
     for (int x = 0; x < w; ++x) {
       for (int k = 0; k < 3; ++k) {
-        const float v = 255.0f * src[x][k] + (sigma > 0.0f ? sigma * static_cast<float>(rng.Normal()) : 0.0f);
+        const float v = 255.0f * src[x][k] + (sigma > 0.0f ? sigma * rng.FastNormal() : 0.0f);
         dst[x][k] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
       }
     }

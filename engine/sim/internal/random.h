@@ -35,6 +35,13 @@ class Rng {
   // Uniform integer in [lo, hi].
   int UniformInt(int lo, int hi) { return lo + static_cast<int>(Uniform() * (hi - lo + 1)); }
   bool Bernoulli(double p) { return Uniform() < p; }
+  // Approximately standard normal (Irwin-Hall: the sum of four 16-bit uniforms, centred and scaled to unit
+  // variance; bounded at +-3.46). One draw per call: fast enough for per-pixel image noise.
+  float FastNormal() {
+    const std::uint64_t r = NextU64();
+    const float sum = static_cast<float>((r & 0xffff) + ((r >> 16) & 0xffff) + ((r >> 32) & 0xffff) + (r >> 48));
+    return (sum * (1.0f / 65536.0f) - 2.0f) * 1.7320508f;
+  }
   // Standard normal (Box-Muller; the second value of each pair is kept for the next call).
   double Normal() {
     if (has_spare_) {
