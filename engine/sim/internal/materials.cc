@@ -93,7 +93,7 @@ Vector3f Plaster(const TextureContext& c, std::uint32_t id, const Vector3d& p, d
   const Vector3f base = Vector3f(0.78f, 0.74f, 0.66f).cwiseProduct(ObjectTint(c.seed + 5, id, 0.3f));
   const float low = Fbm(p.x(), p.y(), p.z(), 3.0, 2, fp, c.seed + 41);
   const float fine = Fbm(p.x(), p.y(), p.z(), 0.3, 4, fp, c.seed + 42);
-  return base * (0.88f + 0.18f * low + 0.16f * (fine - 0.5f));
+  return base * (0.88f + 0.18f * low + 0.26f * (fine - 0.5f));
 }
 
 Vector3f Leaves(const TextureContext& c, std::uint32_t id, const Vector3d& p, double fp) {
@@ -121,8 +121,9 @@ Vector3f Albedo(const TextureContext& c, Material m, std::uint32_t id, const Vec
     case Material::kBrick: return Brick(c, id, p, n, fp);
     case Material::kPlaster: return Plaster(c, id, p, fp);
     case Material::kGlass: {
-      const float refl = Fbm(p.x(), p.y(), p.z(), 1.5, 2, fp, c.seed + 71);
-      const float v = 0.12f + 0.12f * refl;
+      // Reflections of the street: smooth blotches with some detail.
+      const float refl = Fbm(p.x(), p.y(), p.z(), 1.5, 4, fp, c.seed + 71);
+      const float v = 0.08f + 0.22f * refl;
       return {v * 0.9f, v, v * 1.2f};
     }
     case Material::kWood: {
