@@ -8,11 +8,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <string>
-#include <vector>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 #include "engine/sim/synthetic_sequence.h"
 
@@ -80,7 +79,8 @@ int main(int argc, char** argv) {
     for (const auto& e : fs::directory_iterator(kitti / "image_2")) names.push_back(e.path().filename());
     std::sort(names.begin(), names.end());
     for (const auto& n : names) {
-      const cv::Mat l = cv::imread((kitti / "image_2" / n).string()), r = cv::imread((kitti / "image_3" / n).string());
+      const cv::Mat l = cv::imread((kitti / "image_2" / n).string()),
+                    r = cv::imread((kitti / "image_3" / n).string());
       const cv::Mat g16 = cv::imread((kitti / "disp_occ_0" / n).string(), cv::IMREAD_UNCHANGED);
       if (l.empty() || r.empty() || g16.empty()) continue;
       cv::Mat gt;
@@ -91,10 +91,11 @@ int main(int argc, char** argv) {
       real_density_sum += s.Density();
       ++real_frames;
     }
-    std::printf("real KITTI stereo-2015 (%d frames, %s): D1 %.1f %%, density %.1f %% over all GT pixels; "
-                "mean over frames: D1 %.1f %%, density %.1f %%\n",
-                real_frames, kitti.string().c_str(), real.D1(), real.Density(), real_d1_sum / std::max(1, real_frames),
-                real_density_sum / std::max(1, real_frames));
+    std::printf(
+        "real KITTI stereo-2015 (%d frames, %s): D1 %.1f %%, density %.1f %% over all GT pixels; "
+        "mean over frames: D1 %.1f %%, density %.1f %%\n",
+        real_frames, kitti.string().c_str(), real.D1(), real.Density(),
+        real_d1_sum / std::max(1, real_frames), real_density_sum / std::max(1, real_frames));
   } else {
     std::printf("real KITTI frames not found at %s\n", kitti.string().c_str());
   }
@@ -124,10 +125,11 @@ int main(int argc, char** argv) {
     d1_sum += s.D1();
     density_sum += s.Density();
   }
-  std::printf("synthetic %s (%d frames, seed %llu): D1 %.1f %%, density %.1f %% over all GT pixels; mean over "
-              "frames: D1 %.1f %%, density %.1f %%\n",
-              preset.c_str(), frames, static_cast<unsigned long long>(seed), synth.D1(), synth.Density(),
-              d1_sum / frames, density_sum / frames);
+  std::printf(
+      "synthetic %s (%d frames, seed %llu): D1 %.1f %%, density %.1f %% over all GT pixels; mean over "
+      "frames: D1 %.1f %%, density %.1f %%\n",
+      preset.c_str(), frames, static_cast<unsigned long long>(seed), synth.D1(), synth.Density(),
+      d1_sum / frames, density_sum / frames);
   const semap::ClassMap classes = semap::ClassMap::Cityscapes();
   for (int l = 0; l < 256; ++l) {
     if (per_label[l].gt == 0) continue;

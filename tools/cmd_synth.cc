@@ -1,9 +1,9 @@
 // `semap synth`: generate a synthetic KITTI-raw street sequence with exact ground truth.
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <filesystem>
 #include <map>
-
-#include <spdlog/spdlog.h>
 
 #include "engine/core/class_map.h"
 #include "io/synth/kitti_raw_writer.h"
@@ -26,8 +26,9 @@ int RunSynth(const SynthArgs& a) {
   io::Config config = LoadConfigFrom(a.common);
   sim::SynthOptions o = config.synth;
   if (!a.preset.empty()) {
-    const std::map<std::string, sim::ScenePreset> presets = {
-        {"urban", sim::ScenePreset::kUrban}, {"vegetated", sim::ScenePreset::kVegetated}, {"mixed", sim::ScenePreset::kMixed}};
+    const std::map<std::string, sim::ScenePreset> presets = {{"urban", sim::ScenePreset::kUrban},
+                                                             {"vegetated", sim::ScenePreset::kVegetated},
+                                                             {"mixed", sim::ScenePreset::kMixed}};
     o.preset = presets.at(a.preset);  // CLI11 already restricted the value
   }
   if (a.frames >= 0) o.num_frames = a.frames;
@@ -38,8 +39,8 @@ int RunSynth(const SynthArgs& a) {
 
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  spdlog::info("synth: preset {}, {} frames, seed {}, {:.1f} m/s, {} turns -> {}", sim::ScenePresetName(o.preset),
-               o.num_frames, o.seed, o.speed_mps, o.num_turns, a.out);
+  spdlog::info("synth: preset {}, {} frames, seed {}, {:.1f} m/s, {} turns -> {}",
+               sim::ScenePresetName(o.preset), o.num_frames, o.seed, o.speed_mps, o.num_turns, a.out);
   const sim::SyntheticSequence sequence(o);
   const double build_s = std::chrono::duration<double>(Clock::now() - t0).count();
   spdlog::info("scene: {} triangles, {} chunks, BVH {} nodes; drive {:.0f} m with {} turns ({:.2f} s)",
@@ -48,28 +49,29 @@ int RunSynth(const SynthArgs& a) {
 
   auto last_report = Clock::now();
   const auto t1 = Clock::now();
-  const io::SynthWriteSummary summary =
-      io::WriteSyntheticKittiRaw(sequence, a.out, [&](int done, int total) {
-        const auto now = Clock::now();
-        if (done == total || now - last_report > std::chrono::seconds(2)) {
-          last_report = now;
-          const double s = std::chrono::duration<double>(now - t1).count();
-          spdlog::info("frame {}/{} ({:.1f} frames/s)", done, total, done / std::max(s, 1e-9));
-        }
-      });
+  const io::SynthWriteSummary summary = io::WriteSyntheticKittiRaw(sequence, a.out, [&](int done, int total) {
+    const auto now = Clock::now();
+    if (done == total || now - last_report > std::chrono::seconds(2)) {
+      last_report = now;
+      const double s = std::chrono::duration<double>(now - t1).count();
+      spdlog::info("frame {}/{} ({:.1f} frames/s)", done, total, done / std::max(s, 1e-9));
+    }
+  });
   const double write_s = std::chrono::duration<double>(Clock::now() - t1).count();
   const double total_s = std::chrono::duration<double>(Clock::now() - t0).count();
   spdlog::info("wrote {} frames to {} in {:.2f} s ({:.2f} frames/s rendering+writing, {:.2f} s total)",
-               summary.num_frames, summary.layout.drive_dir.string(), write_s, summary.num_frames / write_s, total_s);
+               summary.num_frames, summary.layout.drive_dir.string(), write_s, summary.num_frames / write_s,
+               total_s);
   spdlog::info("velodyne: {:.0f} points per scan on average",
                static_cast<double>(summary.lidar_points) / std::max(1, summary.num_frames));
   const ClassMap classes = ClassMap::Cityscapes();
   const auto& h = summary.label_pixels;
-  spdlog::info("class composition (pixels of image_02): ground {:.1f}%, wall {:.1f}%, vegetation {:.1f}%, "
-               "car {:.1f}%, sky {:.1f}%",
-               100.0 * h.RoleShare(classes, ClassRole::kGround), 100.0 * h.RoleShare(classes, ClassRole::kWall),
-               100.0 * h.Share(sim::label::kVegetation), 100.0 * h.Share(sim::label::kCar),
-               100.0 * h.Share(sim::label::kSky));
+  spdlog::info(
+      "class composition (pixels of image_02): ground {:.1f}%, wall {:.1f}%, vegetation {:.1f}%, "
+      "car {:.1f}%, sky {:.1f}%",
+      100.0 * h.RoleShare(classes, ClassRole::kGround), 100.0 * h.RoleShare(classes, ClassRole::kWall),
+      100.0 * h.Share(sim::label::kVegetation), 100.0 * h.Share(sim::label::kCar),
+      100.0 * h.Share(sim::label::kSky));
   return kExitOk;
 }
 
@@ -77,8 +79,9 @@ int RunSynth(const SynthArgs& a) {
 
 void RegisterSynthCommand(CLI::App& app, int* exit_code) {
   auto* cmd = app.add_subcommand(
-      "synth", "Generate a synthetic street sequence in the KITTI raw layout with exact depth, labels, poses, "
-               "Velodyne scans and the scene mesh");
+      "synth",
+      "Generate a synthetic street sequence in the KITTI raw layout with exact depth, labels, poses, "
+      "Velodyne scans and the scene mesh");
   auto args = std::make_shared<SynthArgs>();
   AddCommonOptions(cmd, &args->common);
   cmd->add_option("--preset", args->preset, "scene composition (default: synth.preset)")
@@ -90,7 +93,8 @@ void RegisterSynthCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::Range(0.0, 40.0));
   cmd->add_option("--turns", args->turns, "turns at intersections (default: synth.num_turns)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--out", args->out, "output root folder (the KITTI DATE folder is created in it)")->required();
+  cmd->add_option("--out", args->out, "output root folder (the KITTI DATE folder is created in it)")
+      ->required();
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return RunSynth(*args); }); });
 }
 

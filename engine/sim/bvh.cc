@@ -60,7 +60,8 @@ TriangleBvh::TriangleBvh(const Scene& scene) {
   }
 }
 
-std::uint32_t TriangleBvh::Build(std::uint32_t begin, std::uint32_t end, std::vector<Eigen::Vector3f>& centroids,
+std::uint32_t TriangleBvh::Build(std::uint32_t begin, std::uint32_t end,
+                                 std::vector<Eigen::Vector3f>& centroids,
                                  std::vector<std::array<Eigen::Vector3f, 2>>& boxes, int depth) {
   const auto index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();

@@ -1,20 +1,19 @@
 // Bounding-volume hierarchy over a Scene's triangles for exact ray casting (scanner, ground-truth checks).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/sim/scene.h"
 
 namespace semap::sim {
 
 struct RayHit {
-  double t = 0.0;               // ray parameter: hit point = origin + t * direction
-  std::uint32_t triangle = 0;   // index into the scene's triangles
+  double t = 0.0;              // ray parameter: hit point = origin + t * direction
+  std::uint32_t triangle = 0;  // index into the scene's triangles
 };
 
 // Binned-SAH BVH. Keeps a copy of the triangle corners, not a reference to the scene. Immutable after
@@ -24,8 +23,8 @@ class TriangleBvh {
   explicit TriangleBvh(const Scene& scene);
 
   // The nearest hit with t in [t_min, t_max], if any. `direction` need not be unit length.
-  std::optional<RayHit> Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
-                                  double t_max) const;
+  std::optional<RayHit> Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                                  double t_min, double t_max) const;
 
   size_t num_nodes() const { return nodes_.size(); }
 

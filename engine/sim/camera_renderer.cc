@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "engine/core/check.h"
@@ -23,7 +22,6 @@ constexpr float kSunStrength = 0.55f;
 // texture LOD uses an isotropic footprint, so the stretch is capped low to keep the horizontal detail stereo
 // needs (vertical aliasing is the same in both rectified images).
 constexpr double kMaxFootprintStretch = 1.5;
-
 
 // Clips a polygon against z >= near (Sutherland-Hodgman, one plane).
 int ClipNear(const Vector3d in[3], double near, Vector3d out[4]) {
@@ -163,7 +161,8 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
   const Eigen::Matrix3d r = scene_from_cam.linear();
   const Vector3d c = scene_from_cam.translation();
   const internal::TextureContext ctx{options_.seed, options_.block_pitch_m, options_.road_width_m};
-  const double r_max2 = (std::pow(std::max(cal.cx_px, w - cal.cx_px), 2) + std::pow(std::max(cal.cy_px, h - cal.cy_px), 2));
+  const double r_max2 =
+      (std::pow(std::max(cal.cx_px, w - cal.cx_px), 2) + std::pow(std::max(cal.cy_px, h - cal.cy_px), 2));
   for (int y = 0; y < h; ++y) {
     const auto* id_row = ids.ptr<std::int32_t>(y);
     auto* d_row = out.depth_m.ptr<float>(y);
@@ -193,11 +192,13 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
         if (nf.cast<double>().dot(d) > 0.0) nf = -nf;  // two-sided: face the camera
         const double footprint =
             z * ray_cam.norm() / cal.fx_px * std::min(kMaxFootprintStretch, 1.0 / std::max(cos_inc, 1e-6));
-        const Vector3f albedo = internal::Albedo(ctx, scene_.materials[t], scene_.object_ids[t], p, nf, footprint);
+        const Vector3f albedo =
+            internal::Albedo(ctx, scene_.materials[t], scene_.object_ids[t], p, nf, footprint);
         float light = kAmbient * (0.85f + 0.15f * nf.z()) +
                       kSunStrength * std::max(0.0f, nf.dot(kSunDirection.cast<float>()));
         // Contact darkening at the foot of walls and objects.
-        if (std::abs(nf.z()) < 0.5f) light *= 1.0f - 0.3f * static_cast<float>(std::exp(-std::max(0.0, p.z()) / 0.5));
+        if (std::abs(nf.z()) < 0.5f)
+          light *= 1.0f - 0.3f * static_cast<float>(std::exp(-std::max(0.0, p.z()) / 0.5));
         rgb = albedo * light;
       }
       rgb *= vignette;

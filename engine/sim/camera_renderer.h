@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 #include "engine/core/calibration.h"
@@ -19,8 +18,8 @@ struct CameraImage {
 
 // Per-image photometric settings.
 struct Exposure {
-  double gain = 1.0;              // multiplies the radiance
-  std::uint64_t noise_seed = 0;   // seeds the image noise of this image
+  double gain = 1.0;             // multiplies the radiance
+  std::uint64_t noise_seed = 0;  // seeds the image noise of this image
 };
 
 // Z-buffer rasteriser with per-pixel exact depth (ray-plane intersection at the pixel centre, pixel (u, v)

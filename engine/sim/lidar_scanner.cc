@@ -24,9 +24,9 @@ LidarScan LidarScanner::Scan(const Pose3d& scene_from_velo, std::uint64_t noise_
     // Spin order as the real sensor: azimuth outer, beams inner; start facing backwards (KITTI's cut).
     const double az = M_PI - 2.0 * M_PI * a / o.lidar_azimuth_steps;
     for (int b = 0; b < o.lidar_beams; ++b) {
-      const double el_deg =
-          o.lidar_beams == 1 ? o.lidar_top_deg
-                             : o.lidar_top_deg - (o.lidar_top_deg - o.lidar_bottom_deg) * b / (o.lidar_beams - 1);
+      const double el_deg = o.lidar_beams == 1 ? o.lidar_top_deg
+                                               : o.lidar_top_deg - (o.lidar_top_deg - o.lidar_bottom_deg) *
+                                                                       b / (o.lidar_beams - 1);
       const double el = el_deg * M_PI / 180.0;
       const Eigen::Vector3d dir_velo(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
       const double noise = o.lidar_range_noise_m > 0.0 ? o.lidar_range_noise_m * rng.Normal() : 0.0;
@@ -36,8 +36,8 @@ LidarScan LidarScanner::Scan(const Pose3d& scene_from_velo, std::uint64_t noise_
       if (range <= 0.0) continue;
       const Eigen::Vector3d p = range * dir_velo;
       const float refl = internal::LidarReflectance(scene_.materials[hit->triangle]);
-      scan.points_velo.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()),
-                                    refl);
+      scan.points_velo.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                    static_cast<float>(p.z()), refl);
       scan.labels.push_back(scene_.labels[hit->triangle]);
     }
   }

@@ -1,10 +1,9 @@
 // An HDL-64E-like spinning scanner ray-cast against the exact scene.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/calibration.h"
 #include "engine/sim/bvh.h"

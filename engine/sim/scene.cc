@@ -14,11 +14,11 @@
 namespace semap::sim {
 namespace {
 
+using Eigen::Vector2d;
+using Eigen::Vector3d;
 using internal::Rng;
 using internal::SceneBuilder;
 using internal::Surface;
-using Eigen::Vector2d;
-using Eigen::Vector3d;
 
 // Side of the square cells used to group triangles for view-frustum culling.
 constexpr double kChunkSizeM = 16.0;
@@ -33,15 +33,18 @@ struct Mix {
   double street_tree = 0.0;            // probability of a tree per sidewalk slot
   double car = 0.0;                    // probability of a parked car per slot
   double min_height_m = 0.0, max_height_m = 0.0;
-  double max_setback_m = 0.0;          // front gardens
+  double max_setback_m = 0.0;  // front gardens
   int park_trees_per_10m = 0;
 };
 
 Mix MixOf(ScenePreset p) {
   switch (p) {
-    case ScenePreset::kUrban: return {0.82, 0.08, 0.06, 0.30, 10.0, 24.0, 0.0, 1};
-    case ScenePreset::kVegetated: return {0.12, 0.30, 0.80, 0.75, 6.0, 10.0, 6.0, 3};
-    case ScenePreset::kMixed: return {0.45, 0.20, 0.40, 0.50, 8.0, 18.0, 3.0, 2};
+    case ScenePreset::kUrban:
+      return {0.82, 0.08, 0.06, 0.30, 10.0, 24.0, 0.0, 1};
+    case ScenePreset::kVegetated:
+      return {0.12, 0.30, 0.80, 0.75, 6.0, 10.0, 6.0, 3};
+    case ScenePreset::kMixed:
+      return {0.45, 0.20, 0.40, 0.50, 8.0, 18.0, 3.0, 2};
   }
   return {};
 }
@@ -66,8 +69,9 @@ class CityBuilder {
 
   // Sidewalk ring, curbs and lot ground of block (i, j); `detailed` adds the frontage and street furniture.
   void Block(int i, int j, bool detailed) {
-    Rng rng(internal::HashCombine(internal::HashCombine(o_.seed, 0x626c6f63ULL),
-                                  internal::HashCombine(static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(j))));
+    Rng rng(internal::HashCombine(
+        internal::HashCombine(o_.seed, 0x626c6f63ULL),
+        internal::HashCombine(static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(j))));
     const double p = o_.block_pitch_m, hw = 0.5 * o_.road_width_m, sw = o_.sidewalk_width_m,
                  h = o_.curb_height_m;
     const double x0 = i * p + hw, x1 = (i + 1) * p - hw, y0 = j * p + hw, y1 = (j + 1) * p - hw;
@@ -113,8 +117,8 @@ class CityBuilder {
 
   void CurbFace(const Vector2d& a, const Vector2d& c, const Vector2d& n, const Surface& s) {
     const double h = o_.curb_height_m;
-    b_.AddQuad({a.x(), a.y(), 0.0}, {c.x(), c.y(), 0.0}, {c.x(), c.y(), h}, {a.x(), a.y(), h}, {n.x(), n.y(), 0},
-               s);
+    b_.AddQuad({a.x(), a.y(), 0.0}, {c.x(), c.y(), 0.0}, {c.x(), c.y(), h}, {a.x(), a.y(), h},
+               {n.x(), n.y(), 0}, s);
   }
 
   // Splits a side into segments of buildings, fences with gardens, and parks.
@@ -181,10 +185,10 @@ class CityBuilder {
       const double w0 = inward, w1 = inward + recess;
       b_.AddQuad(At(s, a0, w0, h0), At(s, a0, w1, h0), At(s, a0, w1, h1), At(s, a0, w0, h1), s.u, wall);
       b_.AddQuad(At(s, a1, w0, h0), At(s, a1, w1, h0), At(s, a1, w1, h1), At(s, a1, w0, h1), -s.u, wall);
-      b_.AddQuad(At(s, a0, w0, h1), At(s, a1, w0, h1), At(s, a1, w1, h1), At(s, a0, w1, h1), -Vector3d::UnitZ(),
-                 wall);
-      b_.AddQuad(At(s, a0, w0, h0), At(s, a1, w0, h0), At(s, a1, w1, h0), At(s, a0, w1, h0), Vector3d::UnitZ(),
-                 wall);
+      b_.AddQuad(At(s, a0, w0, h1), At(s, a1, w0, h1), At(s, a1, w1, h1), At(s, a0, w1, h1),
+                 -Vector3d::UnitZ(), wall);
+      b_.AddQuad(At(s, a0, w0, h0), At(s, a1, w0, h0), At(s, a1, w1, h0), At(s, a0, w1, h0),
+                 Vector3d::UnitZ(), wall);
     };
     for (int f = 0; f < floors; ++f) {
       for (int k = 0; k < bays; ++k) {
@@ -192,7 +196,8 @@ class CityBuilder {
         const bool is_door = f == 0 && rng.Bernoulli(0.25);
         const double ow = is_door ? std::min(1.2, 0.8 * bw) : win_w;
         const double oa0 = 0.5 * (a0 + a1) - 0.5 * ow, oa1 = oa0 + ow;
-        const double oh0 = is_door ? c0 : c0 + sill, oh1 = is_door ? c0 + std::min(2.3, 0.85 * fh) : oh0 + win_h;
+        const double oh0 = is_door ? c0 : c0 + sill,
+                     oh1 = is_door ? c0 + std::min(2.3, 0.85 * fh) : oh0 + win_h;
         if (rng.Bernoulli(0.06) && !is_door) {  // a blank bay
           q(a0, a1, c0, c1, inward, wall);
           continue;
@@ -239,15 +244,19 @@ class CityBuilder {
   }
 
   void Hedge(const Side& s, double t0, double t1, Rng& rng) {
-    for (double t = t0 + 1.0; t < t1 - 0.5; t += rng.Uniform(1.5, 3.0)) Bush(At(s, t, 0.8, o_.curb_height_m), rng);
+    for (double t = t0 + 1.0; t < t1 - 0.5; t += rng.Uniform(1.5, 3.0))
+      Bush(At(s, t, 0.8, o_.curb_height_m), rng);
   }
 
   void Park(const Side& s, double t0, double t1, Rng& rng, bool behind_fence) {
     const double len = t1 - t0;
-    const int trees = static_cast<int>(std::round(mix_.park_trees_per_10m * len / 10.0 * rng.Uniform(0.6, 1.4)));
-    for (int k = 0; k < trees; ++k) Tree(At(s, rng.Uniform(t0 + 1.0, t1 - 1.0), rng.Uniform(2.5, 14.0), 0), rng);
+    const int trees =
+        static_cast<int>(std::round(mix_.park_trees_per_10m * len / 10.0 * rng.Uniform(0.6, 1.4)));
+    for (int k = 0; k < trees; ++k)
+      Tree(At(s, rng.Uniform(t0 + 1.0, t1 - 1.0), rng.Uniform(2.5, 14.0), 0), rng);
     const int bushes = static_cast<int>(len / (behind_fence ? 2.5 : 5.0));
-    for (int k = 0; k < bushes; ++k) Bush(At(s, rng.Uniform(t0 + 0.5, t1 - 0.5), rng.Uniform(1.0, 6.0), 0), rng);
+    for (int k = 0; k < bushes; ++k)
+      Bush(At(s, rng.Uniform(t0 + 0.5, t1 - 0.5), rng.Uniform(1.0, 6.0), 0), rng);
   }
 
   void Tree(Vector3d base, Rng& rng) {
@@ -261,11 +270,12 @@ class CityBuilder {
     const int blobs = rng.UniformInt(1, 3);
     for (int k = 0; k < blobs; ++k) {
       const double r = crown_r * (k == 0 ? 1.0 : rng.Uniform(0.5, 0.8));
-      const Vector3d off = k == 0 ? Vector3d(0, 0, 0)
-                                  : Vector3d(rng.Uniform(-0.6, 0.6) * crown_r, rng.Uniform(-0.6, 0.6) * crown_r,
-                                             rng.Uniform(-0.2, 0.5) * crown_r);
-      b_.AddBlob(base + Vector3d(0, 0, trunk_h + crown_r * 0.8) + off, Vector3d(r, r, r * rng.Uniform(0.8, 1.2)),
-                 2, 0.35, rng.NextU64(), leaves);
+      const Vector3d off = k == 0
+                               ? Vector3d(0, 0, 0)
+                               : Vector3d(rng.Uniform(-0.6, 0.6) * crown_r, rng.Uniform(-0.6, 0.6) * crown_r,
+                                          rng.Uniform(-0.2, 0.5) * crown_r);
+      b_.AddBlob(base + Vector3d(0, 0, trunk_h + crown_r * 0.8) + off,
+                 Vector3d(r, r, r * rng.Uniform(0.8, 1.2)), 2, 0.35, rng.NextU64(), leaves);
     }
   }
 
@@ -308,8 +318,8 @@ class CityBuilder {
         glass{label::kCar, Material::kGlass, id};
     const double len = rng.Uniform(3.8, 4.7), wid = rng.Uniform(1.65, 1.85), body_h = rng.Uniform(0.65, 0.8);
     const Eigen::Matrix3d r = Eigen::AngleAxisd(yaw, Vector3d::UnitZ()).toRotationMatrix();
-    b_.AddRoundedBox(ground + Vector3d(0, 0, 0.3 + 0.5 * body_h), {0.5 * len, 0.5 * wid, 0.5 * body_h}, yaw, 6.0,
-                     2, paint);
+    b_.AddRoundedBox(ground + Vector3d(0, 0, 0.3 + 0.5 * body_h), {0.5 * len, 0.5 * wid, 0.5 * body_h}, yaw,
+                     6.0, 2, paint);
     const double cab_len = len * rng.Uniform(0.45, 0.55);
     b_.AddRoundedBox(ground + r * Vector3d(-0.08 * len, 0, 0) + Vector3d(0, 0, 0.3 + body_h + 0.2),
                      {0.5 * cab_len, 0.46 * wid, 0.32}, yaw, 4.0, 2, glass);
@@ -335,13 +345,15 @@ void Chunk(Scene& s) {
   const size_t n = s.triangles.size();
   std::vector<std::pair<std::int64_t, std::int64_t>> key(n);
   for (size_t t = 0; t < n; ++t) {
-    const Vector3d c = (s.vertices[s.triangles[t][0]] + s.vertices[s.triangles[t][1]] + s.vertices[s.triangles[t][2]]) / 3.0;
+    const Vector3d c =
+        (s.vertices[s.triangles[t][0]] + s.vertices[s.triangles[t][1]] + s.vertices[s.triangles[t][2]]) / 3.0;
     key[t] = {static_cast<std::int64_t>(std::floor(c.x() / kChunkSizeM)),
               static_cast<std::int64_t>(std::floor(c.y() / kChunkSizeM))};
   }
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
   auto permute = [&](auto& v) {
     auto copy = v;
     for (size_t k = 0; k < n; ++k) v[k] = copy[order[k]];
@@ -355,7 +367,8 @@ void Chunk(Scene& s) {
   for (size_t k = 0; k < n; ++k) sorted_key[k] = key[order[k]];
   s.chunks.clear();
   for (size_t k = 0; k < n; ++k) {
-    if (k == 0 || sorted_key[k] != sorted_key[k - 1]) s.chunks.push_back({Eigen::AlignedBox3d(), static_cast<std::uint32_t>(k), 0});
+    if (k == 0 || sorted_key[k] != sorted_key[k - 1])
+      s.chunks.push_back({Eigen::AlignedBox3d(), static_cast<std::uint32_t>(k), 0});
     SceneChunk& c = s.chunks.back();
     ++c.count;
     for (int v = 0; v < 3; ++v) c.box.extend(s.vertices[s.triangles[k][v]]);
@@ -390,8 +403,10 @@ Scene BuildScene(const SynthOptions& o, const Trajectory& trajectory) {
     min_y = std::min(min_y, s.y()), max_y = std::max(max_y, s.y());
   }
   const double reach = o.content_distance_m + p;
-  const int i0 = static_cast<int>(std::floor((min_x - reach) / p)), i1 = static_cast<int>(std::ceil((max_x + reach) / p));
-  const int j0 = static_cast<int>(std::floor((min_y - reach) / p)), j1 = static_cast<int>(std::ceil((max_y + reach) / p));
+  const int i0 = static_cast<int>(std::floor((min_x - reach) / p)),
+            i1 = static_cast<int>(std::ceil((max_x + reach) / p));
+  const int j0 = static_cast<int>(std::floor((min_y - reach) / p)),
+            j1 = static_cast<int>(std::ceil((max_y + reach) / p));
   for (int i = i0; i <= i1; ++i) {
     for (int j = j0; j <= j1; ++j) {
       const double x0 = i * p + hw, x1 = (i + 1) * p - hw, y0 = j * p + hw, y1 = (j + 1) * p - hw;

@@ -1,12 +1,12 @@
-// The procedural street world: labelled, textured triangles in the scene frame (x east-ish, z up, road z = 0).
+// The procedural street world: labelled, textured triangles in the scene frame (x east-ish, z up, road z =
+// 0).
 #pragma once
-
-#include <array>
-#include <cstdint>
-#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
 
 #include "engine/core/calibration.h"
 #include "engine/core/class_map.h"
@@ -20,19 +20,19 @@ class Trajectory;
 // Surface appearance of a triangle (the texture function used by the renderer).
 enum class Material : std::uint8_t {
   kAsphalt,
-  kPaving,    // sidewalk tiles
-  kCurb,      // curb stones
+  kPaving,  // sidewalk tiles
+  kCurb,    // curb stones
   kBrick,
   kPlaster,
-  kGlass,     // window panes
-  kWood,      // doors, fence boards
+  kGlass,  // window panes
+  kWood,   // doors, fence boards
   kRoof,
   kLeaves,
   kBark,
   kGrass,
   kCarPaint,
   kTyre,
-  kMetal,     // poles
+  kMetal,  // poles
   kSign,
   kCount
 };
@@ -55,11 +55,11 @@ struct SceneChunk {
 struct Scene {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<Eigen::Vector3f> normals;       // unit face normals (winding order)
-  std::vector<Label> labels;                  // Cityscapes id per triangle
-  std::vector<Material> materials;            // per triangle
-  std::vector<std::uint32_t> object_ids;      // per triangle: objects vary their colour by it
-  std::vector<SceneChunk> chunks;             // triangles are sorted by chunk
+  std::vector<Eigen::Vector3f> normals;   // unit face normals (winding order)
+  std::vector<Label> labels;              // Cityscapes id per triangle
+  std::vector<Material> materials;        // per triangle
+  std::vector<std::uint32_t> object_ids;  // per triangle: objects vary their colour by it
+  std::vector<SceneChunk> chunks;         // triangles are sorted by chunk
 
   size_t num_triangles() const { return triangles.size(); }
   // The scene as a mesh in the frame `out_from_scene`, with per-vertex labels (and no colours).

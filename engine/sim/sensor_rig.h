@@ -12,7 +12,8 @@ namespace semap::sim {
 // same axes, cameras x right / y down / z forward. R_rect_00 is the identity (the images are rendered
 // rectified). Value type, thread-safe to read.
 struct SensorRig {
-  StereoCalibration calibration;  // of the left colour camera (KITTI cam 2); the right one (cam 3) at +baseline
+  StereoCalibration
+      calibration;  // of the left colour camera (KITTI cam 2); the right one (cam 3) at +baseline
   // calib_velo_to_cam: p_cam0 = R * p_velo + T.
   Eigen::Matrix3d velo_to_cam_R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d velo_to_cam_T = Eigen::Vector3d::Zero();

@@ -8,15 +8,19 @@ namespace semap::sim {
 
 const char* ScenePresetName(ScenePreset preset) {
   switch (preset) {
-    case ScenePreset::kUrban: return "urban";
-    case ScenePreset::kVegetated: return "vegetated";
-    case ScenePreset::kMixed: return "mixed";
+    case ScenePreset::kUrban:
+      return "urban";
+    case ScenePreset::kVegetated:
+      return "vegetated";
+    case ScenePreset::kMixed:
+      return "mixed";
   }
   return "?";
 }
 
 void SynthOptions::Check() const {
-  SEMAP_CHECK_OPTION(num_frames >= 1 && num_frames <= 1000000, "num_frames", num_frames, "must be in [1, 1e6]");
+  SEMAP_CHECK_OPTION(num_frames >= 1 && num_frames <= 1000000, "num_frames", num_frames,
+                     "must be in [1, 1e6]");
   SEMAP_CHECK_OPTION(speed_mps >= 0.0 && speed_mps <= 40.0, "speed_mps", speed_mps, "must be in [0, 40]");
   SEMAP_CHECK_OPTION(num_turns >= 0, "num_turns", num_turns, "must be >= 0");
   SEMAP_CHECK_OPTION(frame_rate_hz > 0.0 && frame_rate_hz <= 100.0, "frame_rate_hz", frame_rate_hz,
@@ -49,7 +53,8 @@ void SynthOptions::Check() const {
   SEMAP_CHECK_OPTION(exposure_variation >= 0.0 && exposure_variation < 0.5, "exposure_variation",
                      exposure_variation, "must be in [0, 0.5)");
   SEMAP_CHECK_OPTION(vignetting >= 0.0 && vignetting < 1.0, "vignetting", vignetting, "must be in [0, 1)");
-  SEMAP_CHECK_OPTION(lidar_beams >= 1 && lidar_beams <= 256, "lidar_beams", lidar_beams, "must be in [1, 256]");
+  SEMAP_CHECK_OPTION(lidar_beams >= 1 && lidar_beams <= 256, "lidar_beams", lidar_beams,
+                     "must be in [1, 256]");
   SEMAP_CHECK_OPTION(lidar_azimuth_steps >= 8 && lidar_azimuth_steps <= 20000, "lidar_azimuth_steps",
                      lidar_azimuth_steps, "must be in [8, 20000]");
   SEMAP_CHECK_OPTION(lidar_top_deg > lidar_bottom_deg && lidar_top_deg < 90.0 && lidar_bottom_deg > -90.0,
@@ -62,7 +67,8 @@ void SynthOptions::Check() const {
                      "must be within (-80, 80) (Mercator)");
   SEMAP_CHECK_OPTION(std::abs(origin_longitude_deg) <= 180.0, "origin_longitude_deg", origin_longitude_deg,
                      "must be within [-180, 180]");
-  SEMAP_CHECK_OPTION(std::isfinite(origin_altitude_m), "origin_altitude_m", origin_altitude_m, "must be finite");
+  SEMAP_CHECK_OPTION(std::isfinite(origin_altitude_m), "origin_altitude_m", origin_altitude_m,
+                     "must be finite");
   SEMAP_CHECK_OPTION(std::isfinite(origin_heading_deg), "origin_heading_deg", origin_heading_deg,
                      "must be finite");
 }

@@ -1,4 +1,5 @@
-// Options of the synthetic street-sequence generator (procedural world, stereo camera, Velodyne-like scanner).
+// Options of the synthetic street-sequence generator (procedural world, stereo camera, Velodyne-like
+// scanner).
 #pragma once
 
 #include <cstdint>
@@ -11,7 +12,8 @@ enum class ScenePreset { kUrban, kVegetated, kMixed };
 const char* ScenePresetName(ScenePreset preset);
 
 // Every parameter of a generated sequence. The same options (seed included) give byte-identical output.
-// Defaults give a KITTI-like sequence: 1242x375 images, fx 721.5 px, 0.54 m baseline, 10 Hz, HDL-64-like scans.
+// Defaults give a KITTI-like sequence: 1242x375 images, fx 721.5 px, 0.54 m baseline, 10 Hz, HDL-64-like
+// scans.
 struct SynthOptions {
   // --- Sequence -------------------------------------------------------------------------------------
   ScenePreset preset = ScenePreset::kUrban;

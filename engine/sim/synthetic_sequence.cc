@@ -37,7 +37,9 @@ Pose3d SyntheticSequence::scene_from_velo(int frame) const {
 Pose3d SyntheticSequence::scene_from_cam2(int frame) const {
   return scene_from_imu(frame) * rig_.cam2_from_imu().inverse();
 }
-Pose3d SyntheticSequence::scene_from_cam3(int frame) const { return scene_from_cam2(frame) * rig_.cam2_from_cam3(); }
+Pose3d SyntheticSequence::scene_from_cam3(int frame) const {
+  return scene_from_cam2(frame) * rig_.cam2_from_cam3();
+}
 
 double SyntheticSequence::ExposureGain(int frame) const {
   internal::Rng rng(internal::HashCombine(options_.seed, kExposure));
@@ -53,8 +55,9 @@ SyntheticFrame SyntheticSequence::RenderFrame(int frame) const {
   const double gain = ExposureGain(frame);
   f.left = renderer_->Render(rig_.calibration, scene_from_cam2(frame),
                              {gain, StreamSeed(options_.seed, frame, kLeftNoise)});
-  f.right = renderer_->Render(rig_.calibration, scene_from_cam3(frame),
-                              {gain * options_.right_exposure_gain, StreamSeed(options_.seed, frame, kRightNoise)});
+  f.right =
+      renderer_->Render(rig_.calibration, scene_from_cam3(frame),
+                        {gain * options_.right_exposure_gain, StreamSeed(options_.seed, frame, kRightNoise)});
   f.scan = scanner_->Scan(scene_from_velo(frame), StreamSeed(options_.seed, frame, kLidarNoise));
   return f;
 }
@@ -76,7 +79,8 @@ void LabelHistogram::Merge(const LabelHistogram& other) {
 double LabelHistogram::RoleShare(const ClassMap& classes, ClassRole role) const {
   std::uint64_t n = 0;
   for (int id = 0; id < 256; ++id) {
-    if (classes.Contains(static_cast<Label>(id)) && classes.Role(static_cast<Label>(id)) == role) n += counts_[id];
+    if (classes.Contains(static_cast<Label>(id)) && classes.Role(static_cast<Label>(id)) == role)
+      n += counts_[id];
   }
   return total_ ? static_cast<double>(n) / total_ : 0.0;
 }

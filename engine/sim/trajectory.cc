@@ -42,7 +42,7 @@ Trajectory Trajectory::Generate(const SynthOptions& o, double imu_height_m) {
   const int turns = std::min(o.num_turns, usable);
   std::vector<int> turn_at(crossings + 2, 0);  // 0 straight, +1 left, -1 right
   for (int k = 0; k < turns; ++k) {
-    const int idx = static_cast<int>(std::lround((k + 1.0) * usable / (turns + 1.0))) ;
+    const int idx = static_cast<int>(std::lround((k + 1.0) * usable / (turns + 1.0)));
     turn_at[std::clamp(idx, 0, crossings)] = rng.Bernoulli(0.5) ? 1 : -1;
   }
   int turns_done = 0;

@@ -1,9 +1,8 @@
 // The drive: lane-following along the streets of the grid city, with circular arcs at the turns.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "engine/core/calibration.h"
 #include "engine/sim/synth_options.h"

@@ -1,16 +1,16 @@
 #include "io/synth/kitti_raw_writer.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <atomic>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <mutex>
-#include <sstream>
-
 #include <opencv2/imgcodecs.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <sstream>
 
 #include "io/mesh/ply_off.h"
 
@@ -97,8 +97,10 @@ const char kOxtsDataFormat[] =
     "yaw:   heading (rad), 0 = east, positive = counter clockwise\nvn:    velocity towards north (m/s)\n"
     "ve:    velocity towards east (m/s)\nvf:    forward velocity (m/s)\nvl:    leftward velocity (m/s)\n"
     "vu:    upward velocity (m/s)\nax:    acceleration in x (m/s^2)\nay:    acceleration in y (m/s^2)\n"
-    "az:    acceleration in z (m/s^2)\naf:    forward acceleration (m/s^2)\nal:    leftward acceleration (m/s^2)\n"
-    "au:    upward acceleration (m/s^2)\nwx:    angular rate around x (rad/s)\nwy:    angular rate around y (rad/s)\n"
+    "az:    acceleration in z (m/s^2)\naf:    forward acceleration (m/s^2)\nal:    leftward acceleration "
+    "(m/s^2)\n"
+    "au:    upward acceleration (m/s^2)\nwx:    angular rate around x (rad/s)\nwy:    angular rate around y "
+    "(rad/s)\n"
     "wz:    angular rate around z (rad/s)\nwf:    angular rate around forward axis (rad/s)\n"
     "wl:    angular rate around leftward axis (rad/s)\nwu:    angular rate around upward axis (rad/s)\n"
     "pos_accuracy: position accuracy (north/east in m)\nvel_accuracy: velocity accuracy (north/east in m/s)\n"
@@ -122,7 +124,8 @@ std::string FormatKittiTimestamp(double t_s) {
   const std::int64_t sod = secs % 86400;
   char buf[64];
   std::snprintf(buf, sizeof(buf), "2026-01-%02d %02d:%02d:%02d.%09" PRId64, 1 + day_offset,
-                static_cast<int>(sod / 3600), static_cast<int>(sod / 60 % 60), static_cast<int>(sod % 60), ns);
+                static_cast<int>(sod / 3600), static_cast<int>(sod / 60 % 60), static_cast<int>(sod % 60),
+                ns);
   return buf;
 }
 
@@ -144,8 +147,8 @@ std::string FormatCalibCamToCam(const sim::SensorRig& rig) {
     os << "T_" << n << ": " << Nums({t[k], 0, 0}) << "\n";
     os << "S_rect_" << n << ": " << Nums({w, h}) << "\n";
     os << "R_rect_" << n << ": " << Matrix(id) << "\n";
-    os << "P_rect_" << n << ": " << Nums({c.fx_px, 0, c.cx_px, c.fx_px * t[k], 0, c.fy_px, c.cy_px, 0, 0, 0, 1, 0})
-       << "\n";
+    os << "P_rect_" << n << ": "
+       << Nums({c.fx_px, 0, c.cx_px, c.fx_px * t[k], 0, c.fy_px, c.cy_px, 0, 0, 0, 1, 0}) << "\n";
   }
   return os.str();
 }
@@ -153,16 +156,17 @@ std::string FormatCalibCamToCam(const sim::SensorRig& rig) {
 std::string FormatCalibVeloToCam(const sim::SensorRig& rig) {
   const Eigen::Vector3d& t = rig.velo_to_cam_T;
   std::ostringstream os;
-  os << "calib_time: " << kCalibTime << "\nR: " << Matrix(rig.velo_to_cam_R) << "\nT: " << Nums({t.x(), t.y(), t.z()})
-     << "\ndelta_f: " << Nums({0, 0}) << "\ndelta_c: " << Nums({0, 0}) << "\n";
+  os << "calib_time: " << kCalibTime << "\nR: " << Matrix(rig.velo_to_cam_R)
+     << "\nT: " << Nums({t.x(), t.y(), t.z()}) << "\ndelta_f: " << Nums({0, 0})
+     << "\ndelta_c: " << Nums({0, 0}) << "\n";
   return os.str();
 }
 
 std::string FormatCalibImuToVelo(const sim::SensorRig& rig) {
   const Eigen::Vector3d& t = rig.imu_to_velo_T;
   std::ostringstream os;
-  os << "calib_time: " << kCalibTime << "\nR: " << Matrix(rig.imu_to_velo_R) << "\nT: " << Nums({t.x(), t.y(), t.z()})
-     << "\n";
+  os << "calib_time: " << kCalibTime << "\nR: " << Matrix(rig.imu_to_velo_R)
+     << "\nT: " << Nums({t.x(), t.y(), t.z()}) << "\n";
   return os.str();
 }
 
@@ -178,7 +182,8 @@ std::vector<OxtsPacket> SynthOxtsPackets(const sim::SyntheticSequence& seq) {
   Pose3d mercator_from_scene = Pose3d::Identity();
   mercator_from_scene.linear() =
       Eigen::AngleAxisd(o.origin_heading_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  mercator_from_scene.translation() = origin_t - mercator_from_scene.linear() * seq.scene_from_imu(0).translation();
+  mercator_from_scene.translation() =
+      origin_t - mercator_from_scene.linear() * seq.scene_from_imu(0).translation();
 
   const int n = seq.num_frames();
   const double dt = 1.0 / o.frame_rate_hz;
@@ -194,9 +199,11 @@ std::vector<OxtsPacket> SynthOxtsPackets(const sim::SyntheticSequence& seq) {
     // Velocities and rates by central differences of the true trajectory (informative only).
     const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
     if (b > a) {
-      const Pose3d pa = mercator_from_scene * seq.scene_from_imu(a), pb = mercator_from_scene * seq.scene_from_imu(b);
+      const Pose3d pa = mercator_from_scene * seq.scene_from_imu(a),
+                   pb = mercator_from_scene * seq.scene_from_imu(b);
       const Eigen::Vector3d v_world = (pb.translation() - pa.translation()) / ((b - a) * dt);
-      const Eigen::Vector3d v_body = (mercator_from_scene * seq.scene_from_imu(i)).linear().transpose() * v_world;
+      const Eigen::Vector3d v_body =
+          (mercator_from_scene * seq.scene_from_imu(i)).linear().transpose() * v_world;
       p.ve = v_world.x(), p.vn = v_world.y(), p.vu = v_world.z();
       p.vf = v_body.x(), p.vl = v_body.y();
       const Eigen::AngleAxisd rot(pa.linear().transpose() * pb.linear());

@@ -42,7 +42,8 @@ struct SynthWriteSummary {
 // Frames are rendered and written in parallel (TBB); the output bytes do not depend on the thread count.
 // `progress(done, total)` is called after each frame (from worker threads, serialised). Throws
 // io::FileError naming the path when a file cannot be written.
-SynthWriteSummary WriteSyntheticKittiRaw(const sim::SyntheticSequence& sequence, const std::filesystem::path& root,
+SynthWriteSummary WriteSyntheticKittiRaw(const sim::SyntheticSequence& sequence,
+                                         const std::filesystem::path& root,
                                          const std::function<void(int, int)>& progress = {});
 
 // The calib file texts (KITTI keys; values in %.12e).

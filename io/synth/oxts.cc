@@ -12,9 +12,9 @@ double OxtsMercatorScale(double first_latitude_deg) { return std::cos(first_lati
 
 Pose3d OxtsToMercatorPose(const OxtsPacket& p, double scale) {
   Pose3d pose = Pose3d::Identity();
-  pose.translation() = Eigen::Vector3d(scale * p.lon_deg * M_PI * kOxtsEarthRadiusM / 180.0,
-                                       scale * kOxtsEarthRadiusM * std::log(std::tan((90.0 + p.lat_deg) * M_PI / 360.0)),
-                                       p.alt_m);
+  pose.translation() = Eigen::Vector3d(
+      scale * p.lon_deg * M_PI * kOxtsEarthRadiusM / 180.0,
+      scale * kOxtsEarthRadiusM * std::log(std::tan((90.0 + p.lat_deg) * M_PI / 360.0)), p.alt_m);
   pose.linear() = (Eigen::AngleAxisd(p.yaw_rad, Eigen::Vector3d::UnitZ()) *
                    Eigen::AngleAxisd(p.pitch_rad, Eigen::Vector3d::UnitY()) *
                    Eigen::AngleAxisd(p.roll_rad, Eigen::Vector3d::UnitX()))
@@ -39,9 +39,10 @@ OxtsPacket OxtsFromMercatorPose(const Pose3d& pose, double scale) {
 
 std::string FormatOxtsLine(const OxtsPacket& p) {
   // 17 significant digits: doubles round-trip exactly.
-  const double v[25] = {p.lat_deg, p.lon_deg, p.alt_m, p.roll_rad, p.pitch_rad, p.yaw_rad, p.vn, p.ve, p.vf,
-                        p.vl,      p.vu,      p.ax,    p.ay,       p.az,        p.af,      p.al, p.au, p.wx,
-                        p.wy,      p.wz,      p.wf,    p.wl,       p.wu,        p.pos_accuracy, p.vel_accuracy};
+  const double v[25] = {p.lat_deg, p.lon_deg, p.alt_m,        p.roll_rad,    p.pitch_rad, p.yaw_rad, p.vn,
+                        p.ve,      p.vf,      p.vl,           p.vu,          p.ax,        p.ay,      p.az,
+                        p.af,      p.al,      p.au,           p.wx,          p.wy,        p.wz,      p.wf,
+                        p.wl,      p.wu,      p.pos_accuracy, p.vel_accuracy};
   std::string out;
   char buf[64];
   for (double x : v) {
@@ -61,10 +62,11 @@ OxtsPacket ParseOxtsLine(const std::string& line) {
     throw std::runtime_error("OXTS line must have 30 numbers (got " + std::to_string(v.size()) + ")");
   }
   OxtsPacket p;
-  double* fields[25] = {&p.lat_deg, &p.lon_deg, &p.alt_m, &p.roll_rad, &p.pitch_rad, &p.yaw_rad, &p.vn,
-                        &p.ve,      &p.vf,      &p.vl,    &p.vu,       &p.ax,        &p.ay,      &p.az,
-                        &p.af,      &p.al,      &p.au,    &p.wx,       &p.wy,        &p.wz,      &p.wf,
-                        &p.wl,      &p.wu,      &p.pos_accuracy,       &p.vel_accuracy};
+  double* fields[25] = {&p.lat_deg, &p.lon_deg, &p.alt_m, &p.roll_rad,     &p.pitch_rad,
+                        &p.yaw_rad, &p.vn,      &p.ve,    &p.vf,           &p.vl,
+                        &p.vu,      &p.ax,      &p.ay,    &p.az,           &p.af,
+                        &p.al,      &p.au,      &p.wx,    &p.wy,           &p.wz,
+                        &p.wf,      &p.wl,      &p.wu,    &p.pos_accuracy, &p.vel_accuracy};
   for (int k = 0; k < 25; ++k) *fields[k] = v[k];
   p.navstat = static_cast<int>(v[25]);
   p.numsats = static_cast<int>(v[26]);

@@ -11,7 +11,7 @@ namespace semap::io {
 struct OxtsPacket {
   double lat_deg = 0.0, lon_deg = 0.0, alt_m = 0.0;
   double roll_rad = 0.0, pitch_rad = 0.0, yaw_rad = 0.0;
-  double vn = 0.0, ve = 0.0, vf = 0.0, vl = 0.0, vu = 0.0;  // m/s: north, east, forward, left, up
+  double vn = 0.0, ve = 0.0, vf = 0.0, vl = 0.0, vu = 0.0;            // m/s: north, east, forward, left, up
   double ax = 0.0, ay = 0.0, az = 0.0, af = 0.0, al = 0.0, au = 0.0;  // m/s^2
   double wx = 0.0, wy = 0.0, wz = 0.0, wf = 0.0, wl = 0.0, wu = 0.0;  // rad/s
   double pos_accuracy = 0.0, vel_accuracy = 0.0;

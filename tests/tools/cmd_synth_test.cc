@@ -36,8 +36,9 @@ CliRun RunSemap(const std::string& args) {
 bool Has(const CliRun& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 
 // Small images keep the test fast; --set reaches the synth config section.
-const std::string kSmall = " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
-                           " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256";
+const std::string kSmall =
+    " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
+    " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256";
 
 TEST(SemapSynth, WritesAKittiRawSequence) {
   const fs::path out = test::TempDir() / "out";

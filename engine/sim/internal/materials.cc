@@ -11,7 +11,9 @@ namespace {
 using Eigen::Vector3d;
 using Eigen::Vector3f;
 
-float Hash01(std::uint64_t a, std::uint64_t b) { return static_cast<float>(HashCombine(a, b) >> 40) / 16777216.0f; }
+float Hash01(std::uint64_t a, std::uint64_t b) {
+  return static_cast<float>(HashCombine(a, b) >> 40) / 16777216.0f;
+}
 
 // Blends a sharp pattern value towards its mean as the pixel footprint approaches the pattern's feature size.
 float Fade(float value, float mean, double feature_m, double footprint_m) {
@@ -34,7 +36,8 @@ void WallCoords(const Vector3d& p, const Vector3f& n, double* along, double* up)
 }
 
 Vector3f ObjectTint(std::uint64_t seed, std::uint32_t id, float amount) {
-  return Vector3f(1.0f + amount * (Hash01(seed + 1, id) - 0.5f), 1.0f + amount * (Hash01(seed + 2, id) - 0.5f),
+  return Vector3f(1.0f + amount * (Hash01(seed + 1, id) - 0.5f),
+                  1.0f + amount * (Hash01(seed + 2, id) - 0.5f),
                   1.0f + amount * (Hash01(seed + 3, id) - 0.5f));
 }
 
@@ -113,13 +116,16 @@ Vector3f Albedo(const TextureContext& c, Material m, std::uint32_t id, const Vec
       const float v = Asphalt(c, p, fp);
       return {v, v, v * 1.03f};
     }
-    case Material::kPaving: return Paving(c, p, fp);
+    case Material::kPaving:
+      return Paving(c, p, fp);
     case Material::kCurb: {
       const float v = 0.58f + 0.2f * (Fbm(p.x(), p.y(), p.z(), 0.05, 3, fp, c.seed + 61) - 0.5f);
       return {v, v, v};
     }
-    case Material::kBrick: return Brick(c, id, p, n, fp);
-    case Material::kPlaster: return Plaster(c, id, p, fp);
+    case Material::kBrick:
+      return Brick(c, id, p, n, fp);
+    case Material::kPlaster:
+      return Plaster(c, id, p, fp);
     case Material::kGlass: {
       // Reflections of the street: smooth blotches with some detail.
       const float refl = Fbm(p.x(), p.y(), p.z(), 1.5, 4, fp, c.seed + 71);
@@ -137,7 +143,8 @@ Vector3f Albedo(const TextureContext& c, Material m, std::uint32_t id, const Vec
       const float v = 0.25f + 0.1f * Fbm(p.x(), p.y(), p.z(), 0.3, 3, fp, c.seed + 91);
       return {v * 1.2f, v * 0.9f, v * 0.8f};
     }
-    case Material::kLeaves: return Leaves(c, id, p, fp);
+    case Material::kLeaves:
+      return Leaves(c, id, p, fp);
     case Material::kBark: {
       const float v = 0.22f + 0.15f * Fbm(p.x(), p.y(), p.z() * 0.3, 0.08, 3, fp, c.seed + 101);
       return {v * 1.1f, v * 0.9f, v * 0.7f};
@@ -149,13 +156,15 @@ Vector3f Albedo(const TextureContext& c, Material m, std::uint32_t id, const Vec
       return Vector3f(0.30f, 0.40f, 0.15f) * v;
     }
     case Material::kCarPaint: {
-      static constexpr float kPalette[6][3] = {{0.85f, 0.85f, 0.85f}, {0.08f, 0.08f, 0.09f}, {0.55f, 0.56f, 0.58f},
-                                               {0.55f, 0.08f, 0.06f}, {0.10f, 0.18f, 0.45f}, {0.30f, 0.30f, 0.32f}};
+      static constexpr float kPalette[6][3] = {{0.85f, 0.85f, 0.85f}, {0.08f, 0.08f, 0.09f},
+                                               {0.55f, 0.56f, 0.58f}, {0.55f, 0.08f, 0.06f},
+                                               {0.10f, 0.18f, 0.45f}, {0.30f, 0.30f, 0.32f}};
       const int k = static_cast<int>(Hash01(c.seed + 121, id) * 6.0f) % 6;
       const float v = 0.85f + 0.3f * Fbm(p.x(), p.y(), p.z(), 0.4, 4, fp, c.seed + 122);
       return Vector3f(kPalette[k][0], kPalette[k][1], kPalette[k][2]) * v;
     }
-    case Material::kTyre: return {0.07f, 0.07f, 0.07f};
+    case Material::kTyre:
+      return {0.07f, 0.07f, 0.07f};
     case Material::kMetal: {
       const float v = 0.45f + 0.15f * Fbm(p.x(), p.y(), p.z(), 0.2, 2, fp, c.seed + 131);
       return {v, v, v * 1.05f};
@@ -164,7 +173,8 @@ Vector3f Albedo(const TextureContext& c, Material m, std::uint32_t id, const Vec
       const bool blue = Hash01(c.seed + 141, id) < 0.5f;
       return blue ? Vector3f(0.08f, 0.20f, 0.60f) : Vector3f(0.70f, 0.08f, 0.06f);
     }
-    case Material::kCount: break;
+    case Material::kCount:
+      break;
   }
   return {1.0f, 0.0f, 1.0f};
 }
@@ -181,22 +191,38 @@ Vector3f SkyColor(const TextureContext& c, const Vector3d& d) {
 
 float LidarReflectance(Material m) {
   switch (m) {
-    case Material::kAsphalt: return 0.18f;
-    case Material::kPaving: return 0.30f;
-    case Material::kCurb: return 0.35f;
-    case Material::kBrick: return 0.32f;
-    case Material::kPlaster: return 0.45f;
-    case Material::kGlass: return 0.05f;
-    case Material::kWood: return 0.30f;
-    case Material::kRoof: return 0.20f;
-    case Material::kLeaves: return 0.38f;
-    case Material::kBark: return 0.25f;
-    case Material::kGrass: return 0.40f;
-    case Material::kCarPaint: return 0.50f;
-    case Material::kTyre: return 0.04f;
-    case Material::kMetal: return 0.55f;
-    case Material::kSign: return 0.95f;
-    case Material::kCount: break;
+    case Material::kAsphalt:
+      return 0.18f;
+    case Material::kPaving:
+      return 0.30f;
+    case Material::kCurb:
+      return 0.35f;
+    case Material::kBrick:
+      return 0.32f;
+    case Material::kPlaster:
+      return 0.45f;
+    case Material::kGlass:
+      return 0.05f;
+    case Material::kWood:
+      return 0.30f;
+    case Material::kRoof:
+      return 0.20f;
+    case Material::kLeaves:
+      return 0.38f;
+    case Material::kBark:
+      return 0.25f;
+    case Material::kGrass:
+      return 0.40f;
+    case Material::kCarPaint:
+      return 0.50f;
+    case Material::kTyre:
+      return 0.04f;
+    case Material::kMetal:
+      return 0.55f;
+    case Material::kSign:
+      return 0.95f;
+    case Material::kCount:
+      break;
   }
   return 0.0f;
 }

@@ -1,9 +1,8 @@
 // Procedural surface colours (solid textures evaluated at the 3D surface point) and the sky.
 #pragma once
 
-#include <cstdint>
-
 #include <Eigen/Core>
+#include <cstdint>
 
 #include "engine/sim/scene.h"
 

@@ -16,7 +16,9 @@ inline std::uint64_t Mix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-inline std::uint64_t HashCombine(std::uint64_t a, std::uint64_t b) { return Mix64(a ^ (Mix64(b) + 0x632be59bd9b4e019ULL)); }
+inline std::uint64_t HashCombine(std::uint64_t a, std::uint64_t b) {
+  return Mix64(a ^ (Mix64(b) + 0x632be59bd9b4e019ULL));
+}
 
 // A small counter-based generator (SplitMix64 stream). Not thread-safe: one per thread/task.
 class Rng {
@@ -39,7 +41,8 @@ class Rng {
   // variance; bounded at +-3.46). One draw per call: fast enough for per-pixel image noise.
   float FastNormal() {
     const std::uint64_t r = NextU64();
-    const float sum = static_cast<float>((r & 0xffff) + ((r >> 16) & 0xffff) + ((r >> 32) & 0xffff) + (r >> 48));
+    const float sum =
+        static_cast<float>((r & 0xffff) + ((r >> 16) & 0xffff) + ((r >> 32) & 0xffff) + (r >> 48));
     return (sum * (1.0f / 65536.0f) - 2.0f) * 1.7320508f;
   }
   // Standard normal (Box-Muller; the second value of each pair is kept for the next call).
@@ -83,7 +86,8 @@ inline float ValueNoise(double x, double y, double z, std::uint64_t seed) {
   const float c00 = lerp(LatticeValue(ix, iy, iz, seed), LatticeValue(ix + 1, iy, iz, seed), tx);
   const float c10 = lerp(LatticeValue(ix, iy + 1, iz, seed), LatticeValue(ix + 1, iy + 1, iz, seed), tx);
   const float c01 = lerp(LatticeValue(ix, iy, iz + 1, seed), LatticeValue(ix + 1, iy, iz + 1, seed), tx);
-  const float c11 = lerp(LatticeValue(ix, iy + 1, iz + 1, seed), LatticeValue(ix + 1, iy + 1, iz + 1, seed), tx);
+  const float c11 =
+      lerp(LatticeValue(ix, iy + 1, iz + 1, seed), LatticeValue(ix + 1, iy + 1, iz + 1, seed), tx);
   return lerp(lerp(c00, c10, ty), lerp(c01, c11, ty), tz);
 }
 

@@ -31,8 +31,8 @@ class SceneBuilder {
                    int sides, const Surface& s);
   // An irregular blob (tree crown, bush): an icosphere with radii `radii`, its radius modulated by noise of
   // relative amplitude `roughness`; `seed` varies the shape.
-  void AddBlob(const Eigen::Vector3d& center, const Eigen::Vector3d& radii, int subdivisions, double roughness,
-               std::uint64_t seed, const Surface& s);
+  void AddBlob(const Eigen::Vector3d& center, const Eigen::Vector3d& radii, int subdivisions,
+               double roughness, std::uint64_t seed, const Surface& s);
   // A rounded box |x/a|^p + |y/b|^p + |z/c|^p = 1 (p = `exponent`), yawed about z.
   void AddRoundedBox(const Eigen::Vector3d& center, const Eigen::Vector3d& half, double yaw_rad,
                      double exponent, int subdivisions, const Surface& s);
@@ -43,7 +43,8 @@ class SceneBuilder {
   std::uint32_t AddVertex(const Eigen::Vector3d& p);
   void AddTriangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Surface& s);
   // Unit icosphere of a subdivision level (cached per builder).
-  const std::pair<std::vector<Eigen::Vector3d>, std::vector<std::array<std::uint32_t, 3>>>& Icosphere(int level);
+  const std::pair<std::vector<Eigen::Vector3d>, std::vector<std::array<std::uint32_t, 3>>>& Icosphere(
+      int level);
 
   Scene* scene_;
   std::uint32_t next_object_id_ = 1;

@@ -8,7 +8,8 @@ namespace semap::sim {
 namespace {
 
 // Brute-force nearest hit (Möller-Trumbore over every triangle).
-std::optional<RayHit> BruteForce(const Scene& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_max) {
+std::optional<RayHit> BruteForce(const Scene& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                                 double t_max) {
   std::optional<RayHit> best;
   for (std::uint32_t k = 0; k < s.triangles.size(); ++k) {
     const Eigen::Vector3d a = s.vertices[s.triangles[k][0]];
@@ -32,7 +33,8 @@ Scene RandomTriangles(int n, std::uint64_t seed) {
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d c(rng.Uniform(-20, 20), rng.Uniform(-20, 20), rng.Uniform(-5, 5));
     for (int v = 0; v < 3; ++v) {
-      s.vertices.push_back(c + Eigen::Vector3d(rng.Uniform(-1.5, 1.5), rng.Uniform(-1.5, 1.5), rng.Uniform(-1.5, 1.5)));
+      s.vertices.push_back(
+          c + Eigen::Vector3d(rng.Uniform(-1.5, 1.5), rng.Uniform(-1.5, 1.5), rng.Uniform(-1.5, 1.5)));
     }
     s.triangles.push_back({3u * k, 3u * k + 1, 3u * k + 2});
   }
@@ -47,7 +49,8 @@ TEST(TriangleBvh, AgreesWithBruteForce) {
   int hits = 0;
   for (int k = 0; k < 2000; ++k) {
     const Eigen::Vector3d o(rng.Uniform(-30, 30), rng.Uniform(-30, 30), rng.Uniform(-10, 10));
-    const Eigen::Vector3d d = Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()) * rng.Uniform(0.5, 2.0);
+    const Eigen::Vector3d d =
+        Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()) * rng.Uniform(0.5, 2.0);
     const auto expected = BruteForce(s, o, d, 100.0);
     const auto got = bvh.Intersect(o, d, 0.0, 100.0);
     ASSERT_EQ(expected.has_value(), got.has_value()) << "ray " << k;

@@ -1,11 +1,11 @@
 #include "engine/sim/camera_renderer.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "engine/sim/synthetic_sequence.h"
@@ -79,20 +79,22 @@ cv::Vec3f Bilinear(const cv::Mat& img, double x, double y) {
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
   const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
   auto at = [&](int xx, int yy) { return cv::Vec3f(img.at<cv::Vec3b>(yy, xx)); };
-  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+         fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
 }
 
 // Median absolute colour difference between left pixels and the right image at x - (disparity + offset),
 // over textured left pixels (horizontal gradient above `min_gradient` grey levels) visible in the right view
 // (the right depth at the warped pixel equals the left depth).
-double MedianWarpError(const SyntheticFrame& f, const StereoCalibration& cal, double gain_ratio, double offset,
-                       double min_gradient) {
+double MedianWarpError(const SyntheticFrame& f, const StereoCalibration& cal, double gain_ratio,
+                       double offset, double min_gradient) {
   std::vector<double> err;
   for (int y = 2; y < cal.height_px - 2; y += 2) {
     for (int x = 2; x < cal.width_px - 2; x += 2) {
       const float z = f.left.depth_m.at<float>(y, x);
       if (z <= 0.0f) continue;
-      const cv::Vec3f gx = cv::Vec3f(f.left.color.at<cv::Vec3b>(y, x + 1)) - cv::Vec3f(f.left.color.at<cv::Vec3b>(y, x - 1));
+      const cv::Vec3f gx =
+          cv::Vec3f(f.left.color.at<cv::Vec3b>(y, x + 1)) - cv::Vec3f(f.left.color.at<cv::Vec3b>(y, x - 1));
       if ((std::abs(gx[0]) + std::abs(gx[1]) + std::abs(gx[2])) / 3.0 < min_gradient) continue;
       const double xr = x - cal.DisparityFromDepth(z) - offset;
       if (xr < 1.0 || xr > cal.width_px - 2.0) continue;

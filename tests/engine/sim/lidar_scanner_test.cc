@@ -1,9 +1,9 @@
 #include "engine/sim/lidar_scanner.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <gtest/gtest.h>
 
 #include "engine/sim/synthetic_sequence.h"
 
@@ -74,7 +74,8 @@ TEST(LidarScanner, PointsAgreeWithDepthMapsSubCentimetre) {
       if (!ok) continue;
       const double inv[4] = {inv4[1][1], inv4[1][2], inv4[2][1], inv4[2][2]};
       const double fx = uv.x() - x0, fy = uv.y() - y0;
-      const double inv_z = (1 - fy) * ((1 - fx) * inv[0] + fx * inv[1]) + fy * ((1 - fx) * inv[2] + fx * inv[3]);
+      const double inv_z =
+          (1 - fy) * ((1 - fx) * inv[0] + fx * inv[1]) + fy * ((1 - fx) * inv[2] + fx * inv[3]);
       err.push_back(std::abs(1.0 / inv_z - p.z()));
     }
     ASSERT_GT(in_image, 15000) << "frame " << frame;

@@ -1,8 +1,8 @@
 #include "engine/sim/internal/random.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace semap::sim::internal {
 namespace {

@@ -1,8 +1,8 @@
 #include "engine/sim/scene.h"
 
-#include <set>
-
 #include <gtest/gtest.h>
+
+#include <set>
 
 #include "engine/sim/trajectory.h"
 
@@ -48,8 +48,8 @@ TEST(Scene, ConsistentArraysChunksAndLabels) {
   EXPECT_EQ(covered, n);
   // Every class the issue asks for is present.
   std::set<Label> labels(s.labels.begin(), s.labels.end());
-  for (Label l : {label::kRoad, label::kSidewalk, label::kBuilding, label::kFence, label::kPole, label::kTrafficSign,
-                  label::kVegetation, label::kTerrain, label::kCar}) {
+  for (Label l : {label::kRoad, label::kSidewalk, label::kBuilding, label::kFence, label::kPole,
+                  label::kTrafficSign, label::kVegetation, label::kTerrain, label::kCar}) {
     EXPECT_TRUE(labels.count(l)) << "label " << int(l);
   }
   // Unit normals consistent with the winding.

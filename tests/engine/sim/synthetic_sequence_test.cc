@@ -22,7 +22,8 @@ TEST(SyntheticSequence, FramesAreDeterministicAndIndependentOfOrder) {
   EXPECT_EQ(cv::norm(a3.right.color, b3.right.color, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::norm(a3.left.depth_m, b3.left.depth_m, cv::NORM_INF), 0.0);
   ASSERT_EQ(a3.scan.points_velo.size(), b3.scan.points_velo.size());
-  for (size_t k = 0; k < a3.scan.points_velo.size(); k += 101) EXPECT_EQ(a3.scan.points_velo[k], b3.scan.points_velo[k]);
+  for (size_t k = 0; k < a3.scan.points_velo.size(); k += 101)
+    EXPECT_EQ(a3.scan.points_velo[k], b3.scan.points_velo[k]);
   EXPECT_NEAR(a3.timestamp_s, 0.3, 1e-12);
 }
 
@@ -35,8 +36,9 @@ TEST(SyntheticSequence, SensorPosesFollowTheRig) {
   EXPECT_TRUE(cam2.linear().isApprox(cam3.linear()));
   // The left camera is about 1.65 m above the road, looking forward (scene z up).
   EXPECT_NEAR(cam2.translation().z(), 1.65, 0.02);
-  EXPECT_GT((cam2.linear() * Eigen::Vector3d::UnitZ()).dot(s.scene_from_imu(1).linear() * Eigen::Vector3d::UnitX()),
-            0.99);
+  EXPECT_GT(
+      (cam2.linear() * Eigen::Vector3d::UnitZ()).dot(s.scene_from_imu(1).linear() * Eigen::Vector3d::UnitX()),
+      0.99);
 }
 
 // Share of ground (road, sidewalk, terrain) and wall (building, wall, fence) pixels per preset.
@@ -46,11 +48,13 @@ TEST(SyntheticSequence, UrbanHasClearlyMoreGroundAndWallThanVegetated) {
     const SyntheticSequence s(Opts(preset, 30));
     LabelHistogram h;
     const CameraRenderer renderer(s.scene(), s.options());
-    for (int i = 0; i < s.num_frames(); i += 6) h.Add(renderer.RenderGeometry(s.rig().calibration, s.scene_from_cam2(i)).labels);
+    for (int i = 0; i < s.num_frames(); i += 6)
+      h.Add(renderer.RenderGeometry(s.rig().calibration, s.scene_from_cam2(i)).labels);
     return h;
   };
   const LabelHistogram urban = shares(ScenePreset::kUrban), veg = shares(ScenePreset::kVegetated);
-  const double urban_gw = urban.RoleShare(classes, ClassRole::kGround) + urban.RoleShare(classes, ClassRole::kWall);
+  const double urban_gw =
+      urban.RoleShare(classes, ClassRole::kGround) + urban.RoleShare(classes, ClassRole::kWall);
   const double veg_gw = veg.RoleShare(classes, ClassRole::kGround) + veg.RoleShare(classes, ClassRole::kWall);
   EXPECT_GT(urban_gw, veg_gw + 0.15) << "urban " << urban_gw << " vegetated " << veg_gw;
   EXPECT_GT(veg.Share(label::kVegetation), 2.0 * urban.Share(label::kVegetation));

@@ -1,8 +1,8 @@
 #include "engine/sim/trajectory.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "engine/core/check.h"
 
@@ -59,7 +59,8 @@ TEST(Trajectory, ShortDriveHasFewerTurnsAndIsDeterministic) {
   const Trajectory a = Trajectory::Generate(Drive(20, 5, 8.0), 0.93);
   EXPECT_EQ(a.num_turns(), 0);
   const Trajectory b = Trajectory::Generate(Drive(20, 5, 8.0), 0.93);
-  for (int i = 0; i < a.num_frames(); ++i) EXPECT_TRUE(a.scene_from_imu(i).isApprox(b.scene_from_imu(i), 0.0));
+  for (int i = 0; i < a.num_frames(); ++i)
+    EXPECT_TRUE(a.scene_from_imu(i).isApprox(b.scene_from_imu(i), 0.0));
   const Trajectory still = Trajectory::Generate(Drive(5, 0, 0.0), 0.93);
   EXPECT_TRUE(still.scene_from_imu(0).translation().isApprox(still.scene_from_imu(4).translation()));
 }

@@ -1,13 +1,13 @@
 #include "io/synth/kitti_raw_writer.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <sstream>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -72,7 +72,8 @@ TEST(KittiRawWriter, WritesTheKittiRawLayoutWithExactGroundTruth) {
   EXPECT_EQ(summary.layout.drive_dir, drive);
   for (const char* d : {"image_02", "image_03", "velodyne_points", "oxts", "semantic", "depth"}) {
     const std::string stamps = ReadAll(drive / d / "timestamps.txt");
-    EXPECT_EQ(stamps, "2026-01-01 12:00:00.000000000\n2026-01-01 12:00:00.100000000\n2026-01-01 12:00:00.200000000\n")
+    EXPECT_EQ(stamps,
+              "2026-01-01 12:00:00.000000000\n2026-01-01 12:00:00.100000000\n2026-01-01 12:00:00.200000000\n")
         << d;
   }
   ASSERT_TRUE(fs::exists(drive / "scene_mesh.ply"));
@@ -114,9 +115,12 @@ TEST(KittiRawWriter, WritesTheKittiRawLayoutWithExactGroundTruth) {
   // Per-frame files equal the rendered frame (PNG is lossless; depth in mm; scan as float32 quadruples).
   const sim::SyntheticFrame f = seq.RenderFrame(2);
   const fs::path name = "0000000002";
-  const cv::Mat left = cv::imread((drive / "image_02" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
-  const cv::Mat right = cv::imread((drive / "image_03" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
-  const cv::Mat labels = cv::imread((drive / "semantic" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
+  const cv::Mat left =
+      cv::imread((drive / "image_02" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
+  const cv::Mat right =
+      cv::imread((drive / "image_03" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
+  const cv::Mat labels =
+      cv::imread((drive / "semantic" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
   const cv::Mat depth = cv::imread((drive / "depth" / "data" / name).string() + ".png", cv::IMREAD_UNCHANGED);
   ASSERT_EQ(left.type(), CV_8UC3);
   ASSERT_EQ(labels.type(), CV_8UC1);

@@ -1,8 +1,8 @@
 #include "io/synth/oxts.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "engine/sim/internal/random.h"
 #include "engine/sim/synthetic_sequence.h"
@@ -36,7 +36,8 @@ TEST(Oxts, InverseMatchesTheDevkitForwardConversion) {
                      Eigen::AngleAxisd(rng.Uniform(-0.3, 0.3), Eigen::Vector3d::UnitY()) *
                      Eigen::AngleAxisd(rng.Uniform(-0.3, 0.3), Eigen::Vector3d::UnitX()))
                         .toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(rng.Uniform(5.9e5, 6.3e5), rng.Uniform(4.1e6, 4.2e6), rng.Uniform(50, 500));
+    pose.translation() =
+        Eigen::Vector3d(rng.Uniform(5.9e5, 6.3e5), rng.Uniform(4.1e6, 4.2e6), rng.Uniform(50, 500));
     const OxtsPacket p = ParseOxtsLine(FormatOxtsLine(OxtsFromMercatorPose(pose, scale)));
     const Pose3d back = DevkitPose(p, scale);
     EXPECT_LT((back.translation() - pose.translation()).norm(), 1e-6);
