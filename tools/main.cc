@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
       RegisterSynthCommand,
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,
+      RegisterInfoCommand,
+      RegisterEvalCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {
