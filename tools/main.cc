@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   const RegisterFn commands[] = {
       RegisterRunCommand,
       RegisterConfigCommand,
+      RegisterSynthCommand,
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,
       RegisterInfoCommand,

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/sim/synth_options.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/semantics/segmenter.h"
 #include "engine/simplify/simplify.h"
@@ -29,6 +30,7 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
+  sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
   PipelineOptions pipeline;  // stage threads, queues, modes
   OutputOptions output;      // files written by a run
   LcmOptions lcm;            // mesh / stats publishing over LCM

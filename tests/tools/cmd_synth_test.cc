@@ -1,0 +1,80 @@
+// `semap synth` run as a user would: a tiny sequence, and bad arguments.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/common/test_data.h"
+
+namespace semap::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliRun RunSemap(const std::string& args) {
+  CliRun r;
+  const std::string cmd = std::string(SEMAP_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buf{};
+  size_t n = 0;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1000 - WTERMSIG(status);
+  return r;
+}
+
+bool Has(const CliRun& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+
+// Small images keep the test fast; --set reaches the synth config section.
+const std::string kSmall =
+    " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
+    " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256";
+
+TEST(SemapSynth, WritesAKittiRawSequence) {
+  const fs::path out = test::TempDir() / "out";
+  const CliRun r = RunSemap("synth --preset vegetated --frames 3 --seed 4 --speed-mps 5 --turns 0 --out " +
+                            out.string() + kSmall);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(Has(r, "wrote 3 frames")) << r.output;
+  EXPECT_TRUE(Has(r, "class composition")) << r.output;
+  const fs::path drive = out / "2026_01_01" / "2026_01_01_drive_0001_sync";
+  for (const char* f : {"image_02/data/0000000002.png", "image_03/data/0000000002.png",
+                        "velodyne_points/data/0000000002.bin", "oxts/data/0000000002.txt",
+                        "semantic/data/0000000002.png", "depth/data/0000000002.png", "scene_mesh.ply"}) {
+    EXPECT_TRUE(fs::exists(drive / f)) << f;
+  }
+  EXPECT_TRUE(fs::exists(out / "2026_01_01" / "calib_cam_to_cam.txt"));
+  std::ifstream calib(out / "2026_01_01" / "calib_cam_to_cam.txt");
+  std::string text((std::istreambuf_iterator<char>(calib)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("S_rect_02: 3.200000000000e+02 9.600000000000e+01"), std::string::npos) << text;
+}
+
+TEST(SemapSynth, BadArgumentsAreUsageErrors) {
+  const fs::path out = test::TempDir() / "bad";
+  EXPECT_EQ(RunSemap("synth --preset suburban --frames 2 --out " + out.string()).exit_code, 2);
+  EXPECT_EQ(RunSemap("synth --frames 2").exit_code, 2);  // --out is required
+  const CliRun r = RunSemap("synth --frames 2 --set synth.block_pitch_m=10 --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(Has(r, "block_pitch_m")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(SemapSynth, UnwritableOutputIsAFailure) {
+  const fs::path file = test::TempDir() / "a_file";
+  std::ofstream(file) << "x";
+  const CliRun r = RunSemap("synth --frames 1 --out " + (file / "sub").string() + kSmall);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+}  // namespace
+}  // namespace semap::tools
