@@ -172,13 +172,14 @@ std::string FormatCalibImuToVelo(const sim::SensorRig& rig) {
 
 std::vector<OxtsPacket> SynthOxtsPackets(const sim::SyntheticSequence& seq) {
   const sim::SynthOptions& o = seq.options();
-  const double scale = OxtsMercatorScale(o.origin_latitude_deg);
   // mercator_from_scene: rotate the scene by the heading, then put frame 0's IMU at the origin lat/lon/alt.
   OxtsPacket origin;
   origin.lat_deg = o.origin_latitude_deg;
   origin.lon_deg = o.origin_longitude_deg;
   origin.alt_m = o.origin_altitude_m;
-  const Eigen::Vector3d origin_t = OxtsToMercatorPose(origin, scale).translation();
+  const OxtsPoseConverter devkit(origin);  // the reader's conversion, scale from the first latitude
+  const double scale = devkit.mercator_scale();
+  const Eigen::Vector3d origin_t = devkit.MercatorPose(origin).translation();
   Pose3d mercator_from_scene = Pose3d::Identity();
   mercator_from_scene.linear() =
       Eigen::AngleAxisd(o.origin_heading_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -248,7 +249,7 @@ SynthWriteSummary WriteSyntheticKittiRaw(const sim::SyntheticSequence& seq, cons
   WriteText(drive / "gt_world_from_cam2.txt", gt);
   const auto packets = SynthOxtsPackets(seq);
   for (int i = 0; i < n; ++i) {
-    WriteText(drive / "oxts" / "data" / FrameName(i, "txt"), FormatOxtsLine(packets[i]) + "\n");
+    WriteOxtsFile(drive / "oxts" / "data" / FrameName(i, "txt"), packets[i]);
   }
   WriteMeshPly(drive / "scene_mesh.ply", seq.scene().ToMesh(seq.world_from_scene()),
                PlyEncoding::kBinaryLittleEndian, /*double_precision=*/true);
