@@ -1,9 +1,9 @@
 // Delaunay map benchmarks: batch build rates, and an incremental 500-frame drive with the memory bound on
 // (time per frame vs map size). Run: ./build/bench/map_bench --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+
 #include <cstdio>
 #include <ctime>
-
-#include <benchmark/benchmark.h>
 
 #include "engine/map/batch_map.h"
 #include "engine/map/incremental_map.h"
@@ -51,8 +51,10 @@ void BM_BatchMap(benchmark::State& state) {
     benchmark::DoNotOptimize(r.mesh.triangles.data());
   }
   state.counters["points"] = double(cloud.size());
-  state.counters["points/s"] = benchmark::Counter(double(cloud.size()), benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["rays/s"] = benchmark::Counter(double(stats.rays_traced), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] =
+      benchmark::Counter(double(cloud.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["rays/s"] =
+      benchmark::Counter(double(stats.rays_traced), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["cells/ray"] = double(stats.cells_visited) / double(stats.rays_traced);
   state.counters["cells"] = double(stats.num_cells);
 }

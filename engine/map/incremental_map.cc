@@ -22,7 +22,8 @@ IncrementalMap::~IncrementalMap() = default;
 IncrementalMap::IncrementalMap(IncrementalMap&&) noexcept = default;
 IncrementalMap& IncrementalMap::operator=(IncrementalMap&&) noexcept = default;
 
-MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points, const std::vector<Observation>& extra) {
+MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points,
+                                       const std::vector<Observation>& extra) {
   return impl_->Update(frame_points, extra);
 }
 Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh(); }
@@ -86,7 +87,8 @@ MapSnapshot IncrementalState::ExportSnapshot() const {
     s.cloud.labels.push_back(p.attributes.label);
     s.cloud.colors_rgb.push_back(p.attributes.color_rgb);
     s.cloud.camera_index.push_back(camera_index.at(rays_[p.rays.front()].camera));
-    for (std::size_t r = 1; r < p.rays.size(); ++r) s.extra.push_back({i, camera_index.at(rays_[p.rays[r]].camera)});
+    for (std::size_t r = 1; r < p.rays.size(); ++r)
+      s.extra.push_back({i, camera_index.at(rays_[p.rays[r]].camera)});
   }
   return s;
 }

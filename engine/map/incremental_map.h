@@ -19,8 +19,8 @@ struct MapUpdateResult {
   // Per input point: the id of the point it became or was merged into, or kDroppedPoint (beyond
   // max_ray_length_m). Ids name points in later Observations.
   std::vector<std::uint32_t> point_ids;
-  std::size_t inserted = 0;         // new vertices (data points)
-  std::size_t merged = 0;           // points merged into an existing one (their ray added)
+  std::size_t inserted = 0;  // new vertices (data points)
+  std::size_t merged = 0;    // points merged into an existing one (their ray added)
   std::size_t dropped = 0;
   std::size_t steiner_inserted = 0;
   std::size_t cells_destroyed = 0;  // cells with votes replaced by the insertion
@@ -48,11 +48,11 @@ class IncrementalMap {
   IncrementalMap(IncrementalMap&&) noexcept;
   IncrementalMap& operator=(IncrementalMap&&) noexcept;
 
-  // One frame: `frame_points` with their cameras (camera_index into frame_points.camera_centers_world, usually
-  // the frame's one camera), plus `extra` rays to existing points (Observation.point = an id from an earlier
-  // update, Observation.camera indexes frame_points.camera_centers_world). A point within merge_distance_m of
-  // an existing point (or of an earlier point of the frame) is merged: its ray goes to that point.
-  // Throws std::invalid_argument for an unknown point id in `extra`.
+  // One frame: `frame_points` with their cameras (camera_index into frame_points.camera_centers_world,
+  // usually the frame's one camera), plus `extra` rays to existing points (Observation.point = an id from an
+  // earlier update, Observation.camera indexes frame_points.camera_centers_world). A point within
+  // merge_distance_m of an existing point (or of an earlier point of the frame) is merged: its ray goes to
+  // that point. Throws std::invalid_argument for an unknown point id in `extra`.
   MapUpdateResult Update(const LabelledCloud& frame_points, const std::vector<Observation>& extra = {});
 
   // The current live surface (Steiner triangles dropped if the options say so).

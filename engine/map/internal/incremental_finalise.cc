@@ -121,10 +121,12 @@ void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& vert
         std::array<std::uint32_t, 3> tri;
         for (int k = 0; k < 3; ++k) {
           const VertexHandle u = f.vertices[k];
-          auto [it, inserted] = finalised_index_.try_emplace(VertexKey(u), std::uint32_t(finalised_mesh_.vertices.size()));
+          auto [it, inserted] =
+              finalised_index_.try_emplace(VertexKey(u), std::uint32_t(finalised_mesh_.vertices.size()));
           if (inserted) {
             finalised_mesh_.vertices.push_back(ToEigen(u->point()));
-            const PointAttributes a = u->info().steiner ? PointAttributes{} : points_.at(u->info().id).attributes;
+            const PointAttributes a =
+                u->info().steiner ? PointAttributes{} : points_.at(u->info().id).attributes;
             finalised_mesh_.labels.push_back(a.label);
             finalised_mesh_.colors_rgb.push_back(a.color_rgb);
           }

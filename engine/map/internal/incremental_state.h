@@ -92,11 +92,11 @@ class IncrementalState {
   Eigen::Vector3d last_camera_ = Eigen::Vector3d::Zero();
 
   // Scratch of one update.
-  std::vector<CellHandle> destroyed_;       // cells (with votes) the change destroys
-  std::vector<VertexHandle> boundary_;      // their vertices
-  std::vector<CellHandle> touched_;         // cells whose votes or carving changed
-  std::vector<CellHandle> decreased_;       // cells that lost votes (untraced rays)
-  std::vector<VertexHandle> inserted_;      // vertices inserted in this update
+  std::vector<CellHandle> destroyed_;   // cells (with votes) the change destroys
+  std::vector<VertexHandle> boundary_;  // their vertices
+  std::vector<CellHandle> touched_;     // cells whose votes or carving changed
+  std::vector<CellHandle> decreased_;   // cells that lost votes (untraced rays)
+  std::vector<VertexHandle> inserted_;  // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
   RayVotes votes_;
 

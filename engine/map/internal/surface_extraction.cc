@@ -46,7 +46,8 @@ void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFa
   }
 }
 
-Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes, Label unlabelled) {
+Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
+                  Label unlabelled) {
   Mesh mesh;
   std::unordered_map<const void*, std::uint32_t> index;
   index.reserve(facets.size());

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "engine/core/mesh.h"
-#include "engine/map/map_types.h"
 #include "engine/map/internal/triangulation.h"
+#include "engine/map/map_types.h"
 
 namespace semap::map_internal {
 
@@ -31,12 +31,13 @@ struct SurfaceFacet {
 // The facet of `carved_cell` opposite its vertex `opposite`, oriented counter-clockwise seen from the cell.
 SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
 
-// Boundary facets between carved and uncarved cells; with `drop_steiner`, facets touching a Steiner vertex are
-// left out. Appends to `facets`.
+// Boundary facets between carved and uncarved cells; with `drop_steiner`, facets touching a Steiner vertex
+// are left out. Appends to `facets`.
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets);
 
 // Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey).
-Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes, Label unlabelled);
+Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
+                  Label unlabelled);
 
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);

@@ -1,10 +1,10 @@
 #include "engine/map/incremental_map.h"
 
+#include <gtest/gtest.h>
+
 #include <map>
 #include <random>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "engine/map/batch_map.h"
 #include "tests/engine/map/manifold_checker.h"
@@ -63,14 +63,17 @@ struct RandomStream {
       const double y = camera.y() + 2.0 + 10.0 * u(rng);
       const int surface = int(3 * u(rng));
       Eigen::Vector3d p;
-      if (surface == 0) p = {-5.0 + 10.0 * u(rng), y, 0.0};
-      else p = {surface == 1 ? -5.0 : 5.0, y, 6.0 * u(rng)};
+      if (surface == 0)
+        p = {-5.0 + 10.0 * u(rng), y, 0.0};
+      else
+        p = {surface == 1 ? -5.0 : 5.0, y, 6.0 * u(rng)};
       p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
       cloud.positions_world.push_back(p);
       cloud.camera_index.push_back(0);
       cloud.labels.push_back(Label(surface + 1));
     }
-    // A few re-observations placed exactly near earlier points are produced by the merge distance; extra rays:
+    // A few re-observations placed exactly near earlier points are produced by the merge distance; extra
+    // rays:
     for (int k = 0; k < 5 && !known_ids.empty(); ++k) {
       extra->push_back({known_ids[std::size_t(u(rng) * known_ids.size()) % known_ids.size()], 0});
     }
@@ -78,9 +81,11 @@ struct RandomStream {
   }
 };
 
-void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options, int* mesh_diff, int* mesh_size) {
+void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options, int* mesh_diff,
+                           int* mesh_size) {
   const MapSnapshot snapshot = map.ExportSnapshot();
-  const BatchMapResult batch = BuildBatchMap(options, snapshot.cloud, snapshot.extra, /*with_cell_votes=*/true);
+  const BatchMapResult batch =
+      BuildBatchMap(options, snapshot.cloud, snapshot.extra, /*with_cell_votes=*/true);
   const auto incremental_votes = VoteMap(map.CellVotesSnapshot());
   const auto batch_votes = VoteMap(batch.cell_votes);
   ASSERT_EQ(incremental_votes.size(), batch_votes.size()) << "different triangulations";
@@ -120,8 +125,9 @@ TEST(IncrementalMap, VotesEqualBatchOnRandomStreams) {
       ExpectVotesEqualBatch(map, options, &diff, &size);
       if (HasFatalFailure()) return;
       std::cout << "seed " << seed << " frame " << f << ": inserted " << r.inserted << " merged " << r.merged
-                << " retraced " << r.rays_retraced << " destroyed " << r.cells_destroyed << " uncarved " << r.cells_uncarved << " carved " << r.cells_carved
-                << "; mesh differs from batch in " << diff << " of " << size << " triangles\n";
+                << " retraced " << r.rays_retraced << " destroyed " << r.cells_destroyed << " uncarved "
+                << r.cells_uncarved << " carved " << r.cells_carved << "; mesh differs from batch in " << diff
+                << " of " << size << " triangles\n";
     }
   }
 }
@@ -191,8 +197,9 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
     }
   }
   const MapStatistics s = map.Statistics();
-  std::cout << "live points " << s.num_points << ", cells " << s.num_cells << " (max frames 15-30: " << max_early
-            << ", last 15: " << max_late << "), finalised triangles " << finalised_triangles << "\n";
+  std::cout << "live points " << s.num_points << ", cells " << s.num_cells
+            << " (max frames 15-30: " << max_early << ", last 15: " << max_late << "), finalised triangles "
+            << finalised_triangles << "\n";
   EXPECT_LE(s.num_points, 200u * 13);  // at most the last 8 + 4 + 1 frames live
   EXPECT_LT(double(max_late), 1.3 * double(max_early));
   EXPECT_GT(finalised_triangles, 1000u);
