@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <ctime>
 
+#include "engine/core/mesh_delta.h"
 #include "engine/map/batch_map.h"
 #include "engine/map/incremental_map.h"
 #include "tests/engine/map/street_scene.h"
@@ -71,6 +72,7 @@ void BM_IncrementalDrive(benchmark::State& state) {
   options.finalise_age_frames = 20;
   for (auto _ : state) {
     IncrementalMap map(options);
+    MeshDiffer differ;
     std::vector<double> block_s(std::size_t((frames + 99) / 100), 0.0);
     std::size_t points = 0, rays_new = 0, rays_retraced = 0;
     double update_s = 0.0, extract_s = 0.0;
@@ -78,10 +80,8 @@ void BM_IncrementalDrive(benchmark::State& state) {
       const double t0 = ThreadCpuSeconds();
       const MapUpdateResult r = map.Update(input[std::size_t(f)]);
       const double t1 = ThreadCpuSeconds();
-      const MeshDelta delta = map.TakeMeshDelta();
-      const Mesh finalised = map.TakeFinalisedMesh();
-      benchmark::DoNotOptimize(delta.added.triangles.data());
-      benchmark::DoNotOptimize(finalised.triangles.data());
+      const MeshDelta delta = differ.Update(f, map.ExtractIdentifiedMesh(), map.TakeFinalisedMesh());
+      benchmark::DoNotOptimize(delta.added_triangles.data());
       const double t2 = ThreadCpuSeconds();
       const double dt = t1 - t0;
       update_s += dt;

@@ -35,5 +35,9 @@ int RunGuarded(const CommonArgs& args, const std::function<int()>& body);
 // Each subcommand registers itself on the root app; `exit_code` receives the command's result.
 using RegisterFn = void (*)(CLI::App& app, int* exit_code);
 void RegisterConfigCommand(CLI::App& app, int* exit_code);
+void RegisterLcmMeshCommand(CLI::App& app, int* exit_code);
+void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
+void RegisterInfoCommand(CLI::App& app, int* exit_code);
+void RegisterEvalCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

@@ -11,6 +11,10 @@ int main(int argc, char** argv) {
   int exit_code = kExitOk;
   const RegisterFn commands[] = {
       RegisterConfigCommand,
+      RegisterLcmMeshCommand,
+      RegisterSimplifyCommand,
+      RegisterInfoCommand,
+      RegisterEvalCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

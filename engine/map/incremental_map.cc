@@ -26,46 +26,24 @@ MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points,
                                        const std::vector<Observation>& extra) {
   return impl_->Update(frame_points, extra);
 }
-Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh(); }
-MeshDelta IncrementalMap::TakeMeshDelta() { return impl_->TakeMeshDelta(); }
-Mesh IncrementalMap::TakeFinalisedMesh() { return impl_->TakeFinalisedMesh(); }
+Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh().mesh; }
+IdentifiedMesh IncrementalMap::ExtractIdentifiedMesh() const { return impl_->ExtractMesh(); }
+IdentifiedMesh IncrementalMap::TakeFinalisedMesh() { return impl_->TakeFinalisedMesh(); }
 std::vector<CellVotes> IncrementalMap::CellVotesSnapshot() const { return impl_->CellVotesSnapshot(); }
 MapSnapshot IncrementalMap::ExportSnapshot() const { return impl_->ExportSnapshot(); }
 MapStatistics IncrementalMap::Statistics() const { return impl_->Statistics(); }
 
 namespace map_internal {
 
-Mesh IncrementalState::ExtractMesh() const {
+IdentifiedMesh IncrementalState::ExtractMesh() const {
   std::vector<SurfaceFacet> facets;
   CollectSurface(dt_, options_.drop_steiner_triangles, &facets);
   return FacetsToMesh(facets, Attributes(), PointAttributes{}.label);
 }
 
-MeshDelta IncrementalState::TakeMeshDelta() {
-  std::vector<SurfaceFacet> facets;
-  CollectSurface(dt_, options_.drop_steiner_triangles, &facets);
-  MeshDelta delta;
-  std::unordered_set<TriangleId, TriangleIdHash> current;
-  current.reserve(facets.size());
-  std::vector<SurfaceFacet> added;
-  for (const SurfaceFacet& f : facets) {
-    current.insert(f.id);
-    if (!delivered_.count(f.id)) {
-      added.push_back(f);
-      delta.added_ids.push_back(f.id);
-    }
-  }
-  for (const TriangleId& id : delivered_) {
-    if (!current.count(id)) delta.removed.push_back(id);
-  }
-  delta.added = FacetsToMesh(added, Attributes(), PointAttributes{}.label);
-  delivered_ = std::move(current);
-  return delta;
-}
-
-Mesh IncrementalState::TakeFinalisedMesh() {
-  Mesh out = std::move(finalised_mesh_);
-  finalised_mesh_ = Mesh();
+IdentifiedMesh IncrementalState::TakeFinalisedMesh() {
+  IdentifiedMesh out = std::move(finalised_);
+  finalised_ = IdentifiedMesh();
   finalised_index_.clear();
   return out;
 }

@@ -8,6 +8,7 @@
 
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh.h"
+#include "engine/core/mesh_delta.h"
 #include "engine/map/map_options.h"
 #include "engine/map/map_types.h"
 
@@ -57,10 +58,12 @@ class IncrementalMap {
 
   // The current live surface (Steiner triangles dropped if the options say so).
   Mesh ExtractMesh() const;
-  // Surface changes since the previous call (the first call returns the whole surface as added).
-  MeshDelta TakeMeshDelta();
-  // Triangles of finalised regions not yet taken; each finalised triangle is returned exactly once.
-  Mesh TakeFinalisedMesh();
+  // The live surface with stable vertex ids (point ids; Steiner vertices have bit 63 set): feed it to a
+  // MeshDiffer (engine/core/mesh_delta.h) with TakeFinalisedMesh() as `frozen` to stream mesh deltas.
+  IdentifiedMesh ExtractIdentifiedMesh() const;
+  // Triangles of finalised regions not yet taken, with the same vertex ids; each finalised triangle is
+  // returned exactly once (they left the live surface for good).
+  IdentifiedMesh TakeFinalisedMesh();
 
   std::vector<CellVotes> CellVotesSnapshot() const;
   MapSnapshot ExportSnapshot() const;

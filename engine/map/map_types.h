@@ -27,18 +27,6 @@ struct CellVotes {
   bool carved = false;  // inside the extracted free-space region
 };
 
-// Stable identity of a surface triangle: the sorted keys of its three vertices (a point id, or a Steiner node
-// key with bit 63 set). Valid across updates as long as the triangle exists.
-using TriangleId = std::array<std::uint64_t, 3>;
-
-// What changed in the surface since the previous delta: triangles to drop (by id) and triangles to add
-// (`added` is self-contained: its own vertices, colours and labels; added_ids[i] names added.triangles[i]).
-struct MeshDelta {
-  std::vector<TriangleId> removed;
-  std::vector<TriangleId> added_ids;
-  Mesh added;
-};
-
 // Sizes and work counters of a map.
 struct MapStatistics {
   std::size_t num_points = 0;  // live data vertices

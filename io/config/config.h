@@ -7,8 +7,15 @@
 #include <vector>
 
 #include "engine/map/map_options.h"
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/segmenter.h"
+#include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "engine/eval/depth_accuracy.h"
+#include "engine/pipeline/pipeline.h"
+#include "io/lcm/lcm_publisher.h"
+#include "io/output/output_sinks.h"
 
 namespace semap::io {
 
@@ -22,6 +29,13 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
+  PipelineOptions pipeline;  // stage threads, queues, modes
+  OutputOptions output;      // files written by a run
+  LcmOptions lcm;            // mesh / stats publishing over LCM
+  DepthAccuracyOptions eval; // accuracy against Velodyne / exact depth
+  DepthOptions depth;        // stereo matching and point cloud
+  SemanticsOptions semantics;  // where per-pixel labels come from
+  SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
   MapOptions map;            // the Delaunay map: votes, manifold, incremental update, memory bound
 };
 

@@ -5,24 +5,12 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <stdexcept>
-#include <string>
 
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh.h"
+#include "io/file_error.h"
 
 namespace semap::io {
-
-// A file that cannot be read or written: the message names the path.
-class FileError : public std::runtime_error {
- public:
-  FileError(const std::filesystem::path& path, const std::string& problem)
-      : std::runtime_error(path.string() + ": " + problem), path_(path) {}
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 enum class PlyEncoding { kBinaryLittleEndian, kAscii };
 
@@ -32,15 +20,19 @@ void WriteMeshPly(const std::filesystem::path& path, const Mesh& mesh,
                   PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian, bool double_precision = false);
 Mesh ReadMeshPly(const std::filesystem::path& path);
 
-// OFF: "OFF", counts, vertices, "3 i j k" faces; colours and labels are not stored.
+// Polygons with more than 3 vertices are read as triangle fans; float colours are taken in [0, 1].
+// OFF: "OFF", counts, vertices, "3 i j k" faces; colours and labels are not stored. Coordinates are written
+// at float precision (the shortest text that reads back to the same float).
 void WriteMeshOff(const std::filesystem::path& path, const Mesh& mesh);
 Mesh ReadMeshOff(const std::filesystem::path& path);
 // Bytes of the mesh written as ASCII OFF (the paper's mesh-size measure), without writing a file.
 std::uint64_t OffSizeBytes(const Mesh& mesh);
 
-// Point clouds: x y z, red green blue, label, and (when present) camera_index, confidence.
+// Point clouds: element vertex with x y z, red green blue, label, and (when present) camera_index (uint),
+// confidence (float), pixel_u pixel_v (float); the observing cameras as an extra element `camera` (double x
+// y z, int frame_id) that MeshLab/Open3D skip. Absent attributes are not written and read back empty.
 void WriteCloudPly(const std::filesystem::path& path, const LabelledCloud& cloud,
-                   PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
+                   PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian, bool double_precision = false);
 LabelledCloud ReadCloudPly(const std::filesystem::path& path);
 
 }  // namespace semap::io

@@ -16,8 +16,8 @@
 
 namespace semap::map_internal {
 
-struct TriangleIdHash {
-  std::size_t operator()(const TriangleId& t) const {
+struct FacetKeyHash {
+  std::size_t operator()(const FacetKey& t) const {
     std::size_t h = 0;
     for (auto k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<std::uint64_t>()(k);
     return h;
@@ -38,9 +38,8 @@ class IncrementalState {
   explicit IncrementalState(const MapOptions& options);
 
   MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
-  Mesh ExtractMesh() const;
-  MeshDelta TakeMeshDelta();
-  Mesh TakeFinalisedMesh();
+  IdentifiedMesh ExtractMesh() const;
+  IdentifiedMesh TakeFinalisedMesh();
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
   MapSnapshot ExportSnapshot() const;
   MapStatistics Statistics() const;
@@ -101,8 +100,7 @@ class IncrementalState {
   RayVotes votes_;
 
   // Outputs.
-  std::unordered_set<TriangleId, TriangleIdHash> delivered_;  // triangles the last delta left in place
-  Mesh finalised_mesh_;
+  IdentifiedMesh finalised_;
   std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // vertex key → finalised_mesh_ vertex
   MapStatistics counters_;
 };

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "engine/core/mesh.h"
+#include "engine/core/mesh_delta.h"
 #include "engine/map/internal/triangulation.h"
 #include "engine/map/map_types.h"
 
@@ -17,7 +18,10 @@ struct PointAttributes {
 // Attributes of a data point by id.
 using AttributeLookup = std::function<PointAttributes(std::uint32_t point_id)>;
 
-// The key of a vertex in TriangleId.
+// A facet's identity: the sorted keys of its vertices.
+using FacetKey = std::array<std::uint64_t, 3>;
+
+// The stable key of a vertex: its point id, or (bit 63 set) a Steiner vertex number.
 inline std::uint64_t VertexKey(VertexHandle v) {
   return v->info().steiner ? (std::uint64_t(1) << 63) | v->info().id : v->info().id;
 }
@@ -25,7 +29,7 @@ inline std::uint64_t VertexKey(VertexHandle v) {
 // One boundary facet, oriented counter-clockwise seen from the carved (free) side.
 struct SurfaceFacet {
   std::array<VertexHandle, 3> vertices;
-  TriangleId id;  // sorted vertex keys
+  FacetKey id;  // sorted vertex keys
 };
 
 // The facet of `carved_cell` opposite its vertex `opposite`, oriented counter-clockwise seen from the cell.
@@ -35,9 +39,10 @@ SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
 // are left out. Appends to `facets`.
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets);
 
-// Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey).
-Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
-                  Label unlabelled);
+// Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey), with the vertex
+// keys as stable vertex ids.
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
+                            Label unlabelled);
 
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);

@@ -6,6 +6,7 @@
 #include <random>
 #include <set>
 
+#include "engine/core/mesh_delta.h"
 #include "engine/map/batch_map.h"
 #include "tests/engine/map/manifold_checker.h"
 #include "tests/engine/map/map_test_util.h"
@@ -155,21 +156,28 @@ TEST(IncrementalMap, MergesNearbyPointsAndRejectsUnknownIds) {
   EXPECT_THROW(map.Update(b, {{12345, 0}}), std::invalid_argument);
 }
 
+// The live mesh and the finalised pieces, streamed through core's MeshDiffer, rebuild the published mesh.
 TEST(IncrementalMap, DeltasReproduceTheMesh) {
   MapOptions options;
+  options.finalise_age_frames = 3;
+  options.finalise_every_frames = 1;
   IncrementalMap map(options);
   RandomStream stream(7);
-  std::set<TriangleId> applied;
-  for (int f = 0; f < 5; ++f) {
+  MeshDiffer differ;
+  MeshAccumulator accumulator;
+  std::size_t finalised = 0;
+  for (int f = 0; f < 7; ++f) {
     std::vector<Observation> extra;
     map.Update(stream.Frame(f, 300, &extra));
-    const MeshDelta delta = map.TakeMeshDelta();
-    for (const auto& id : delta.removed) ASSERT_EQ(applied.erase(id), 1u);
-    ASSERT_EQ(delta.added_ids.size(), delta.added.num_triangles());
-    for (const auto& id : delta.added_ids) ASSERT_TRUE(applied.insert(id).second);
-    EXPECT_EQ(applied.size(), map.ExtractMesh().num_triangles());
+    const IdentifiedMesh frozen = map.TakeFinalisedMesh();
+    ASSERT_EQ(frozen.vertex_ids.size(), frozen.mesh.num_vertices());
+    finalised += frozen.mesh.num_triangles();
+    const IdentifiedMesh live = map.ExtractIdentifiedMesh();
+    ASSERT_EQ(live.vertex_ids.size(), live.mesh.num_vertices());
+    accumulator.Apply(differ.Update(f, live, frozen));
+    EXPECT_EQ(accumulator.num_triangles(), live.mesh.num_triangles() + finalised) << "frame " << f;
   }
-  EXPECT_GT(applied.size(), 100u);
+  EXPECT_GT(finalised, 100u);
 }
 
 TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
@@ -188,7 +196,7 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
     const MapStatistics s = map.Statistics();
     if (f >= 15 && f < 30) max_early = std::max(max_early, s.num_cells);
     if (f >= frames - 15) max_late = std::max(max_late, s.num_cells);
-    const Mesh m = map.TakeFinalisedMesh();
+    const Mesh m = map.TakeFinalisedMesh().mesh;
     finalised_triangles += m.num_triangles();
     for (const auto& key : TriangleSet(m)) EXPECT_TRUE(finalised.insert(key).second) << "finalised twice";
     if (f % 10 == 9) {

@@ -1,0 +1,144 @@
+#include "engine/core/mesh_delta.h"
+
+#include <algorithm>
+#include <map>
+#include <unordered_set>
+
+#include "engine/core/check.h"
+
+namespace semap {
+
+std::array<VertexId, 3> CanonicalTriangle(const std::array<VertexId, 3>& t) {
+  const int first = static_cast<int>(std::min_element(t.begin(), t.end()) - t.begin());
+  return {t[first], t[(first + 1) % 3], t[(first + 2) % 3]};
+}
+
+size_t MeshDiffer::KeyHash::operator()(const std::array<VertexId, 3>& k) const {
+  size_t h = std::hash<VertexId>()(k[0]);
+  h ^= std::hash<VertexId>()(k[1]) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  h ^= std::hash<VertexId>()(k[2]) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  return h;
+}
+
+namespace {
+
+// Adds to `delta` the vertex `index` of `m` unless already there.
+void AddVertex(const IdentifiedMesh& m, std::uint32_t index, std::unordered_set<VertexId>* seen,
+               MeshDelta* delta) {
+  const VertexId id = m.vertex_ids[index];
+  if (!seen->insert(id).second) return;
+  delta->vertex_ids.push_back(id);
+  delta->vertex_positions.push_back(m.mesh.vertices[index]);
+  if (!m.mesh.colors_rgb.empty()) delta->vertex_colors_rgb.push_back(m.mesh.colors_rgb[index]);
+  if (!m.mesh.labels.empty()) delta->vertex_labels.push_back(m.mesh.labels[index]);
+}
+
+std::array<VertexId, 3> KeyOf(const IdentifiedMesh& m, const std::array<std::uint32_t, 3>& t) {
+  return CanonicalTriangle({m.vertex_ids[t[0]], m.vertex_ids[t[1]], m.vertex_ids[t[2]]});
+}
+
+}  // namespace
+
+MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, const IdentifiedMesh& frozen) {
+  SEMAP_ASSERT(live.vertex_ids.size() == live.mesh.vertices.size());
+  SEMAP_ASSERT(frozen.vertex_ids.size() == frozen.mesh.vertices.size());
+  MeshDelta delta;
+  delta.frame_id = frame_id;
+  std::unordered_set<VertexId> seen_vertices;
+
+  // Frozen triangles: publish those never published, then forget them (they are never removed).
+  for (const auto& t : frozen.mesh.triangles) {
+    const auto key = KeyOf(frozen, t);
+    if (live_.erase(key) > 0) continue;  // already published while live
+    delta.added_triangle_ids.push_back(next_id_++);
+    delta.added_triangles.push_back(key);
+    for (auto i : t) AddVertex(frozen, i, &seen_vertices, &delta);
+  }
+
+  decltype(live_) next;
+  next.reserve(live.mesh.triangles.size());
+  for (const auto& t : live.mesh.triangles) {
+    const auto key = KeyOf(live, t);
+    if (next.count(key)) continue;  // duplicate triangle in the input: publish once
+    auto it = live_.find(key);
+    if (it != live_.end()) {
+      next.emplace(key, it->second);
+      live_.erase(it);
+      continue;
+    }
+    const TriangleId id = next_id_++;
+    next.emplace(key, id);
+    delta.added_triangle_ids.push_back(id);
+    delta.added_triangles.push_back(key);
+    for (auto i : t) AddVertex(live, i, &seen_vertices, &delta);
+  }
+  // What is left of the previous live set disappeared.
+  for (const auto& [key, id] : live_) delta.removed_triangle_ids.push_back(id);
+  std::sort(delta.removed_triangle_ids.begin(), delta.removed_triangle_ids.end());
+  live_ = std::move(next);
+  return delta;
+}
+
+void MeshAccumulator::Reset() {
+  vertices_.clear();
+  triangles_.clear();
+  has_colors_ = has_labels_ = false;
+}
+
+void MeshAccumulator::Apply(const MeshDelta& delta) {
+  SEMAP_ASSERT(delta.vertex_positions.size() == delta.vertex_ids.size());
+  SEMAP_ASSERT(delta.added_triangles.size() == delta.added_triangle_ids.size());
+  for (auto id : delta.removed_triangle_ids) triangles_.erase(id);
+  has_colors_ = has_colors_ || !delta.vertex_colors_rgb.empty();
+  has_labels_ = has_labels_ || !delta.vertex_labels.empty();
+  for (size_t i = 0; i < delta.vertex_ids.size(); ++i) {
+    Vertex& v = vertices_[delta.vertex_ids[i]];
+    v.position = delta.vertex_positions[i];
+    if (!delta.vertex_colors_rgb.empty()) v.color_rgb = delta.vertex_colors_rgb[i];
+    if (!delta.vertex_labels.empty()) v.label = delta.vertex_labels[i];
+  }
+  for (size_t i = 0; i < delta.added_triangle_ids.size(); ++i) {
+    triangles_[delta.added_triangle_ids[i]] = delta.added_triangles[i];
+  }
+}
+
+Mesh MeshAccumulator::ToMesh() const {
+  // Deterministic output: triangles by id, vertices by id.
+  std::map<TriangleId, std::array<VertexId, 3>> ordered(triangles_.begin(), triangles_.end());
+  std::map<VertexId, std::uint32_t> index;
+  for (const auto& [id, t] : ordered) {
+    for (auto v : t) index.emplace(v, 0);
+  }
+  Mesh mesh;
+  for (auto& [vid, idx] : index) {
+    auto it = vertices_.find(vid);
+    SEMAP_ASSERT(it != vertices_.end(), "triangle references unknown vertex " << vid);
+    idx = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.push_back(it->second.position);
+    if (has_colors_) mesh.colors_rgb.push_back(it->second.color_rgb);
+    if (has_labels_) mesh.labels.push_back(it->second.label);
+  }
+  for (const auto& [id, t] : ordered) mesh.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+  return mesh;
+}
+
+MeshDelta MeshAccumulator::AsSnapshot(std::int64_t frame_id) const {
+  MeshDelta d;
+  d.frame_id = frame_id;
+  std::map<TriangleId, std::array<VertexId, 3>> ordered(triangles_.begin(), triangles_.end());
+  std::map<VertexId, const Vertex*> used;
+  for (const auto& [id, t] : ordered) {
+    d.added_triangle_ids.push_back(id);
+    d.added_triangles.push_back(t);
+    for (auto v : t) used.emplace(v, &vertices_.at(v));
+  }
+  for (const auto& [id, v] : used) {
+    d.vertex_ids.push_back(id);
+    d.vertex_positions.push_back(v->position);
+    if (has_colors_) d.vertex_colors_rgb.push_back(v->color_rgb);
+    if (has_labels_) d.vertex_labels.push_back(v->label);
+  }
+  return d;
+}
+
+}  // namespace semap

@@ -1,0 +1,47 @@
+// What the streaming engine reports per frame. Plain data; filled by the pipeline, never by the stages.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/core/class_map.h"
+
+namespace semap {
+
+struct StageTiming {
+  std::string name;
+  double last_ms = 0.0;  // this frame
+  double mean_ms = 0.0;  // over the run so far
+  double p50_ms = 0.0;
+  double p95_ms = 0.0;
+  double max_ms = 0.0;
+  int queue_occupancy = 0;  // items waiting in the queue in front of the stage
+};
+
+struct ClassPointCount {
+  Label label = 0;
+  std::int64_t in = 0;
+  std::int64_t kept = 0;
+};
+
+struct FrameStats {
+  std::int64_t frame_id = -1;
+  double timestamp_s = 0.0;
+  std::int64_t frames_processed = 0;
+  std::int64_t frames_dropped = 0;
+  std::int64_t frames_failed = 0;
+  double elapsed_s = 0.0;  // since the first frame entered the pipeline
+  double fps = 0.0;        // frames_processed / elapsed_s: the paper's frame rate
+  std::vector<StageTiming> stages;
+  std::int64_t points_in = 0;    // this frame, before simplification
+  std::int64_t points_kept = 0;  // this frame, after simplification
+  std::vector<ClassPointCount> class_counts;  // this frame
+  std::int64_t map_vertices = 0;
+  std::int64_t map_cells = 0;
+  std::int64_t map_rays = 0;
+  std::int64_t mesh_triangles = 0;
+  double rss_mb = 0.0;
+};
+
+}  // namespace semap

@@ -1,0 +1,348 @@
+#include "engine/pipeline/pipeline.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "engine/core/check.h"
+#include "engine/pipeline/bounded_queue.h"
+#include "engine/pipeline/timing_stats.h"
+
+namespace semap {
+
+void PipelineOptions::Check() const {
+  SEMAP_CHECK_OPTION(realtime_rate_hz > 0.0, "realtime_rate_hz", realtime_rate_hz, "must be > 0");
+  SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers, "must be in [1, 64]");
+  SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
+  for (int cpu : cpu_affinity) {
+    SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu, "CPU ids must be in [0, CPU_SETSIZE)");
+  }
+}
+
+double CurrentRssMb() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0.0;
+  long pages_total = 0, pages_resident = 0;
+  const int n = std::fscanf(f, "%ld %ld", &pages_total, &pages_resident);
+  std::fclose(f);
+  if (n != 2) return 0.0;
+  return static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+enum StageIndex { kRead, kDepth, kSimplify, kMap, kNumStages };
+constexpr std::array<const char*, kNumStages> kStageNames = {"read", "depth", "simplify", "map"};
+// A reader that fails this many times in a row (e.g. the dataset vanished) ends the run.
+constexpr int kMaxConsecutiveReadFailures = 100;
+
+double MsBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// One frame travelling through the stages.
+struct Item {
+  std::int64_t frame_id = -1;
+  double timestamp_s = 0.0;
+  std::int64_t seq = 0;  // position in the stream of frames that entered the pipeline
+  std::unique_ptr<Frame> frame;  // until the depth stage
+  std::optional<Pose3d> world_from_cam;
+  LabelledCloud cloud;
+  std::vector<ClassPointCount> counts;
+  std::int64_t points_in = 0;
+  MapUpdate update;
+  bool final = false;  // the map's Finish() output
+  std::string error_stage;
+  std::string error;
+  std::array<double, kNumStages> ms{};
+  bool failed() const { return !error.empty(); }
+};
+
+void PinCurrentThread(const std::vector<int>& cpus) {
+  if (cpus.empty()) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (int c : cpus) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof(set), &set);  // best effort: unknown CPUs are ignored
+}
+
+}  // namespace
+
+struct Pipeline::Impl {
+  Pipeline& p;
+  internal::BoundedQueue<Item> to_depth;
+  internal::BoundedQueue<Item> to_simplify;
+  internal::BoundedQueue<Item> to_map;
+  internal::BoundedQueue<Item> to_output;
+  std::atomic<bool> error_stop{false};
+  std::mutex error_mutex;
+  std::string fatal_error;
+  std::atomic<std::int64_t> frames_read{0};
+  std::atomic<std::int64_t> frames_dropped{0};
+  Clock::time_point start;
+
+  explicit Impl(Pipeline& pipeline)
+      : p(pipeline),
+        to_depth(pipeline.options_.queue_capacity),
+        to_simplify(pipeline.options_.queue_capacity),
+        to_map(pipeline.options_.queue_capacity),
+        to_output(pipeline.options_.queue_capacity) {}
+
+  bool Stopping() const { return p.stop_requested_.load() || error_stop.load(); }
+
+  // Records a stage failure on `item`; with on_error = stop the run ends after the frames in flight.
+  void Fail(Item& item, const char* stage, const std::string& what) {
+    item.error_stage = stage;
+    item.error = what.empty() ? "unknown error" : what;
+    if (p.options_.on_error == PipelineOptions::OnError::kStop) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (fatal_error.empty()) fatal_error = std::string(stage) + " failed on frame " +
+                                             std::to_string(item.frame_id) + ": " + item.error;
+      error_stop.store(true);
+    }
+  }
+
+  void ReadLoop() {
+    PinCurrentThread(p.options_.cpu_affinity);
+    const bool realtime = p.options_.mode == PipelineOptions::Mode::kRealtime;
+    std::int64_t seq = 0;
+    std::int64_t last_id = -1;
+    int consecutive_failures = 0;
+    std::optional<double> first_timestamp;
+    std::int64_t paced = 0;
+    while (!Stopping()) {
+      Item item;
+      const auto t0 = Clock::now();
+      try {
+        std::optional<Frame> frame = p.reader_->Next();
+        if (!frame) break;
+        consecutive_failures = 0;
+        item.frame_id = frame->id;
+        item.timestamp_s = frame->timestamp_s;
+        item.world_from_cam = frame->world_from_cam;
+        item.frame = std::make_unique<Frame>(std::move(*frame));
+        last_id = item.frame_id;
+      } catch (const std::exception& e) {
+        item.frame_id = last_id + 1;
+        last_id = item.frame_id;
+        Fail(item, kStageNames[kRead], e.what());
+        if (++consecutive_failures >= kMaxConsecutiveReadFailures) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (fatal_error.empty()) fatal_error = "read failed " + std::to_string(consecutive_failures) +
+                                                 " times in a row; last: " + e.what();
+          error_stop.store(true);
+        }
+      }
+      item.ms[kRead] = MsBetween(t0, Clock::now());
+      ++frames_read;
+      if (realtime) {
+        // Sensor rate: the frame's own timestamp when the sequence has increasing ones, else the rate.
+        double due_s = static_cast<double>(paced++) / p.options_.realtime_rate_hz;
+        if (!first_timestamp) first_timestamp = item.timestamp_s;
+        if (item.timestamp_s > *first_timestamp) due_s = item.timestamp_s - *first_timestamp;
+        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                  std::chrono::duration<double>(due_s)));
+        item.seq = seq;
+        if (!to_depth.TryPush(std::move(item))) {
+          ++frames_dropped;  // counted, never silent
+          continue;
+        }
+        ++seq;
+      } else {
+        item.seq = seq++;
+        to_depth.Push(std::move(item));
+      }
+    }
+    for (int w = 0; w < p.options_.depth_workers; ++w) to_depth.PushEnd();
+  }
+
+  void DepthLoop(DepthStage* stage) {
+    PinCurrentThread(p.options_.cpu_affinity);
+    while (auto item = to_depth.Pop()) {
+      if (!item->failed()) {
+        const auto t0 = Clock::now();
+        try {
+          item->cloud = stage->Process(*item->frame);
+        } catch (const std::exception& e) {
+          Fail(*item, kStageNames[kDepth], e.what());
+        }
+        item->ms[kDepth] = MsBetween(t0, Clock::now());
+      }
+      item->frame.reset();  // images are not needed any more
+      to_simplify.Push(std::move(*item));
+    }
+    to_simplify.PushEnd();
+  }
+
+  // Restores frame order after the parallel depth workers, then simplifies.
+  void SimplifyLoop() {
+    PinCurrentThread(p.options_.cpu_affinity);
+    std::map<std::int64_t, Item> pending;
+    std::int64_t next_seq = 0;
+    int ends = 0;
+    while (ends < p.options_.depth_workers) {
+      auto item = to_simplify.Pop();
+      if (!item) {
+        ++ends;
+        continue;
+      }
+      pending.emplace(item->seq, std::move(*item));
+      for (auto it = pending.find(next_seq); it != pending.end(); it = pending.find(++next_seq)) {
+        Item ready = std::move(it->second);
+        pending.erase(it);
+        if (!ready.failed()) {
+          const auto t0 = Clock::now();
+          ready.points_in = static_cast<std::int64_t>(ready.cloud.size());
+          try {
+            ready.cloud = p.simplify_->Process(std::move(ready.cloud), &ready.counts);
+          } catch (const std::exception& e) {
+            Fail(ready, kStageNames[kSimplify], e.what());
+          }
+          ready.ms[kSimplify] = MsBetween(t0, Clock::now());
+        }
+        to_map.Push(std::move(ready));
+      }
+    }
+    SEMAP_ASSERT(pending.empty(), pending.size() << " frames lost in reordering");
+    to_map.PushEnd();
+  }
+
+  void MapLoop() {
+    PinCurrentThread(p.options_.cpu_affinity);
+    while (auto item = to_map.Pop()) {
+      if (!item->failed()) {
+        const auto t0 = Clock::now();
+        try {
+          if (!item->world_from_cam) throw std::runtime_error("frame has no pose");
+          item->update = p.map_->Process(item->cloud, *item->world_from_cam);
+        } catch (const std::exception& e) {
+          Fail(*item, kStageNames[kMap], e.what());
+        }
+        item->ms[kMap] = MsBetween(t0, Clock::now());
+      }
+      item->cloud = LabelledCloud{};
+      to_output.Push(std::move(*item));
+    }
+    Item last;
+    last.final = true;
+    const auto t0 = Clock::now();
+    try {
+      last.update = p.map_->Finish();
+    } catch (const std::exception& e) {
+      Fail(last, kStageNames[kMap], e.what());
+    }
+    last.ms[kMap] = MsBetween(t0, Clock::now());
+    to_output.Push(std::move(last));
+    to_output.PushEnd();
+  }
+
+  // A sink that throws (e.g. its output folder became unwritable) does not stop the run: the error is
+  // recorded in the summary and the sink is called again for the next frames.
+  template <typename Call>
+  void ForEachSink(PipelineSummary* summary, Call&& call) {
+    for (auto* s : p.sinks_) {
+      try {
+        call(*s);
+      } catch (const std::exception& e) {
+        ++summary->sink_errors;
+        if (summary->first_sink_error.empty()) summary->first_sink_error = e.what();
+      }
+    }
+  }
+
+  void OutputLoop(PipelineSummary* summary) {
+    std::array<TimingStats, kNumStages> timing;
+    FrameStats stats;
+    while (auto item = to_output.Pop()) {
+      const auto now = Clock::now();
+      stats.elapsed_s = MsBetween(start, now) / 1000.0;
+      stats.frames_dropped = frames_dropped.load();
+      if (item->final) {
+        if (item->failed()) {
+          ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
+        }
+        stats.map_vertices = item->update.vertices;
+        stats.map_cells = item->update.cells;
+        stats.map_rays = item->update.rays;
+        stats.mesh_triangles = item->update.mesh_triangles;
+        stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
+        stats.rss_mb = CurrentRssMb();
+        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
+        continue;
+      }
+      if (item->failed()) {
+        ++stats.frames_failed;
+        ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(item->frame_id, item->error_stage, item->error); });
+        continue;
+      }
+      ++stats.frames_processed;
+      stats.frame_id = item->frame_id;
+      stats.timestamp_s = item->timestamp_s;
+      stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
+      const std::array<int, kNumStages> occupancy = {0, to_depth.size(), to_simplify.size(), to_map.size()};
+      stats.stages.clear();
+      for (int s = 0; s < kNumStages; ++s) {
+        timing[s].Add(item->ms[s]);
+        stats.stages.push_back({kStageNames[s], item->ms[s], timing[s].mean(), timing[s].Percentile(0.5),
+                                timing[s].Percentile(0.95), timing[s].max(), occupancy[s]});
+      }
+      stats.points_in = item->points_in;
+      stats.points_kept = 0;
+      for (const auto& c : item->counts) stats.points_kept += c.kept;
+      if (item->counts.empty()) stats.points_kept = stats.points_in;
+      stats.class_counts = item->counts;
+      stats.map_vertices = item->update.vertices;
+      stats.map_cells = item->update.cells;
+      stats.map_rays = item->update.rays;
+      stats.mesh_triangles = item->update.mesh_triangles;
+      stats.rss_mb = CurrentRssMb();
+      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
+    }
+    summary->final_stats = stats;
+  }
+};
+
+Pipeline::Pipeline(const PipelineOptions& options, std::unique_ptr<FrameReader> reader,
+                   DepthStageFactory depth_factory, std::unique_ptr<SimplifyStage> simplify,
+                   std::unique_ptr<MapStage> map)
+    : options_(options),
+      reader_(std::move(reader)),
+      depth_factory_(std::move(depth_factory)),
+      simplify_(std::move(simplify)),
+      map_(std::move(map)) {
+  options_.Check();
+  SEMAP_ASSERT(reader_ && depth_factory_ && simplify_ && map_);
+}
+
+Pipeline::~Pipeline() = default;
+
+PipelineSummary Pipeline::Run() {
+  Impl impl(*this);
+  PipelineSummary summary;
+  std::vector<std::unique_ptr<DepthStage>> depth_stages;
+  for (int w = 0; w < options_.depth_workers; ++w) depth_stages.push_back(depth_factory_());
+  impl.start = Clock::now();
+  std::vector<std::thread> threads;
+  threads.emplace_back([&] { impl.ReadLoop(); });
+  for (auto& stage : depth_stages) threads.emplace_back([&impl, s = stage.get()] { impl.DepthLoop(s); });
+  threads.emplace_back([&] { impl.SimplifyLoop(); });
+  threads.emplace_back([&] { impl.MapLoop(); });
+  PinCurrentThread(options_.cpu_affinity);
+  impl.OutputLoop(&summary);
+  for (auto& t : threads) t.join();
+  summary.frames_read = impl.frames_read.load();
+  summary.stopped_early = stop_requested_.load() || impl.error_stop.load();
+  summary.fatal_error = impl.fatal_error;
+  return summary;
+}
+
+}  // namespace semap

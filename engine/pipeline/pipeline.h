@@ -1,0 +1,81 @@
+// The streaming engine: frame reading → depth + labels (N workers) → windowed simplification →
+// incremental map → sinks, each on its own thread, connected by bounded queues.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/pipeline/stages.h"
+
+namespace semap {
+
+struct PipelineOptions {
+  enum class Mode {
+    kExhaustive,  // every frame is processed; the reader blocks on a full queue (the paper's table)
+    kRealtime,    // frames are read at the sequence's rate; a frame that finds the queue full is dropped
+  };
+  enum class OnError { kSkipFrame, kStop };
+
+  Mode mode = Mode::kExhaustive;
+  // Realtime mode: frames are read at their timestamps; when a sequence has none, at this rate (KITTI: 10 Hz).
+  double realtime_rate_hz = 10.0;
+  // Depth worker threads (SGBM is the heaviest per-frame stage; frames are reordered after it).
+  int depth_workers = 2;
+  // Capacity of each queue between stages (frames).
+  int queue_capacity = 4;
+  // What a stage exception does: skip the frame (count it) or stop the run (drain and finish).
+  OnError on_error = OnError::kSkipFrame;
+  // CPUs the pipeline's threads may run on (e.g. {0, 1}); empty = no pinning.
+  std::vector<int> cpu_affinity;
+
+  void Check() const;
+};
+
+using DepthStageFactory = std::function<std::unique_ptr<DepthStage>()>;
+
+struct PipelineSummary {
+  FrameStats final_stats;      // totals, fps, per-stage timing
+  std::int64_t frames_read = 0;
+  bool stopped_early = false;  // RequestStop() or a stage error with on_error = stop
+  std::string fatal_error;     // the error that stopped the run, if any
+  std::int64_t sink_errors = 0;   // exceptions thrown by sinks (the run went on)
+  std::string first_sink_error;
+};
+
+// Owns its stages and threads. Run() may be called once. RequestStop() is thread-safe and
+// async-signal-safe (an atomic store), so a SIGINT handler may call it.
+class Pipeline {
+ public:
+  Pipeline(const PipelineOptions& options, std::unique_ptr<FrameReader> reader, DepthStageFactory depth_factory,
+           std::unique_ptr<SimplifyStage> simplify, std::unique_ptr<MapStage> map);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Sinks are not owned and must outlive Run().
+  void AddSink(PipelineSink* sink) { sinks_.push_back(sink); }
+
+  // Streams the whole sequence; returns when every frame read has been processed or failed, after a stop
+  // request (the frames in flight are drained), or when a stage failed with on_error = stop.
+  PipelineSummary Run();
+
+  void RequestStop() { stop_requested_.store(true); }
+
+ private:
+  struct Impl;
+  PipelineOptions options_;
+  std::unique_ptr<FrameReader> reader_;
+  DepthStageFactory depth_factory_;
+  std::unique_ptr<SimplifyStage> simplify_;
+  std::unique_ptr<MapStage> map_;
+  std::vector<PipelineSink*> sinks_;
+  std::atomic<bool> stop_requested_{false};
+};
+
+// Resident set size of this process in MiB (Linux /proc/self/statm), 0 if unknown.
+double CurrentRssMb();
+
+}  // namespace semap

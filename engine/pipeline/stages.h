@@ -1,0 +1,71 @@
+// The narrow interfaces the streaming pipeline connects. Each stage is a plain object with one Process()
+// call, testable alone without threads; the Pipeline owns the threads, the queues and the accounting.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "engine/core/frame.h"
+#include "engine/core/labelled_cloud.h"
+#include "engine/core/mesh_delta.h"
+#include "engine/pipeline/frame_stats.h"
+
+namespace semap {
+
+// Where frames come from (io/ adapts its FrameSource to it). Called from one thread.
+class FrameReader {
+ public:
+  virtual ~FrameReader() = default;
+  // The next frame, or std::nullopt at the end of the sequence. A frame that cannot be read throws (any
+  // std::exception): the pipeline reports it, counts it as failed and asks for the next one.
+  virtual std::optional<Frame> Next() = 0;
+};
+
+// Stereo depth + semantic labelling of one frame: the frame's labelled points in the world frame, with the
+// frame's camera as camera 0. One instance per depth worker thread (see DepthStageFactory).
+class DepthStage {
+ public:
+  virtual ~DepthStage() = default;
+  virtual LabelledCloud Process(const Frame& frame) = 0;
+};
+
+// Windowed simplification: called once per frame, in frame order, from one thread.
+class SimplifyStage {
+ public:
+  virtual ~SimplifyStage() = default;
+  // The kept points of `cloud`; `counts` receives per-class in/kept counts for this frame.
+  virtual LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>* counts) = 0;
+};
+
+// What the map reports after each update.
+struct MapUpdate {
+  MeshDelta delta;  // change of the published mesh (finalised parts are added once, never removed)
+  std::int64_t vertices = 0;
+  std::int64_t cells = 0;
+  std::int64_t rays = 0;
+  std::int64_t mesh_triangles = 0;  // triangles of the mesh as published so far
+};
+
+// The incremental map: called once per frame, in frame order, from one thread.
+class MapStage {
+ public:
+  virtual ~MapStage() = default;
+  virtual MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) = 0;
+  // End of the sequence: finalise everything; the returned delta completes the mesh.
+  virtual MapUpdate Finish() = 0;
+};
+
+// Receives the pipeline's output, from the pipeline's output thread (one call at a time).
+class PipelineSink {
+ public:
+  virtual ~PipelineSink() = default;
+  virtual void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& world_from_cam) = 0;
+  // A frame that failed in `stage` (read, depth, simplify, map) and was skipped or stopped the run.
+  virtual void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) {}
+  // The end of the run: `final_delta` completes the mesh; `stats` is the final accounting.
+  virtual void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) {}
+};
+
+}  // namespace semap

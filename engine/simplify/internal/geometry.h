@@ -1,0 +1,68 @@
+// Geometry shared by the simplification methods: a KD-tree (nanoflann, hidden behind a pimpl), RANSAC
+// planes and PCA normals. Not API.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace semap::simplify {
+
+// KD-tree over a point array that must outlive it. Const queries are thread-safe.
+class PointIndex {
+ public:
+  explicit PointIndex(const std::vector<Eigen::Vector3d>& points);
+  ~PointIndex();
+  PointIndex(const PointIndex&) = delete;
+  PointIndex& operator=(const PointIndex&) = delete;
+
+  // Indices of the points within `radius_m` of `query` (ascending index order). `out` is overwritten.
+  void Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::uint32_t>* out) const;
+  // The min(k, size) nearest points (nearest first). `out` is overwritten.
+  void Knn(const Eigen::Vector3d& query, int k, std::vector<std::uint32_t>* out) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A plane n·x + offset = 0 with |n| = 1 and an orthonormal in-plane frame (u, v, n).
+struct Plane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double offset = 0.0;
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d v = Eigen::Vector3d::UnitY();
+
+  static Plane FromPointNormal(const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
+  double SignedDistance(const Eigen::Vector3d& x) const { return normal.dot(x) + offset; }
+  // In-plane coordinates (u, v) of x's orthogonal projection.
+  Eigen::Vector2d Project(const Eigen::Vector3d& x) const { return {u.dot(x), v.dot(x)}; }
+};
+
+// RANSAC plane over points[indices]: `iterations` 3-point hypotheses, inliers (|distance| ≤ threshold)
+// counted on at most `max_points` random members, then a least-squares refit on those inliers.
+// nullopt when fewer than 3 points or every hypothesis is degenerate.
+std::optional<Plane> FitPlaneRansac(const std::vector<Eigen::Vector3d>& points,
+                                    const std::vector<std::uint32_t>& indices, double threshold_m,
+                                    int iterations, int max_points, std::mt19937_64& rng);
+
+// Tangent-plane approximation: PCA of points[neighbours]. `normal` is the eigenvector of the smallest
+// eigenvalue (sign arbitrary), `surface_variation` = λ0 / (λ0 + λ1 + λ2) (0 when the points coincide).
+struct PcaResult {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double surface_variation = 0.0;
+  bool valid = false;  // false with fewer than 3 neighbours
+};
+PcaResult Pca(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& neighbours);
+
+// Flips `normal` so that it faces `viewpoint` from `point` (n·(viewpoint − point) ≥ 0).
+inline Eigen::Vector3d OrientTowards(const Eigen::Vector3d& normal, const Eigen::Vector3d& point,
+                                     const Eigen::Vector3d& viewpoint) {
+  return normal.dot(viewpoint - point) >= 0.0 ? normal : Eigen::Vector3d(-normal);
+}
+
+}  // namespace semap::simplify

@@ -1,0 +1,184 @@
+// PS (probabilistic simplification) and its baseline PSB.
+//
+// Our reading of the paper:
+// - N_r = floor(|candidates of the group| / ps_region_divisor) region centres per target group, drawn
+//   uniformly without replacement among the group's candidates ("|ρ| the size of the cloud" read as the
+//   size of the class's cloud, since the centres are drawn among the class's points).
+// - Each region: the context points within region_radius_m of the centre (any label); D = |ρ| / (π R²);
+//   d̃ = D / D̄ (D̄ the mean over the group's PS regions; in a windowed context D counts every context
+//   point and D̄ averages the regions' candidate densities, so areas already covered by decided points
+//   read as denser and lose more); p̃ = share of points with another label than the
+//   centre's.
+// - P_c = P_I when p̃ < ps_boundary_share, else P_B, applied to the region's candidates of the centre's group:
+//   P_I = 1 − exp(−|x − μ|² / (2 d̃ σ_I²)), x and μ (the centre) projected on the group's RANSAC plane π_l
+//       (the paper's N(μ, Σ), Σ = diag(d̃σ², d̃σ²), normalised to peak 1 so that P_I ∈ [0, 1)).
+//   P_B = exp(−d² / (2 σ_B²)), d = distance on π_l to the line separating "label of the centre" from
+//       "other labels", a linear soft-margin SVM (cv::ml::SVM, C_SVC, LINEAR) on the projected region.
+//       If the SVM cannot be trained or degenerates (|w| = 0), P_I is used for that region.
+// - A point is decided once, by the first region (in a random, seeded order) that contains it: it is removed
+//   when a uniform draw in [0, 1) exceeds P_c. Points in no region are kept (the paper notes that some areas
+//   may stay uncovered). Deciding once (rather than removing a point whenever any region's draw fails)
+//   keeps the kept share of an interior area near E[P_I] instead of compounding the overlaps.
+// - PSB: the whole cloud is one group and P_c = P_I everywhere (no boundaries without semantics).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <optional>
+
+#include <opencv2/core.hpp>
+#include <opencv2/ml.hpp>
+
+#include "engine/core/check.h"
+#include "engine/simplify/conservation.h"
+#include "engine/simplify/internal/methods.h"
+
+namespace semap::simplify {
+
+namespace {
+
+struct Boundary {
+  Eigen::Vector2d normal;  // unit normal of the line in plane coordinates (metres)
+  double offset = 0.0;        // line: normal · x + offset = 0 (x in metres on the plane)
+};
+
+// Fits the class boundary on the plane: `xy` in metres relative to the region centre, `positive` = label of
+// the centre. Coordinates are scaled by 1/scale_m before training (unit-size problem for the solver).
+std::optional<Boundary> FitBoundary(const std::vector<Eigen::Vector2d>& xy, const std::vector<int>& positive,
+                                    double scale_m, double svm_c) {
+  const int n = static_cast<int>(xy.size());
+  cv::Mat samples(n, 2, CV_32F);
+  cv::Mat responses(n, 1, CV_32S);
+  int n_pos = 0;
+  for (int i = 0; i < n; ++i) {
+    samples.at<float>(i, 0) = static_cast<float>(xy[i].x() / scale_m);
+    samples.at<float>(i, 1) = static_cast<float>(xy[i].y() / scale_m);
+    responses.at<int>(i, 0) = positive[i] ? 1 : -1;
+    n_pos += positive[i] ? 1 : 0;
+  }
+  if (n_pos == 0 || n_pos == n) return std::nullopt;
+  constexpr int kMaxIterations = 2000;
+  constexpr double kEpsilon = 1e-5;
+  auto svm = cv::ml::SVM::create();
+  svm->setType(cv::ml::SVM::C_SVC);
+  svm->setKernel(cv::ml::SVM::LINEAR);
+  svm->setC(svm_c);
+  svm->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, kMaxIterations,
+                                        kEpsilon));
+  try {
+    if (!svm->train(samples, cv::ml::ROW_SAMPLE, responses)) return std::nullopt;
+  } catch (const cv::Exception&) {
+    return std::nullopt;
+  }
+  const cv::Mat sv = svm->getSupportVectors();
+  cv::Mat alpha, sv_index;
+  const double rho = svm->getDecisionFunction(0, alpha, sv_index);
+  alpha.convertTo(alpha, CV_64F);
+  Eigen::Vector2d w = Eigen::Vector2d::Zero();
+  for (int j = 0; j < sv_index.cols * sv_index.rows; ++j) {
+    const int s = sv_index.at<int>(j);
+    w += alpha.at<double>(j) * Eigen::Vector2d(sv.at<float>(s, 0), sv.at<float>(s, 1));
+  }
+  const double norm = w.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return std::nullopt;
+  // decision(x') = w·x' − rho with x' = x / scale  ⇒  line (w/|w|)·x − rho·scale/|w| = 0 in metres.
+  return Boundary{w / norm, -rho * scale_m / norm};
+}
+
+}  // namespace
+
+MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const SimplifyOptions& o,
+                              std::mt19937_64& rng) {
+  const auto& pts = in.cloud->positions_world;
+  MethodOutput out;
+  out.removed.assign(in.size(), 0);
+  const GroupPlanes planes = FitGroupPlanes(in, o, rng);
+  out.has_plane = planes.has;
+
+  // Region centres: N_r random candidates per group with a plane.
+  std::vector<std::uint32_t> centres;
+  for (int g = 1; g < kNumGroups; ++g) {
+    if (!planes.has[g]) continue;
+    std::vector<std::uint32_t> members;
+    for (std::size_t i = in.num_fixed; i < in.size(); ++i) {
+      if (in.groups[i] == g) members.push_back(static_cast<std::uint32_t>(i));
+    }
+    const std::size_t n_regions = members.size() / static_cast<std::size_t>(o.ps_region_divisor);
+    for (std::size_t k = 0; k < n_regions; ++k) {
+      std::uniform_int_distribution<std::size_t> pick(k, members.size() - 1);
+      std::swap(members[k], members[pick(rng)]);
+      centres.push_back(members[k]);
+    }
+  }
+  if (centres.empty()) return out;
+  std::shuffle(centres.begin(), centres.end(), rng);
+
+  const PointIndex index(pts);
+  const double area = std::numbers::pi * o.region_radius_m * o.region_radius_m;
+
+  // Pass 1 (parallel): region densities and p̃.
+  std::vector<double> density(centres.size());
+  std::vector<double> candidate_density(centres.size());
+  std::vector<double> other_share(centres.size());
+  ParallelBlocks(centres.size(), [&](std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> region;
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t c = centres[k];
+      index.Radius(pts[c], o.region_radius_m, &region);
+      density[k] = static_cast<double>(region.size()) / area;
+      std::size_t candidates = 0;
+      for (auto j : region) candidates += in.IsCandidate(j) ? 1 : 0;
+      candidate_density[k] = static_cast<double>(candidates) / area;
+      std::size_t other = 0;
+      for (auto j : region) other += in.labels[j] != in.labels[c] ? 1 : 0;
+      other_share[k] = region.empty() ? 0.0 : static_cast<double>(other) / static_cast<double>(region.size());
+    }
+  });
+  for (std::size_t k = 0; k < centres.size(); ++k) {
+    const GroupId g = in.groups[centres[k]];
+    out.batch_densities.sum[g] += candidate_density[k];
+    out.batch_densities.count[g] += 1;
+  }
+  DensitySums all = in.prior_densities;
+  all.Add(out.batch_densities);
+
+  // Pass 2 (sequential, in the shuffled order): each undecided candidate of the region's group is decided.
+  std::vector<std::uint8_t> decided(in.size(), 0);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<std::uint32_t> region;
+  std::vector<Eigen::Vector2d> xy;
+  std::vector<int> positive;
+  for (std::size_t k = 0; k < centres.size(); ++k) {
+    const std::uint32_t c = centres[k];
+    const GroupId g = in.groups[c];
+    const Plane& plane = planes.plane[g];
+    const double mean = all.Mean(g);
+    if (mean <= 0.0) continue;
+    const double d_norm = density[k] / mean;
+    index.Radius(pts[c], o.region_radius_m, &region);
+    const Eigen::Vector2d mu = plane.Project(pts[c]);
+
+    std::optional<Boundary> boundary;
+    if (use_boundary && !PsUsesInterior(other_share[k], o.ps_boundary_share)) {
+      xy.clear();
+      positive.clear();
+      for (auto j : region) {
+        xy.push_back(plane.Project(pts[j]) - mu);
+        positive.push_back(in.labels[j] == in.labels[c] ? 1 : 0);
+      }
+      boundary = FitBoundary(xy, positive, o.region_radius_m, o.ps_svm_c);
+    }
+    for (auto j : region) {
+      if (in.groups[j] != g || !in.IsCandidate(j) || decided[j]) continue;
+      decided[j] = 1;
+      const Eigen::Vector2d x = plane.Project(pts[j]) - mu;
+      const double p_conserve =
+          boundary ? PsBoundaryProbability(boundary->normal.dot(x) + boundary->offset, o.ps_boundary_sigma_m)
+                   : PsInteriorProbability(x.squaredNorm(), d_norm, o.ps_interior_sigma_m);
+      if (uniform(rng) > p_conserve) out.removed[j] = 1;
+    }
+  }
+  return out;
+}
+
+}  // namespace semap::simplify

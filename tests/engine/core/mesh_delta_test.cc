@@ -1,0 +1,132 @@
+#include "engine/core/mesh_delta.h"
+
+#include <random>
+#include <set>
+
+#include <gtest/gtest.h>
+
+namespace semap {
+namespace {
+
+// A triangle as the set-comparable triple of its vertex positions, rotated canonically.
+using PosTriangle = std::array<std::array<double, 3>, 3>;
+
+std::multiset<PosTriangle> TrianglesOf(const Mesh& m) {
+  std::multiset<PosTriangle> out;
+  for (const auto& t : m.triangles) {
+    PosTriangle p;
+    for (int k = 0; k < 3; ++k) {
+      const auto& v = m.vertices[t[k]];
+      p[k] = {v.x(), v.y(), v.z()};
+    }
+    const int first = static_cast<int>(std::min_element(p.begin(), p.end()) - p.begin());
+    out.insert({p[first], p[(first + 1) % 3], p[(first + 2) % 3]});
+  }
+  return out;
+}
+
+// A mesh over vertex ids: vertex id i sits at (i, i², 1) so positions identify ids.
+IdentifiedMesh MakeMesh(const std::vector<std::array<VertexId, 3>>& tris) {
+  IdentifiedMesh m;
+  std::map<VertexId, std::uint32_t> index;
+  for (const auto& t : tris) {
+    std::array<std::uint32_t, 3> local{};
+    for (int k = 0; k < 3; ++k) {
+      auto [it, inserted] = index.emplace(t[k], static_cast<std::uint32_t>(m.vertex_ids.size()));
+      if (inserted) {
+        const double x = static_cast<double>(t[k]);
+        m.vertex_ids.push_back(t[k]);
+        m.mesh.vertices.emplace_back(x, x * x, 1.0);
+        m.mesh.labels.push_back(static_cast<Label>(t[k] % 20));
+      }
+      local[k] = it->second;
+    }
+    m.mesh.triangles.push_back(local);
+  }
+  return m;
+}
+
+TEST(MeshDiffer, FirstUpdateAddsEverythingAndSecondIsEmpty) {
+  MeshDiffer differ;
+  const auto m = MakeMesh({{1, 2, 3}, {2, 3, 4}});
+  const auto d1 = differ.Update(0, m);
+  EXPECT_EQ(d1.added_triangle_ids.size(), 2u);
+  EXPECT_EQ(d1.vertex_ids.size(), 4u);
+  EXPECT_TRUE(d1.removed_triangle_ids.empty());
+  const auto d2 = differ.Update(1, m);
+  EXPECT_TRUE(d2.empty());
+}
+
+TEST(MeshDiffer, RotationIsTheSameTriangleButFlipIsNot) {
+  MeshDiffer differ;
+  differ.Update(0, MakeMesh({{1, 2, 3}}));
+  EXPECT_TRUE(differ.Update(1, MakeMesh({{2, 3, 1}})).empty());
+  const auto flipped = differ.Update(2, MakeMesh({{1, 3, 2}}));
+  EXPECT_EQ(flipped.added_triangle_ids.size(), 1u);
+  EXPECT_EQ(flipped.removed_triangle_ids.size(), 1u);
+}
+
+TEST(MeshDiffer, FrozenTrianglesAreNeverRemoved) {
+  MeshDiffer differ;
+  MeshAccumulator acc;
+  acc.Apply(differ.Update(0, MakeMesh({{1, 2, 3}, {4, 5, 6}})));
+  // {1,2,3} is finalised: it leaves the live mesh but must stay in the subscriber's.
+  acc.Apply(differ.Update(1, MakeMesh({{4, 5, 6}}), MakeMesh({{1, 2, 3}})));
+  EXPECT_EQ(acc.num_triangles(), 2u);
+  EXPECT_EQ(differ.num_live_triangles(), 1u);
+}
+
+TEST(MeshDeltaProperty, AccumulatedDeltasEqualLiveMeshPlusFrozen) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    MeshDiffer differ;
+    MeshAccumulator acc;
+    std::set<std::array<VertexId, 3>> live;
+    std::vector<std::array<VertexId, 3>> all_frozen;
+    for (int step = 0; step < 30; ++step) {
+      // Random edits: remove some live triangles, freeze some, add new ones over a growing id range.
+      std::vector<std::array<VertexId, 3>> frozen_now;
+      for (auto it = live.begin(); it != live.end();) {
+        const int r = static_cast<int>(rng() % 10);
+        if (r == 0) {
+          it = live.erase(it);
+        } else if (r == 1) {
+          frozen_now.push_back(*it);
+          it = live.erase(it);
+        } else {
+          ++it;
+        }
+      }
+      const int adds = static_cast<int>(rng() % 6);
+      for (int a = 0; a < adds; ++a) {
+        const VertexId base = 3 * (step * 10 + a) + 1;
+        live.insert({base, base + 1 + rng() % 2, base + 3 + rng() % 2});
+      }
+      all_frozen.insert(all_frozen.end(), frozen_now.begin(), frozen_now.end());
+      const std::vector<std::array<VertexId, 3>> live_list(live.begin(), live.end());
+      acc.Apply(differ.Update(step, MakeMesh(live_list), MakeMesh(frozen_now)));
+
+      auto expected = live_list;
+      expected.insert(expected.end(), all_frozen.begin(), all_frozen.end());
+      const Mesh got = acc.ToMesh();
+      ASSERT_TRUE(got.IsConsistent());
+      ASSERT_EQ(TrianglesOf(got), TrianglesOf(MakeMesh(expected).mesh)) << "trial " << trial << " step " << step;
+      // Labels travel with their vertices.
+      for (size_t i = 0; i < got.vertices.size(); ++i) {
+        ASSERT_EQ(got.labels[i], static_cast<Label>(static_cast<VertexId>(got.vertices[i].x()) % 20));
+      }
+    }
+  }
+}
+
+TEST(MeshAccumulator, UnknownRemovalsAreIgnored) {
+  MeshAccumulator acc;
+  MeshDelta d;
+  d.removed_triangle_ids = {42};
+  acc.Apply(d);
+  EXPECT_EQ(acc.num_triangles(), 0u);
+  EXPECT_TRUE(acc.ToMesh().vertices.empty());
+}
+
+}  // namespace
+}  // namespace semap

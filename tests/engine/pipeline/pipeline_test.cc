@@ -1,0 +1,264 @@
+#include "engine/pipeline/pipeline.h"
+
+
+#include <chrono>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "engine/core/check.h"
+
+namespace semap {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Frames 0..n-1, 0.1 s apart, camera moving along z. Throws on the ids in `bad`.
+class FakeReader : public FrameReader {
+ public:
+  FakeReader(int n, std::set<std::int64_t> bad = {}) : n_(n), bad_(std::move(bad)) {}
+  std::optional<Frame> Next() override {
+    if (next_ >= n_) return std::nullopt;
+    const std::int64_t id = next_++;
+    if (bad_.count(id)) throw std::runtime_error("corrupt frame " + std::to_string(id));
+    Frame f;
+    f.id = id;
+    f.timestamp_s = 0.1 * static_cast<double>(id);
+    f.world_from_cam = Pose3d(Eigen::Translation3d(0, 0, static_cast<double>(id)));
+    return f;
+  }
+
+ private:
+  int n_;
+  std::int64_t next_ = 0;
+  std::set<std::int64_t> bad_;
+};
+
+// Frame k gives k + 10 points; takes a frame-dependent time so that parallel workers finish out of order.
+class FakeDepth : public DepthStage {
+ public:
+  explicit FakeDepth(std::set<std::int64_t> bad = {}) : bad_(std::move(bad)) {}
+  LabelledCloud Process(const Frame& frame) override {
+    std::this_thread::sleep_for(std::chrono::microseconds(300 * ((frame.id * 7) % 5)));
+    if (bad_.count(frame.id)) throw std::runtime_error("no valid disparity");
+    LabelledCloud c;
+    for (int i = 0; i < frame.id + 10; ++i) c.positions_world.emplace_back(i, 0, frame.id);
+    c.labels.assign(c.size(), static_cast<Label>(frame.id % 3));
+    c.camera_index.assign(c.size(), 0);
+    c.camera_centers_world = {frame.world_from_cam->translation()};
+    c.camera_frame_ids = {frame.id};
+    return c;
+  }
+
+ private:
+  std::set<std::int64_t> bad_;
+};
+
+// Keeps every other point; checks frames arrive in order.
+class FakeSimplify : public SimplifyStage {
+ public:
+  LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>* counts) override {
+    const std::int64_t frame = cloud.camera_frame_ids.at(0);
+    EXPECT_GT(frame, last_frame_) << "simplifier got frames out of order";
+    last_frame_ = frame;
+    std::vector<std::uint32_t> keep;
+    for (std::uint32_t i = 0; i < cloud.size(); i += 2) keep.push_back(i);
+    counts->push_back({cloud.labels.at(0), static_cast<std::int64_t>(cloud.size()),
+                       static_cast<std::int64_t>(keep.size())});
+    return cloud.Subset(keep);
+  }
+  std::int64_t last_frame_ = -1;
+};
+
+// One triangle per frame; optionally slow.
+class FakeMap : public MapStage {
+ public:
+  explicit FakeMap(std::chrono::milliseconds delay = 0ms) : delay_(delay) {}
+  MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override {
+    std::this_thread::sleep_for(delay_);
+    MapUpdate u;
+    u.delta.frame_id = cloud.camera_frame_ids.at(0);
+    u.delta.added_triangle_ids = {next_id_++};
+    u.delta.added_triangles = {{1, 2, 3}};
+    u.vertices = static_cast<std::int64_t>(cloud.size());
+    u.mesh_triangles = static_cast<std::int64_t>(next_id_);
+    return u;
+  }
+  MapUpdate Finish() override {
+    MapUpdate u;
+    u.delta.added_triangle_ids = {next_id_++};
+    u.delta.added_triangles = {{4, 5, 6}};
+    return u;
+  }
+
+ private:
+  std::chrono::milliseconds delay_;
+  TriangleId next_id_ = 0;
+};
+
+class RecordingSink : public PipelineSink {
+ public:
+  void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override {
+    frames.push_back(stats.frame_id);
+    last = stats;
+    triangles += delta.added_triangle_ids.size();
+    EXPECT_TRUE(pose.has_value());
+  }
+  void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) override {
+    errors.push_back({frame_id, stage + ": " + what});
+  }
+  void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override {
+    ++finishes;
+    last = stats;
+    triangles += final_delta.added_triangle_ids.size();
+  }
+  std::vector<std::int64_t> frames;
+  std::vector<std::pair<std::int64_t, std::string>> errors;
+  FrameStats last;
+  size_t triangles = 0;
+  int finishes = 0;
+};
+
+PipelineSummary RunPipeline(PipelineOptions options, std::unique_ptr<FrameReader> reader, RecordingSink* sink,
+                            std::set<std::int64_t> bad_depth = {}, std::chrono::milliseconds map_delay = 0ms) {
+  Pipeline pipeline(
+      options, std::move(reader), [bad_depth] { return std::make_unique<FakeDepth>(bad_depth); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>(map_delay));
+  pipeline.AddSink(sink);
+  return pipeline.Run();
+}
+
+TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
+  PipelineOptions options;
+  options.depth_workers = 3;
+  options.queue_capacity = 2;
+  RecordingSink sink;
+  const auto summary = RunPipeline(options, std::make_unique<FakeReader>(40), &sink);
+  ASSERT_EQ(sink.frames.size(), 40u);
+  for (int i = 0; i < 40; ++i) EXPECT_EQ(sink.frames[i], i);
+  EXPECT_EQ(sink.finishes, 1);
+  EXPECT_EQ(sink.triangles, 41u);  // one per frame + the final flush
+  EXPECT_EQ(summary.final_stats.frames_processed, 40);
+  EXPECT_EQ(summary.final_stats.frames_dropped, 0);
+  EXPECT_EQ(summary.frames_read, 40);
+  EXPECT_FALSE(summary.stopped_early);
+  EXPECT_GT(summary.final_stats.fps, 0.0);
+  // Accounting of the last frame (id 39: 49 points, every other kept → 25).
+  EXPECT_EQ(sink.last.points_in, 49);
+  EXPECT_EQ(sink.last.points_kept, 25);
+  ASSERT_EQ(sink.last.stages.size(), 4u);
+  EXPECT_EQ(sink.last.stages[1].name, "depth");
+  EXPECT_GE(sink.last.stages[1].max_ms, sink.last.stages[1].p50_ms);
+}
+
+TEST(Pipeline, FailingFramesAreSkippedAndCounted) {
+  PipelineOptions options;
+  RecordingSink sink;
+  const auto summary = RunPipeline(options, std::make_unique<FakeReader>(20, std::set<std::int64_t>{3}), &sink,
+                                   /*bad_depth=*/{7, 8});
+  EXPECT_EQ(summary.final_stats.frames_processed, 17);
+  EXPECT_EQ(summary.final_stats.frames_failed, 3);
+  ASSERT_EQ(sink.errors.size(), 3u);
+  EXPECT_EQ(sink.errors[0].first, 3);
+  EXPECT_NE(sink.errors[0].second.find("read: corrupt frame 3"), std::string::npos);
+  EXPECT_EQ(sink.errors[1].first, 7);
+  EXPECT_NE(sink.errors[1].second.find("depth: no valid disparity"), std::string::npos);
+  EXPECT_FALSE(summary.stopped_early);
+}
+
+TEST(Pipeline, StopOnErrorEndsTheRunWithoutDeadlock) {
+  PipelineOptions options;
+  options.on_error = PipelineOptions::OnError::kStop;
+  RecordingSink sink;
+  const auto summary = RunPipeline(options, std::make_unique<FakeReader>(500), &sink, /*bad_depth=*/{5});
+  EXPECT_TRUE(summary.stopped_early);
+  EXPECT_NE(summary.fatal_error.find("frame 5"), std::string::npos) << summary.fatal_error;
+  EXPECT_LT(summary.final_stats.frames_processed, 500);
+  EXPECT_EQ(summary.final_stats.frames_processed + summary.final_stats.frames_failed, summary.frames_read);
+  EXPECT_EQ(sink.finishes, 1);  // the mesh so far is still completed
+}
+
+TEST(Pipeline, RealtimeDropsFramesWhenTheMapFallsBehindAndCountsThem) {
+  PipelineOptions options;
+  options.mode = PipelineOptions::Mode::kRealtime;
+  options.queue_capacity = 1;
+  RecordingSink sink;
+  // Frames every 0.1 s of sequence time would take 3 s; the reader paces on timestamps, so make them dense:
+  // a 25 ms map against 10 ms frames must drop.
+  class DenseReader : public FakeReader {
+   public:
+    DenseReader() : FakeReader(60) {}
+    std::optional<Frame> Next() override {
+      auto f = FakeReader::Next();
+      if (f) f->timestamp_s = 0.01 * static_cast<double>(f->id);
+      return f;
+    }
+  };
+  const auto summary = RunPipeline(options, std::make_unique<DenseReader>(), &sink, {}, 25ms);
+  const auto& s = summary.final_stats;
+  EXPECT_GT(s.frames_dropped, 0);
+  EXPECT_EQ(s.frames_processed + s.frames_dropped + s.frames_failed, summary.frames_read);
+  EXPECT_EQ(summary.frames_read, 60);
+  for (size_t i = 1; i < sink.frames.size(); ++i) EXPECT_GT(sink.frames[i], sink.frames[i - 1]);
+}
+
+TEST(Pipeline, StopRequestDrainsAndFinishes) {
+  PipelineOptions options;
+  RecordingSink sink;
+  Pipeline pipeline(
+      options, std::make_unique<FakeReader>(100000), [] { return std::make_unique<FakeDepth>(); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>(1ms));
+  pipeline.AddSink(&sink);
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(100ms);
+    pipeline.RequestStop();
+  });
+  const auto summary = pipeline.Run();
+  stopper.join();
+  EXPECT_TRUE(summary.stopped_early);
+  EXPECT_TRUE(summary.fatal_error.empty());
+  EXPECT_GT(summary.final_stats.frames_processed, 0);
+  EXPECT_LT(summary.final_stats.frames_processed, 100000);
+  EXPECT_EQ(summary.final_stats.frames_processed, summary.frames_read);  // everything read was drained
+  EXPECT_EQ(sink.finishes, 1);
+}
+
+TEST(Pipeline, AThrowingSinkDoesNotStopTheRun) {
+  class BrokenSink : public PipelineSink {
+   public:
+    void OnFrame(const FrameStats&, const MeshDelta&, const std::optional<Pose3d>&) override {
+      throw std::runtime_error("/out/stats.csv: not writable");
+    }
+    void OnFinish(const FrameStats&, const MeshDelta&) override { throw std::runtime_error("/out/mesh.ply: disk full"); }
+  };
+  PipelineOptions options;
+  RecordingSink good;
+  BrokenSink broken;
+  Pipeline pipeline(options, std::make_unique<FakeReader>(10), [] { return std::make_unique<FakeDepth>(); },
+                    std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+  pipeline.AddSink(&broken);
+  pipeline.AddSink(&good);
+  const auto summary = pipeline.Run();
+  EXPECT_EQ(good.frames.size(), 10u);
+  EXPECT_EQ(good.finishes, 1);
+  EXPECT_EQ(summary.sink_errors, 11);
+  EXPECT_NE(summary.first_sink_error.find("/out/stats.csv"), std::string::npos);
+}
+
+TEST(PipelineOptions, CheckNamesTheField) {
+  PipelineOptions o;
+  o.depth_workers = 0;
+  try {
+    o.Check();
+    FAIL();
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.field(), "depth_workers");
+  }
+}
+
+TEST(Pipeline, RssIsMeasured) { EXPECT_GT(CurrentRssMb(), 1.0); }
+
+}  // namespace
+}  // namespace semap

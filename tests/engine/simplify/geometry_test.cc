@@ -1,0 +1,92 @@
+#include "engine/simplify/internal/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace semap::simplify {
+namespace {
+
+std::vector<Eigen::Vector3d> RandomPoints(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::Vector3d> p(n);
+  for (auto& x : p) x = {u(rng), u(rng), u(rng)};
+  return p;
+}
+
+TEST(PointIndex, RadiusAndKnnMatchBruteForce) {
+  const auto pts = RandomPoints(2000, 1);
+  const PointIndex index(pts);
+  const Eigen::Vector3d q(0.1, -0.2, 0.3);
+  std::vector<std::uint32_t> got;
+  index.Radius(q, 0.25, &got);
+  std::vector<std::uint32_t> want;
+  for (std::uint32_t i = 0; i < pts.size(); ++i) {
+    if ((pts[i] - q).norm() <= 0.25) want.push_back(i);
+  }
+  EXPECT_EQ(got, want);
+  EXPECT_FALSE(want.empty());
+
+  index.Knn(q, 10, &got);
+  std::vector<std::uint32_t> order(pts.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return (pts[a] - q).norm() < (pts[b] - q).norm(); });
+  order.resize(10);
+  EXPECT_EQ(got, order);
+}
+
+TEST(Geometry, PcaOfAPlaneAndALine) {
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 5; ++j) pts.push_back({i * 0.1, j * 0.1, 2.0});
+  }
+  std::vector<std::uint32_t> all(pts.size());
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  const PcaResult r = Pca(pts, all);
+  ASSERT_TRUE(r.valid);
+  EXPECT_NEAR(std::abs(r.normal.z()), 1.0, 1e-9);
+  EXPECT_NEAR(r.surface_variation, 0.0, 1e-12);
+  // The vertices of a regular tetrahedron are isotropic: variation 1/3.
+  const std::vector<Eigen::Vector3d> cube = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  EXPECT_NEAR(Pca(cube, {0, 1, 2, 3}).surface_variation, 1.0 / 3.0, 1e-9);
+  EXPECT_FALSE(Pca(pts, {0, 1}).valid);
+}
+
+TEST(Geometry, RansacFindsThePlaneDespiteOutliers) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  std::vector<Eigen::Vector3d> pts;
+  const Eigen::Vector3d n = Eigen::Vector3d(0.1, -0.2, 1.0).normalized();
+  const Plane truth = Plane::FromPointNormal({0, 0, 1.5}, n);
+  for (int i = 0; i < 3000; ++i) {
+    Eigen::Vector3d p(u(rng), u(rng), 0.0);
+    p.z() = (-truth.offset - n.x() * p.x() - n.y() * p.y()) / n.z() + noise(rng);
+    pts.push_back(p);
+  }
+  for (int i = 0; i < 1500; ++i) pts.push_back({u(rng), u(rng), u(rng)});  // 33 % outliers
+  std::vector<std::uint32_t> all(pts.size());
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  std::mt19937_64 ransac_rng(9);
+  const auto plane = FitPlaneRansac(pts, all, 0.03, 200, 2000, ransac_rng);
+  ASSERT_TRUE(plane.has_value());
+  EXPECT_GT(std::abs(plane->normal.dot(n)), 0.9999);
+  EXPECT_NEAR(std::abs(plane->SignedDistance({0, 0, 1.5})), 0.0, 0.01);
+  // Frame is orthonormal.
+  EXPECT_NEAR(plane->u.dot(plane->v), 0.0, 1e-12);
+  EXPECT_NEAR(plane->u.dot(plane->normal), 0.0, 1e-12);
+  EXPECT_NEAR(plane->u.norm(), 1.0, 1e-12);
+  std::vector<std::uint32_t> two = {0, 1};
+  EXPECT_FALSE(FitPlaneRansac(pts, two, 0.03, 10, 10, ransac_rng).has_value());
+}
+
+TEST(Geometry, OrientTowardsFacesTheViewpoint) {
+  const Eigen::Vector3d n(0, 0, 1);
+  EXPECT_EQ(OrientTowards(n, {0, 0, 0}, {1, 2, 3}), n);
+  EXPECT_EQ(OrientTowards(n, {0, 0, 0}, {1, 2, -3}), -n);
+}
+
+}  // namespace
+}  // namespace semap::simplify
