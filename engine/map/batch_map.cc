@@ -101,7 +101,8 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
         if (!cloud.colors_rgb.empty()) a.color_rgb = cloud.colors_rgb[id];
         return a;
       },
-      unlabelled);
+      unlabelled)
+                    .mesh;
   if (with_cell_votes) result.cell_votes = CollectCellVotes(dt);
 
   MapStatistics& s = result.statistics;

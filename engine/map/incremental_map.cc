@@ -22,37 +22,28 @@ IncrementalMap::~IncrementalMap() = default;
 IncrementalMap::IncrementalMap(IncrementalMap&&) noexcept = default;
 IncrementalMap& IncrementalMap::operator=(IncrementalMap&&) noexcept = default;
 
-MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points, const std::vector<Observation>& extra) {
+MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points,
+                                       const std::vector<Observation>& extra) {
   return impl_->Update(frame_points, extra);
 }
-Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh(); }
-MeshDelta IncrementalMap::TakeMeshDelta(std::int64_t frame_id) {
-  const IdentifiedMesh finalised = impl_->TakeFinalisedMesh();
-  return differ_.Update(frame_id, impl_->ExtractIdentifiedMesh(), finalised);
-}
+Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh().mesh; }
+IdentifiedMesh IncrementalMap::ExtractIdentifiedMesh() const { return impl_->ExtractMesh(); }
+IdentifiedMesh IncrementalMap::TakeFinalisedMesh() { return impl_->TakeFinalisedMesh(); }
 std::vector<CellVotes> IncrementalMap::CellVotesSnapshot() const { return impl_->CellVotesSnapshot(); }
 MapSnapshot IncrementalMap::ExportSnapshot() const { return impl_->ExportSnapshot(); }
 MapStatistics IncrementalMap::Statistics() const { return impl_->Statistics(); }
 
 namespace map_internal {
 
-Mesh IncrementalState::ExtractMesh() const {
+IdentifiedMesh IncrementalState::ExtractMesh() const {
   std::vector<SurfaceFacet> facets;
   CollectSurface(dt_, options_.drop_steiner_triangles, &facets);
   return FacetsToMesh(facets, Attributes(), PointAttributes{}.label);
 }
 
-IdentifiedMesh IncrementalState::ExtractIdentifiedMesh() const {
-  std::vector<SurfaceFacet> facets;
-  CollectSurface(dt_, options_.drop_steiner_triangles, &facets);
-  IdentifiedMesh out;
-  out.mesh = FacetsToMesh(facets, Attributes(), PointAttributes{}.label, &out.vertex_ids);
-  return out;
-}
-
 IdentifiedMesh IncrementalState::TakeFinalisedMesh() {
-  IdentifiedMesh out = std::move(finalised_mesh_);
-  finalised_mesh_ = IdentifiedMesh();
+  IdentifiedMesh out = std::move(finalised_);
+  finalised_ = IdentifiedMesh();
   finalised_index_.clear();
   return out;
 }
@@ -74,7 +65,8 @@ MapSnapshot IncrementalState::ExportSnapshot() const {
     s.cloud.labels.push_back(p.attributes.label);
     s.cloud.colors_rgb.push_back(p.attributes.color_rgb);
     s.cloud.camera_index.push_back(camera_index.at(rays_[p.rays.front()].camera));
-    for (std::size_t r = 1; r < p.rays.size(); ++r) s.extra.push_back({i, camera_index.at(rays_[p.rays[r]].camera)});
+    for (std::size_t r = 1; r < p.rays.size(); ++r)
+      s.extra.push_back({i, camera_index.at(rays_[p.rays[r]].camera)});
   }
   return s;
 }

@@ -20,8 +20,8 @@ struct MapUpdateResult {
   // Per input point: the id of the point it became or was merged into, or kDroppedPoint (beyond
   // max_ray_length_m). Ids name points in later Observations.
   std::vector<std::uint32_t> point_ids;
-  std::size_t inserted = 0;         // new vertices (data points)
-  std::size_t merged = 0;           // points merged into an existing one (their ray added)
+  std::size_t inserted = 0;  // new vertices (data points)
+  std::size_t merged = 0;    // points merged into an existing one (their ray added)
   std::size_t dropped = 0;
   std::size_t steiner_inserted = 0;
   std::size_t cells_destroyed = 0;  // cells with votes replaced by the insertion
@@ -49,20 +49,21 @@ class IncrementalMap {
   IncrementalMap(IncrementalMap&&) noexcept;
   IncrementalMap& operator=(IncrementalMap&&) noexcept;
 
-  // One frame: `frame_points` with their cameras (camera_index into frame_points.camera_centers_world, usually
-  // the frame's one camera), plus `extra` rays to existing points (Observation.point = an id from an earlier
-  // update, Observation.camera indexes frame_points.camera_centers_world). A point within merge_distance_m of
-  // an existing point (or of an earlier point of the frame) is merged: its ray goes to that point.
-  // Throws std::invalid_argument for an unknown point id in `extra`.
+  // One frame: `frame_points` with their cameras (camera_index into frame_points.camera_centers_world,
+  // usually the frame's one camera), plus `extra` rays to existing points (Observation.point = an id from an
+  // earlier update, Observation.camera indexes frame_points.camera_centers_world). A point within
+  // merge_distance_m of an existing point (or of an earlier point of the frame) is merged: its ray goes to
+  // that point. Throws std::invalid_argument for an unknown point id in `extra`.
   MapUpdateResult Update(const LabelledCloud& frame_points, const std::vector<Observation>& extra = {});
 
   // The current live surface (Steiner triangles dropped if the options say so).
   Mesh ExtractMesh() const;
-  // The change of the published mesh since the previous call (the first call adds the whole surface):
-  // live surface triangles that appeared or disappeared, plus the triangles of regions finalised since the
-  // last call, added once and never removed afterwards (a subscriber keeps them; the map has released them).
-  // Vertex ids are the map's vertex keys (point ids; Steiner nodes have bit 63 set).
-  MeshDelta TakeMeshDelta(std::int64_t frame_id = -1);
+  // The live surface with stable vertex ids (point ids; Steiner vertices have bit 63 set): feed it to a
+  // MeshDiffer (engine/core/mesh_delta.h) with TakeFinalisedMesh() as `frozen` to stream mesh deltas.
+  IdentifiedMesh ExtractIdentifiedMesh() const;
+  // Triangles of finalised regions not yet taken, with the same vertex ids; each finalised triangle is
+  // returned exactly once (they left the live surface for good).
+  IdentifiedMesh TakeFinalisedMesh();
 
   std::vector<CellVotes> CellVotesSnapshot() const;
   MapSnapshot ExportSnapshot() const;
@@ -71,7 +72,6 @@ class IncrementalMap {
  private:
   class Impl;
   std::unique_ptr<Impl> impl_;
-  MeshDiffer differ_;  // turns successive surfaces into deltas with stable triangle ids
 };
 
 }  // namespace semap

@@ -7,7 +7,8 @@ namespace semap {
 void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(sigma_free_m > 0.0, "sigma_free_m", sigma_free_m, "must be > 0");
   SEMAP_CHECK_OPTION(sigma_matter_m > 0.0, "sigma_matter_m", sigma_matter_m, "must be > 0");
-  SEMAP_CHECK_OPTION(ray_extension_factor >= 0.0, "ray_extension_factor", ray_extension_factor, "must be >= 0");
+  SEMAP_CHECK_OPTION(ray_extension_factor >= 0.0, "ray_extension_factor", ray_extension_factor,
+                     "must be >= 0");
   SEMAP_CHECK_OPTION(max_ray_length_m >= 0.0, "max_ray_length_m", max_ray_length_m, "must be >= 0");
   SEMAP_CHECK_OPTION(merge_distance_m >= 0.0, "merge_distance_m", merge_distance_m, "must be >= 0");
   SEMAP_CHECK_OPTION(grow_passes >= 1, "grow_passes", grow_passes, "must be >= 1");
@@ -17,7 +18,8 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(finalise_distance_m >= 0.0, "finalise_distance_m", finalise_distance_m, "must be >= 0");
   SEMAP_CHECK_OPTION(finalise_min_age_frames >= 1, "finalise_min_age_frames", finalise_min_age_frames,
                      "must be >= 1");
-  SEMAP_CHECK_OPTION(finalise_every_frames >= 1, "finalise_every_frames", finalise_every_frames, "must be >= 1");
+  SEMAP_CHECK_OPTION(finalise_every_frames >= 1, "finalise_every_frames", finalise_every_frames,
+                     "must be >= 1");
   SEMAP_CHECK_OPTION(steiner_spacing_m > 2.0 * ray_extension_m(), "steiner_spacing_m", steiner_spacing_m,
                      "must exceed twice the ray extension (ray_extension_factor * sigma_matter_m)");
 }

@@ -16,8 +16,8 @@ struct MapOptions {
   double ray_extension_factor = 10.0;
   // Rays longer than this (camera to point) are not traced and their point is not inserted; 0 = no limit.
   double max_ray_length_m = 0.0;
-  // A new point closer than this to an existing point (or an earlier point of the same frame) is merged into it:
-  // only its ray is added. 0 = never merge.
+  // A new point closer than this to an existing point (or an earlier point of the same frame) is merged into
+  // it: only its ray is added. 0 = never merge.
   double merge_distance_m = 0.05;
 
   // Region growing retries the cells the manifold test refused, in up to this many passes (≥ 1).

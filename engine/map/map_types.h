@@ -1,11 +1,10 @@
 // Value types shared by the batch and the incremental Delaunay maps.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/mesh.h"
 
@@ -28,20 +27,16 @@ struct CellVotes {
   bool carved = false;  // inside the extracted free-space region
 };
 
-// Identity of a surface triangle inside the map: the sorted keys of its three vertices (a point id, or a Steiner node
-// key with bit 63 set). Valid across updates as long as the triangle exists.
-using SurfaceKey = std::array<std::uint64_t, 3>;
-
 // Sizes and work counters of a map.
 struct MapStatistics {
-  std::size_t num_points = 0;           // live data vertices
+  std::size_t num_points = 0;  // live data vertices
   std::size_t num_steiner_vertices = 0;
-  std::size_t num_cells = 0;            // finite cells
+  std::size_t num_cells = 0;  // finite cells
   std::size_t num_carved_cells = 0;
-  std::size_t num_free_cells = 0;       // cells with free > matter (carved or not)
-  std::size_t num_rays = 0;             // live rays
-  std::uint64_t rays_traced = 0;        // walks done so far (traces and untraces)
-  std::uint64_t cells_visited = 0;      // cells visited by those walks
+  std::size_t num_free_cells = 0;   // cells with free > matter (carved or not)
+  std::size_t num_rays = 0;         // live rays
+  std::uint64_t rays_traced = 0;    // walks done so far (traces and untraces)
+  std::uint64_t cells_visited = 0;  // cells visited by those walks
 };
 
 }  // namespace semap

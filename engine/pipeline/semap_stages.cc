@@ -28,12 +28,14 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   // The cloud's camera (its frame's left camera) is where every ray of this frame starts.
   map_.Update(cloud);
   last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
-  return Report(map_.TakeMeshDelta(last_frame_id_));
+  return Report();
 }
 
-MapUpdate IncrementalMapStage::Finish() { return Report(map_.TakeMeshDelta(last_frame_id_)); }
+MapUpdate IncrementalMapStage::Finish() { return Report(); }
 
-MapUpdate IncrementalMapStage::Report(MeshDelta delta) {
+MapUpdate IncrementalMapStage::Report() {
+  const IdentifiedMesh finalised = map_.TakeFinalisedMesh();
+  MeshDelta delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
   published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
                           static_cast<std::int64_t>(delta.removed_triangle_ids.size());
   const MapStatistics s = map_.Statistics();

@@ -47,8 +47,9 @@ class IncrementalMapStage : public MapStage {
   MapUpdate Finish() override;
 
  private:
-  MapUpdate Report(MeshDelta delta);
+  MapUpdate Report();
   IncrementalMap map_;
+  MeshDiffer differ_;  // live surface + finalised regions → deltas with stable triangle ids
   std::int64_t published_triangles_ = 0;
   std::int64_t last_frame_id_ = -1;
 };

@@ -195,13 +195,17 @@ void Bind(FieldBinder& b, MapOptions& o) {
   b.Field("sigma_matter_m", &o.sigma_matter_m, "σ_matter of the matter weight 1 - exp(-d²/(2σ²)), metres");
   b.Field("ray_extension_factor", &o.ray_extension_factor,
           "rays are extended behind their point by this many σ_matter (matter votes)");
-  b.Field("max_ray_length_m", &o.max_ray_length_m, "points farther than this from their camera are dropped; 0 = no limit");
+  b.Field("max_ray_length_m", &o.max_ray_length_m,
+          "points farther than this from their camera are dropped; 0 = no limit");
   b.Field("merge_distance_m", &o.merge_distance_m,
-          "a new point this close to an existing one is merged into it (only its ray is added); 0 = exact duplicates only");
-  b.Field("grow_passes", &o.grow_passes, "region-growing passes retrying the cells the manifold test refused");
+          "a new point this close to an existing one is merged into it (only its ray is added); 0 = exact "
+          "duplicates only");
+  b.Field("grow_passes", &o.grow_passes,
+          "region-growing passes retrying the cells the manifold test refused");
   b.Field("steiner_spacing_m", &o.steiner_spacing_m, "spacing of the bounding Steiner lattice, metres");
   b.Field("steiner_margin_cubes", &o.steiner_margin_cubes, "lattice cubes kept around each point and camera");
-  b.Field("drop_steiner_triangles", &o.drop_steiner_triangles, "leave triangles touching a Steiner vertex out of the mesh");
+  b.Field("drop_steiner_triangles", &o.drop_steiner_triangles,
+          "leave triangles touching a Steiner vertex out of the mesh");
   b.Field("finalise_age_frames", &o.finalise_age_frames,
           "finalise (emit once, then release) points older than this many frames; 0 = never by age");
   b.Field("finalise_distance_m", &o.finalise_distance_m,

@@ -105,7 +105,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
 }
 
 void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& vertices) {
-  std::unordered_set<SurfaceKey, SurfaceKeyHash> emitted;
+  std::unordered_set<FacetKey, FacetKeyHash> emitted;
   std::vector<CellHandle> star;
   for (const VertexHandle v : vertices) {
     star.clear();
@@ -121,17 +121,19 @@ void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& vert
         std::array<std::uint32_t, 3> tri;
         for (int k = 0; k < 3; ++k) {
           const VertexHandle u = f.vertices[k];
-          auto [it, inserted] = finalised_index_.try_emplace(VertexKey(u), std::uint32_t(finalised_mesh_.mesh.vertices.size()));
+          auto [it, inserted] =
+              finalised_index_.try_emplace(VertexKey(u), std::uint32_t(finalised_.mesh.vertices.size()));
           if (inserted) {
-            finalised_mesh_.mesh.vertices.push_back(ToEigen(u->point()));
-            finalised_mesh_.vertex_ids.push_back(VertexKey(u));
-            const PointAttributes a = u->info().steiner ? PointAttributes{} : points_.at(u->info().id).attributes;
-            finalised_mesh_.mesh.labels.push_back(a.label);
-            finalised_mesh_.mesh.colors_rgb.push_back(a.color_rgb);
+            finalised_.mesh.vertices.push_back(ToEigen(u->point()));
+            finalised_.vertex_ids.push_back(VertexKey(u));
+            const PointAttributes a =
+                u->info().steiner ? PointAttributes{} : points_.at(u->info().id).attributes;
+            finalised_.mesh.labels.push_back(a.label);
+            finalised_.mesh.colors_rgb.push_back(a.color_rgb);
           }
           tri[k] = it->second;
         }
-        finalised_mesh_.mesh.triangles.push_back(tri);
+        finalised_.mesh.triangles.push_back(tri);
       }
     }
   }

@@ -1,12 +1,12 @@
 #include "engine/map/internal/incremental_state.h"
 
-#include <algorithm>
-#include <numeric>
-#include <stdexcept>
-
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
 
 #include "engine/core/check.h"
 
@@ -119,8 +119,9 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   return result;
 }
 
-void IncrementalState::ClassifyPoints(const LabelledCloud& frame, const std::vector<std::uint32_t>& camera_ids,
-                                      MapUpdateResult* result, std::vector<PendingVertex>* pending,
+void IncrementalState::ClassifyPoints(const LabelledCloud& frame,
+                                      const std::vector<std::uint32_t>& camera_ids, MapUpdateResult* result,
+                                      std::vector<PendingVertex>* pending,
                                       std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays) {
   const double merge = options_.merge_distance_m;
   const double voxel = std::max(merge, 1e-3);
@@ -186,7 +187,8 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
     int li, lj;
     const CellHandle c = dt_.locate(p, lt, li, lj, hint);
     hint = c;
-    SEMAP_ASSERT(lt != Delaunay::VERTEX, "a new vertex coincides with an existing one at " << pv.position.transpose());
+    SEMAP_ASSERT(lt != Delaunay::VERTEX,
+                 "a new vertex coincides with an existing one at " << pv.position.transpose());
     conflict_scratch_.clear();
     dt_.find_conflicts(p, c, CGAL::Emptyset_iterator(), std::back_inserter(conflict_scratch_));
     for (const CellHandle cc : conflict_scratch_) {
@@ -239,8 +241,10 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
   VertexHandle previous;
   for (const PendingVertex& pv : *pending) {
     const std::size_t before = dt_.number_of_vertices();
-    const VertexHandle v = dt_.insert(ToPoint(pv.position), previous == VertexHandle() ? CellHandle() : previous->cell());
-    SEMAP_ASSERT(dt_.number_of_vertices() == before + 1, "vertex at an occupied position " << pv.position.transpose());
+    const VertexHandle v =
+        dt_.insert(ToPoint(pv.position), previous == VertexHandle() ? CellHandle() : previous->cell());
+    SEMAP_ASSERT(dt_.number_of_vertices() == before + 1,
+                 "vertex at an occupied position " << pv.position.transpose());
     if (pv.point_id != kNoId) {
       v->info() = VertexInfo{pv.point_id, false, 0};
       points_.at(pv.point_id).vertex = v;
@@ -260,7 +264,8 @@ void IncrementalState::ApplyRay(std::uint32_t ray, int sign, bool only_created) 
   RayRecord& r = rays_[ray];
   const PointRecord& point = points_.at(r.point);
   const CameraRecord& camera = cameras_.at(r.camera);
-  if (ComputeRayVotes(dt_, point.vertex, camera.center, geometry_, &votes_, only_created ? created_mark_ : 0)) {
+  if (ComputeRayVotes(dt_, point.vertex, camera.center, geometry_, &votes_,
+                      only_created ? created_mark_ : 0)) {
     ++counters_.rays_traced;
     counters_.cells_visited += votes_.entries.size();
     for (const RayVotes::Entry& e : votes_.entries) {

@@ -6,7 +6,6 @@
 #include <unordered_set>
 #include <vector>
 
-#include "engine/core/mesh_delta.h"
 #include "engine/map/incremental_map.h"
 #include "engine/map/internal/manifold_carver.h"
 #include "engine/map/internal/ray_registry.h"
@@ -17,8 +16,8 @@
 
 namespace semap::map_internal {
 
-struct SurfaceKeyHash {
-  std::size_t operator()(const SurfaceKey& t) const {
+struct FacetKeyHash {
+  std::size_t operator()(const FacetKey& t) const {
     std::size_t h = 0;
     for (auto k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<std::uint64_t>()(k);
     return h;
@@ -39,10 +38,7 @@ class IncrementalState {
   explicit IncrementalState(const MapOptions& options);
 
   MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
-  Mesh ExtractMesh() const;
-  // The live surface with each vertex's key (point id, or Steiner node key with bit 63 set).
-  IdentifiedMesh ExtractIdentifiedMesh() const;
-  // Triangles of finalised regions not yet taken (each exactly once), with vertex keys.
+  IdentifiedMesh ExtractMesh() const;
   IdentifiedMesh TakeFinalisedMesh();
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
   MapSnapshot ExportSnapshot() const;
@@ -95,16 +91,16 @@ class IncrementalState {
   Eigen::Vector3d last_camera_ = Eigen::Vector3d::Zero();
 
   // Scratch of one update.
-  std::vector<CellHandle> destroyed_;       // cells (with votes) the change destroys
-  std::vector<VertexHandle> boundary_;      // their vertices
-  std::vector<CellHandle> touched_;         // cells whose votes or carving changed
-  std::vector<CellHandle> decreased_;       // cells that lost votes (untraced rays)
-  std::vector<VertexHandle> inserted_;      // vertices inserted in this update
+  std::vector<CellHandle> destroyed_;   // cells (with votes) the change destroys
+  std::vector<VertexHandle> boundary_;  // their vertices
+  std::vector<CellHandle> touched_;     // cells whose votes or carving changed
+  std::vector<CellHandle> decreased_;   // cells that lost votes (untraced rays)
+  std::vector<VertexHandle> inserted_;  // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
   RayVotes votes_;
 
   // Outputs.
-  IdentifiedMesh finalised_mesh_;
+  IdentifiedMesh finalised_;
   std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // vertex key → finalised_mesh_ vertex
   MapStatistics counters_;
 };

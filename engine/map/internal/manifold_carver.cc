@@ -130,7 +130,8 @@ void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<Cell
   }
 }
 
-void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved) {
+void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices,
+                                  std::vector<CellHandle>* uncarved) {
   std::vector<VertexHandle> to_check;
   std::vector<CellHandle> star;
   for (const VertexHandle v : vertices) {

@@ -11,8 +11,8 @@ namespace semap::map_internal {
 
 // The boundary of the carved region is a 2-manifold iff at every vertex v the boundary facets around v form a
 // single cycle on v's link (or there are none): then each edge has exactly two boundary facets and each
-// vertex a disk-like umbrella (the vertex/edge conditions of Litvinov–Lhuillier and Piazza et al.). Carving or
-// uncarving one cell changes only the links of its four vertices, so each change is tested on those only.
+// vertex a disk-like umbrella (the vertex/edge conditions of Litvinov–Lhuillier and Piazza et al.). Carving
+// or uncarving one cell changes only the links of its four vertices, so each change is tested on those only.
 // Infinite cells are never carved. Works on a triangulation it does not own; not thread-safe.
 class ManifoldCarver {
  public:
@@ -48,9 +48,9 @@ class ManifoldCarver {
 
   Delaunay* dt_;
   int max_passes_;
-  std::vector<CellHandle> cells_;                          // scratch
+  std::vector<CellHandle> cells_;                             // scratch
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
-  std::vector<VertexHandle> ends_;                         // scratch
+  std::vector<VertexHandle> ends_;                            // scratch
   std::uint64_t num_tests_ = 0;
 };
 

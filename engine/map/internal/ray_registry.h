@@ -1,11 +1,10 @@
 // Compact bookkeeping of the live points, cameras and rays of the incremental map.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/map/internal/surface_extraction.h"
 #include "engine/map/internal/triangulation.h"

@@ -33,7 +33,9 @@ bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vecto
   if (!(length > 0.0)) return false;
   const double free_saturation = SaturationDistance(geometry.sigma_free_m);
   const double matter_saturation = SaturationDistance(geometry.sigma_matter_m);
-  auto skip = [only_created](CellHandle cell) { return only_created != 0 && cell->info().created != only_created; };
+  auto skip = [only_created](CellHandle cell) {
+    return only_created != 0 && cell->info().created != only_created;
+  };
   WalkSegment(dt, target, ToPoint(camera), [&](CellHandle cell) {
     if (skip(cell)) return;
     const double d = DistanceToClosestFacet(cell, target, free_saturation);

@@ -1,10 +1,9 @@
 // Walks a visibility ray through the triangulation and computes its votes.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/map/internal/triangulation.h"
 

@@ -38,7 +38,8 @@ void ForNodesAround(LatticeKey cube, int margin, Fn&& fn) {
 
 }  // namespace
 
-SteinerLattice::SteinerLattice(double spacing_m, int margin_cubes) : spacing_m_(spacing_m), margin_(margin_cubes) {
+SteinerLattice::SteinerLattice(double spacing_m, int margin_cubes)
+    : spacing_m_(spacing_m), margin_(margin_cubes) {
   SEMAP_ASSERT(spacing_m > 0.0 && margin_cubes >= 1);
 }
 

@@ -2,11 +2,10 @@
 // CGAL-free; the map inserts/removes the lattice nodes it reports.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace semap::map_internal {
 
@@ -15,8 +14,8 @@ using LatticeKey = std::int64_t;
 // Every point or camera "uses" the lattice cube containing it; a used cube requires the lattice nodes of the
 // cubes within `margin` cubes of it. Node positions are the lattice positions plus a deterministic jitter
 // (a hash of the node index, up to ±10 % of the spacing per axis) that avoids the cospherical configurations
-// of a perfect lattice (slow exact predicates) while staying a pure function of the node index, so a batch and
-// an incremental map built from the same data get the same Steiner points. Not thread-safe.
+// of a perfect lattice (slow exact predicates) while staying a pure function of the node index, so a batch
+// and an incremental map built from the same data get the same Steiner points. Not thread-safe.
 class SteinerLattice {
  public:
   SteinerLattice(double spacing_m, int margin_cubes);

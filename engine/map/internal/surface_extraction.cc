@@ -46,9 +46,10 @@ void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFa
   }
 }
 
-Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes, Label unlabelled,
-                  std::vector<std::uint64_t>* vertex_keys) {
-  Mesh mesh;
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
+                            Label unlabelled) {
+  IdentifiedMesh out;
+  Mesh& mesh = out.mesh;
   std::unordered_map<const void*, std::uint32_t> index;
   index.reserve(facets.size());
   mesh.triangles.reserve(facets.size());
@@ -59,7 +60,7 @@ Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup
       auto [it, inserted] = index.try_emplace(&*v, std::uint32_t(mesh.vertices.size()));
       if (inserted) {
         mesh.vertices.push_back(ToEigen(v->point()));
-        if (vertex_keys) vertex_keys->push_back(VertexKey(v));
+        out.vertex_ids.push_back(VertexKey(v));
         if (v->info().steiner) {
           mesh.labels.push_back(unlabelled);
           mesh.colors_rgb.push_back(kSteinerColor);
@@ -73,7 +74,7 @@ Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup
     }
     mesh.triangles.push_back(tri);
   }
-  return mesh;
+  return out;
 }
 
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt) {

@@ -5,8 +5,9 @@
 #include <vector>
 
 #include "engine/core/mesh.h"
-#include "engine/map/map_types.h"
+#include "engine/core/mesh_delta.h"
 #include "engine/map/internal/triangulation.h"
+#include "engine/map/map_types.h"
 
 namespace semap::map_internal {
 
@@ -17,7 +18,10 @@ struct PointAttributes {
 // Attributes of a data point by id.
 using AttributeLookup = std::function<PointAttributes(std::uint32_t point_id)>;
 
-// The key of a vertex in SurfaceKey.
+// A facet's identity: the sorted keys of its vertices.
+using FacetKey = std::array<std::uint64_t, 3>;
+
+// The stable key of a vertex: its point id, or (bit 63 set) a Steiner vertex number.
 inline std::uint64_t VertexKey(VertexHandle v) {
   return v->info().steiner ? (std::uint64_t(1) << 63) | v->info().id : v->info().id;
 }
@@ -25,20 +29,20 @@ inline std::uint64_t VertexKey(VertexHandle v) {
 // One boundary facet, oriented counter-clockwise seen from the carved (free) side.
 struct SurfaceFacet {
   std::array<VertexHandle, 3> vertices;
-  SurfaceKey id;  // sorted vertex keys
+  FacetKey id;  // sorted vertex keys
 };
 
 // The facet of `carved_cell` opposite its vertex `opposite`, oriented counter-clockwise seen from the cell.
 SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
 
-// Boundary facets between carved and uncarved cells; with `drop_steiner`, facets touching a Steiner vertex are
-// left out. Appends to `facets`.
+// Boundary facets between carved and uncarved cells; with `drop_steiner`, facets touching a Steiner vertex
+// are left out. Appends to `facets`.
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets);
 
-// Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey).
-// With `vertex_keys`, the VertexKey of each mesh vertex is appended (parallel to mesh.vertices).
-Mesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes, Label unlabelled,
-                  std::vector<std::uint64_t>* vertex_keys = nullptr);
+// Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey), with the vertex
+// keys as stable vertex ids.
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
+                            Label unlabelled);
 
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);

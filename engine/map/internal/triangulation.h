@@ -1,16 +1,16 @@
 // The CGAL triangulation behind the map. Private to engine/map: never include it from a public header.
 #pragma once
 
-#include <cstdint>
-#include <limits>
-#include <vector>
-
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_data_structure_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
 #include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <vector>
 
 namespace semap::map_internal {
 
@@ -19,7 +19,7 @@ inline constexpr std::uint32_t kNoId = std::numeric_limits<std::uint32_t>::max()
 struct VertexInfo {
   std::uint32_t id = kNoId;  // point id, or Steiner node slot when `steiner`
   bool steiner = false;
-  std::uint32_t stamp = 0;   // scratch mark for set membership during one update
+  std::uint32_t stamp = 0;  // scratch mark for set membership during one update
 };
 
 // One (ray, trace epoch) entry of a cell's ray list. An entry is live while the ray's epoch equals `epoch`;
@@ -34,10 +34,10 @@ struct RayRef {
 struct CellInfo {
   std::int64_t free_q = 0;
   std::int64_t matter_q = 0;
-  bool carved = false;       // inside the manifold free-space region
-  std::uint32_t stamp = 0;   // scratch mark for set membership during one update
+  bool carved = false;        // inside the manifold free-space region
+  std::uint32_t stamp = 0;    // scratch mark for set membership during one update
   std::uint32_t created = 0;  // mark of the update that created the cell (incremental map)
-  std::vector<RayRef> rays;  // rays whose trace gave this cell a vote (may hold stale entries)
+  std::vector<RayRef> rays;   // rays whose trace gave this cell a vote (may hold stale entries)
 
   bool IsFree() const { return free_q > matter_q; }
 };

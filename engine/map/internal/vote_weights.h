@@ -3,17 +3,17 @@
 // Interpretation of the paper's formula (its text reads 1 - e^{d^2 / 2σ}, a typo): a ray camera → p adds
 //   w_free   = 1 - exp(-d^2 / (2 σ_free^2))    to each cell it crosses before p,
 //   w_matter = 1 - exp(-d^2 / (2 σ_matter^2))  to each cell crossed by its extension behind p,
-// where d is the Euclidean distance from p to the closest facet of the crossed cell. Facets that contain p itself
-// are left out of that minimum: they are at distance 0 for every cell incident to p, which would zero the weight
-// of every cell touching p whatever its size (and the matter extension, which starts in cells incident to p,
-// would then almost never vote). So for a cell incident to p, d is the distance from p to the opposite facet.
+// where d is the Euclidean distance from p to the closest facet of the crossed cell. Facets that contain p
+// itself are left out of that minimum: they are at distance 0 for every cell incident to p, which would zero
+// the weight of every cell touching p whatever its size (and the matter extension, which starts in cells
+// incident to p, would then almost never vote). So for a cell incident to p, d is the distance from p to the
+// opposite facet.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <cstdint>
-
-#include <Eigen/Core>
 
 #include "engine/map/internal/triangulation.h"
 #include "engine/map/map_types.h"
@@ -33,8 +33,8 @@ inline double GaussianComplement(double d_m, double sigma_m) {
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c);
 
-// The distance beyond which the fixed-point weight with this σ is exactly kVoteScale (the Gaussian term is below
-// a quarter of a fixed-point unit, so rounding gives the full weight whatever the exact distance).
+// The distance beyond which the fixed-point weight with this σ is exactly kVoteScale (the Gaussian term is
+// below a quarter of a fixed-point unit, so rounding gives the full weight whatever the exact distance).
 inline double SaturationDistance(double sigma_m) {
   return sigma_m * std::sqrt(2.0 * std::log(4.0 * kVoteScale));
 }

@@ -1,10 +1,9 @@
 #include "engine/map/batch_map.h"
 
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
-#include <gtest/gtest.h>
+#include <random>
 
 #include "engine/core/check.h"
 #include "tests/engine/map/manifold_checker.h"
@@ -60,10 +59,12 @@ TEST(BatchMap, WallIsManifoldAndFacesTheCameras) {
   ASSERT_GT(open.mesh.num_triangles(), 100u);
   const auto open_report = CheckManifold(open.mesh, /*allow_boundary=*/true);
   EXPECT_TRUE(open_report.ok()) << open_report.Summary();
-  // Triangles are counter-clockwise seen from the free side: on the wall, their normals face the cameras (-y).
+  // Triangles are counter-clockwise seen from the free side: on the wall, their normals face the cameras
+  // (-y).
   std::size_t facing = 0, on_wall = 0;
   for (const auto& t : open.mesh.triangles) {
-    const Eigen::Vector3d a = open.mesh.vertices[t[0]], b = open.mesh.vertices[t[1]], c = open.mesh.vertices[t[2]];
+    const Eigen::Vector3d a = open.mesh.vertices[t[0]], b = open.mesh.vertices[t[1]],
+                          c = open.mesh.vertices[t[2]];
     const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
     if (std::abs(normal.y()) < 0.9) continue;
     ++on_wall;
@@ -120,8 +121,8 @@ TEST(BatchMap, StreetCorridorAccuracy) {
   EXPECT_TRUE(report.ok()) << report.Summary();
   const auto error = test::MeshError(r.mesh, [&](const Eigen::Vector3d& p) { return scene.Distance(p); });
   std::cout << "street batch: " << cloud.size() << " points, " << r.mesh.num_triangles()
-            << " triangles, mean " << error.mean_m << " m, rmse " << error.rmse_m << " m, median " << error.median_m << " m, max " << error.max_m
-            << " m\n";
+            << " triangles, mean " << error.mean_m << " m, rmse " << error.rmse_m << " m, median "
+            << error.median_m << " m, max " << error.max_m << " m\n";
   EXPECT_GT(r.mesh.num_triangles(), cloud.size() / 2);
   EXPECT_LT(error.median_m, 0.02);
   EXPECT_LT(error.mean_m, 0.1);
@@ -134,7 +135,8 @@ TEST(BatchMap, StreetCorridorAccuracy) {
   for (const Eigen::Vector3d& camera : cloud.camera_centers_world) {
     for (int j = 0; j < 12; ++j) {
       for (int i = 0; i < 16; ++i) {
-        const Eigen::Vector3d dir = Eigen::Vector3d((i + 0.37) / 16 * 1.6 - 0.8, 1.0, (j + 0.41) / 12 * 1.0 - 0.5).normalized();
+        const Eigen::Vector3d dir =
+            Eigen::Vector3d((i + 0.37) / 16 * 1.6 - 0.8, 1.0, (j + 0.41) / 12 * 1.0 - 0.5).normalized();
         const auto truth = scene.Cast(camera, dir);
         if (!truth || truth->first > so.max_range_m - 5.0) continue;
         ++with_truth;
@@ -151,11 +153,13 @@ TEST(BatchMap, StreetCorridorAccuracy) {
   const double median = abs_errors[abs_errors.size() / 2];
   const double p75 = abs_errors[abs_errors.size() * 3 / 4];
   const double p90 = abs_errors[abs_errors.size() * 9 / 10];
-  std::cout << "street depth: " << abs_errors.size() << " of " << with_truth << " rays hit the mesh, |error| mean "
-            << mean << " m, median " << median << " m, p75 " << p75 << " m, p90 " << p90 << " m\n";
-  // Measured (noise 1 cm): median 3.5 cm, mean 1.07 m, p75 1.26 m, p90 4.0 m: about a third of the pixel rays hit spurious
-  // surfaces in front of the true one (free cells the greedy manifold growth could not add, mostly above the
-  // ground seen at grazing angles). Known limitation, reported; the bounds below guard against regressions.
+  std::cout << "street depth: " << abs_errors.size() << " of " << with_truth
+            << " rays hit the mesh, |error| mean " << mean << " m, median " << median << " m, p75 " << p75
+            << " m, p90 " << p90 << " m\n";
+  // Measured (noise 1 cm): median 3.5 cm, mean 1.07 m, p75 1.26 m, p90 4.0 m: about a third of the pixel rays
+  // hit spurious surfaces in front of the true one (free cells the greedy manifold growth could not add,
+  // mostly above the ground seen at grazing angles). Known limitation, reported; the bounds below guard
+  // against regressions.
   EXPECT_GT(abs_errors.size(), with_truth * 95 / 100);
   EXPECT_LT(median, 0.05);
   EXPECT_LT(mean, 1.5);

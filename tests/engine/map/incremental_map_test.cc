@@ -1,11 +1,12 @@
 #include "engine/map/incremental_map.h"
 
+#include <gtest/gtest.h>
+
 #include <map>
 #include <random>
 #include <set>
 
-#include <gtest/gtest.h>
-
+#include "engine/core/mesh_delta.h"
 #include "engine/map/batch_map.h"
 #include "tests/engine/map/manifold_checker.h"
 #include "tests/engine/map/map_test_util.h"
@@ -63,14 +64,17 @@ struct RandomStream {
       const double y = camera.y() + 2.0 + 10.0 * u(rng);
       const int surface = int(3 * u(rng));
       Eigen::Vector3d p;
-      if (surface == 0) p = {-5.0 + 10.0 * u(rng), y, 0.0};
-      else p = {surface == 1 ? -5.0 : 5.0, y, 6.0 * u(rng)};
+      if (surface == 0)
+        p = {-5.0 + 10.0 * u(rng), y, 0.0};
+      else
+        p = {surface == 1 ? -5.0 : 5.0, y, 6.0 * u(rng)};
       p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
       cloud.positions_world.push_back(p);
       cloud.camera_index.push_back(0);
       cloud.labels.push_back(Label(surface + 1));
     }
-    // A few re-observations placed exactly near earlier points are produced by the merge distance; extra rays:
+    // A few re-observations placed exactly near earlier points are produced by the merge distance; extra
+    // rays:
     for (int k = 0; k < 5 && !known_ids.empty(); ++k) {
       extra->push_back({known_ids[std::size_t(u(rng) * known_ids.size()) % known_ids.size()], 0});
     }
@@ -78,9 +82,11 @@ struct RandomStream {
   }
 };
 
-void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options, int* mesh_diff, int* mesh_size) {
+void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options, int* mesh_diff,
+                           int* mesh_size) {
   const MapSnapshot snapshot = map.ExportSnapshot();
-  const BatchMapResult batch = BuildBatchMap(options, snapshot.cloud, snapshot.extra, /*with_cell_votes=*/true);
+  const BatchMapResult batch =
+      BuildBatchMap(options, snapshot.cloud, snapshot.extra, /*with_cell_votes=*/true);
   const auto incremental_votes = VoteMap(map.CellVotesSnapshot());
   const auto batch_votes = VoteMap(batch.cell_votes);
   ASSERT_EQ(incremental_votes.size(), batch_votes.size()) << "different triangulations";
@@ -120,8 +126,9 @@ TEST(IncrementalMap, VotesEqualBatchOnRandomStreams) {
       ExpectVotesEqualBatch(map, options, &diff, &size);
       if (HasFatalFailure()) return;
       std::cout << "seed " << seed << " frame " << f << ": inserted " << r.inserted << " merged " << r.merged
-                << " retraced " << r.rays_retraced << " destroyed " << r.cells_destroyed << " uncarved " << r.cells_uncarved << " carved " << r.cells_carved
-                << "; mesh differs from batch in " << diff << " of " << size << " triangles\n";
+                << " retraced " << r.rays_retraced << " destroyed " << r.cells_destroyed << " uncarved "
+                << r.cells_uncarved << " carved " << r.cells_carved << "; mesh differs from batch in " << diff
+                << " of " << size << " triangles\n";
     }
   }
 }
@@ -149,22 +156,28 @@ TEST(IncrementalMap, MergesNearbyPointsAndRejectsUnknownIds) {
   EXPECT_THROW(map.Update(b, {{12345, 0}}), std::invalid_argument);
 }
 
+// The live mesh and the finalised pieces, streamed through core's MeshDiffer, rebuild the published mesh.
 TEST(IncrementalMap, DeltasReproduceTheMesh) {
   MapOptions options;
+  options.finalise_age_frames = 3;
+  options.finalise_every_frames = 1;
   IncrementalMap map(options);
   RandomStream stream(7);
-  MeshAccumulator subscriber;  // what an LCM subscriber rebuilds from the deltas
-  for (int f = 0; f < 5; ++f) {
+  MeshDiffer differ;
+  MeshAccumulator accumulator;
+  std::size_t finalised = 0;
+  for (int f = 0; f < 7; ++f) {
     std::vector<Observation> extra;
     map.Update(stream.Frame(f, 300, &extra));
-    const MeshDelta delta = map.TakeMeshDelta(f);
-    EXPECT_EQ(delta.frame_id, f);
-    ASSERT_EQ(delta.added_triangle_ids.size(), delta.added_triangles.size());
-    subscriber.Apply(delta);
-    EXPECT_EQ(TriangleSet(subscriber.ToMesh()), TriangleSet(map.ExtractMesh())) << "frame " << f;
+    const IdentifiedMesh frozen = map.TakeFinalisedMesh();
+    ASSERT_EQ(frozen.vertex_ids.size(), frozen.mesh.num_vertices());
+    finalised += frozen.mesh.num_triangles();
+    const IdentifiedMesh live = map.ExtractIdentifiedMesh();
+    ASSERT_EQ(live.vertex_ids.size(), live.mesh.num_vertices());
+    accumulator.Apply(differ.Update(f, live, frozen));
+    EXPECT_EQ(accumulator.num_triangles(), live.mesh.num_triangles() + finalised) << "frame " << f;
   }
-  EXPECT_GT(subscriber.num_triangles(), 100u);
-  EXPECT_TRUE(map.TakeMeshDelta(5).empty());  // nothing changed since the last delta
+  EXPECT_GT(finalised, 100u);
 }
 
 TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
@@ -173,8 +186,8 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
   options.finalise_every_frames = 4;
   IncrementalMap map(options);
   RandomStream stream(11);
-  std::size_t max_early = 0, max_late = 0;
-  MeshAccumulator subscriber;
+  std::size_t max_early = 0, max_late = 0, finalised_triangles = 0;
+  std::set<std::array<double, 9>> finalised;
   const int frames = 60;
   for (int f = 0; f < frames; ++f) {
     std::vector<Observation> extra;
@@ -183,22 +196,18 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
     const MapStatistics s = map.Statistics();
     if (f >= 15 && f < 30) max_early = std::max(max_early, s.num_cells);
     if (f >= frames - 15) max_late = std::max(max_late, s.num_cells);
-    subscriber.Apply(map.TakeMeshDelta(f));
+    const Mesh m = map.TakeFinalisedMesh().mesh;
+    finalised_triangles += m.num_triangles();
+    for (const auto& key : TriangleSet(m)) EXPECT_TRUE(finalised.insert(key).second) << "finalised twice";
     if (f % 10 == 9) {
       const auto report = test::CheckManifold(map.ExtractMesh(), /*allow_boundary=*/true);
       ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
     }
   }
   const MapStatistics s = map.Statistics();
-  // Finalised triangles stay in the subscriber's mesh once, the live ones follow the map.
-  const Mesh published = subscriber.ToMesh();
-  const auto published_set = TriangleSet(published);
-  EXPECT_EQ(published_set.size(), published.num_triangles()) << "a triangle was published twice";
-  const auto live = TriangleSet(map.ExtractMesh());
-  EXPECT_TRUE(std::includes(published_set.begin(), published_set.end(), live.begin(), live.end()));
-  const std::size_t finalised_triangles = published_set.size() - live.size();
-  std::cout << "live points " << s.num_points << ", cells " << s.num_cells << " (max frames 15-30: " << max_early
-            << ", last 15: " << max_late << "), finalised triangles " << finalised_triangles << "\n";
+  std::cout << "live points " << s.num_points << ", cells " << s.num_cells
+            << " (max frames 15-30: " << max_early << ", last 15: " << max_late << "), finalised triangles "
+            << finalised_triangles << "\n";
   EXPECT_LE(s.num_points, 200u * 13);  // at most the last 8 + 4 + 1 frames live
   EXPECT_LT(double(max_late), 1.3 * double(max_early));
   EXPECT_GT(finalised_triangles, 1000u);

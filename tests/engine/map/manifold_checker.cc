@@ -1,11 +1,10 @@
 #include "tests/engine/map/manifold_checker.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <map>
 #include <set>
 #include <sstream>
-
-#include <Eigen/Geometry>
 
 namespace semap::test {
 namespace {
@@ -29,8 +28,8 @@ ManifoldReport CheckManifold(const Mesh& mesh, bool allow_boundary) {
   ManifoldReport r;
   const std::size_t n = mesh.vertices.size();
   std::set<std::array<std::uint32_t, 3>> seen;
-  std::map<Edge, int> directed;                                  // directed edge → count
-  std::vector<std::vector<Edge>> link(n);                        // per vertex: the opposite edges
+  std::map<Edge, int> directed;            // directed edge → count
+  std::vector<std::vector<Edge>> link(n);  // per vertex: the opposite edges
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     if (tri[0] >= n || tri[1] >= n || tri[2] >= n) {
@@ -59,7 +58,8 @@ ManifoldReport CheckManifold(const Mesh& mesh, bool allow_boundary) {
   }
   // Undirected edge counts.
   std::map<Edge, int> undirected;
-  for (const auto& [e, count] : directed) undirected[{std::min(e.first, e.second), std::max(e.first, e.second)}] += count;
+  for (const auto& [e, count] : directed)
+    undirected[{std::min(e.first, e.second), std::max(e.first, e.second)}] += count;
   for (const auto& [e, count] : undirected) {
     if (count == 1) ++r.num_boundary_edges;
     if (count > 2 || (count == 1 && !allow_boundary)) {

@@ -1,13 +1,12 @@
 // Helpers shared by the map tests: mesh-to-ground-truth error and simple clouds.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <functional>
 #include <optional>
-
-#include <Eigen/Geometry>
+#include <vector>
 
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh.h"
@@ -24,7 +23,8 @@ struct SurfaceError {
 
 // Distance to the ground truth sampled on every triangle (its vertices, edge midpoints and centroid),
 // weighted equally per sample.
-inline SurfaceError MeshError(const Mesh& mesh, const std::function<double(const Eigen::Vector3d&)>& distance) {
+inline SurfaceError MeshError(const Mesh& mesh,
+                              const std::function<double(const Eigen::Vector3d&)>& distance) {
   SurfaceError e;
   double sum = 0.0, sum_sq = 0.0;
   std::vector<double> all;

@@ -3,10 +3,9 @@
 // World frame: x right, y forward, z up.
 #pragma once
 
+#include <Eigen/Core>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/labelled_cloud.h"
 
@@ -22,8 +21,10 @@ struct StreetScene {
 
   // Exact distance from p to the nearest surface.
   double Distance(const Eigen::Vector3d& p) const;
-  // First hit of the ray origin + t·dir (t > 0), with the label of the surface hit (1 road, 3 building, 14 car).
-  std::optional<std::pair<double, Label>> Cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
+  // First hit of the ray origin + t·dir (t > 0), with the label of the surface hit (1 road, 3 building, 14
+  // car).
+  std::optional<std::pair<double, Label>> Cast(const Eigen::Vector3d& origin,
+                                               const Eigen::Vector3d& dir) const;
   Eigen::Vector3d CameraCenter(double y_m) const { return {0.0, y_m, camera_height_m}; }
 };
 
@@ -31,10 +32,10 @@ struct StreetSamplingOptions {
   int num_cameras = 10;
   double first_camera_y_m = 0.0;
   double camera_step_m = 1.0;
-  int rays_x = 60;             // samples per image row (a pinhole image of ±45° horizontal, ±30° vertical)
+  int rays_x = 60;  // samples per image row (a pinhole image of ±45° horizontal, ±30° vertical)
   int rays_z = 40;
   double max_range_m = 30.0;
-  double noise_m = 0.0;        // isotropic Gaussian noise added to each point (seeded)
+  double noise_m = 0.0;  // isotropic Gaussian noise added to each point (seeded)
   unsigned seed = 1;
 };
 

@@ -1,8 +1,8 @@
 #include "engine/map/internal/vote_weights.h"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 namespace semap::map_internal {
 namespace {
