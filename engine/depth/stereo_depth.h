@@ -63,8 +63,9 @@ struct DepthOptions {
   // Only every pixel_stride-th pixel on every pixel_stride-th row gives a point (1 = every pixel). With
   // half_resolution the stride is doubled (one point per matched half-resolution pixel, no duplicates).
   int pixel_stride = 1;
-  // Upper bound on the points per frame after the stride (uniform decimation); 0 = no bound.
-  int max_points_per_frame = 0;
+  // Point budget per frame after the stride, by uniform decimation (0 = dense). The default is what the
+  // incremental map sustains at about 1 frame/s on one core (bench/RESULTS.md); dense SGBM frames have ~350k.
+  int max_points_per_frame = 10000;
   // Pixels whose confidence is below this give no point. The default 1 keeps matched pixels only: the filled
   // pixels improve the disparity map (D1) but are guesses, kept out of the map.
   float min_point_confidence = 1.0f;

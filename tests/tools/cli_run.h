@@ -15,9 +15,10 @@ struct CliRun {
   bool Has(const std::string& text) const { return output.find(text) != std::string::npos; }
 };
 
-inline CliRun RunSemap(const std::string& args) {
+// Runs `command` through the shell, stderr merged into the output.
+inline CliRun RunShell(const std::string& command) {
   CliRun r;
-  const std::string cmd = std::string(SEMAP_EXE) + " " + args + " 2>&1";
+  const std::string cmd = command + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
   std::array<char, 4096> buf{};
@@ -27,5 +28,8 @@ inline CliRun RunSemap(const std::string& args) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1000 - WTERMSIG(status);
   return r;
 }
+
+// Runs the semap executable under test (SEMAP_EXE) with `args`.
+inline CliRun RunSemap(const std::string& args) { return RunShell(std::string(SEMAP_EXE) + " " + args); }
 
 }  // namespace semap::test

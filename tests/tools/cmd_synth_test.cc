@@ -9,31 +9,15 @@
 #include <string>
 
 #include "tests/common/test_data.h"
+#include "tests/tools/cli_run.h"
 
 namespace semap::tools {
 namespace {
 
+using test::CliRun;
+using test::RunSemap;
+
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-CliRun RunSemap(const std::string& args) {
-  CliRun r;
-  const std::string cmd = std::string(SEMAP_EXE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  size_t n = 0;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1000 - WTERMSIG(status);
-  return r;
-}
-
-bool Has(const CliRun& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 
 // Small images keep the test fast; --set reaches the synth config section.
 const std::string kSmall =
@@ -45,8 +29,8 @@ TEST(SemapSynth, WritesAKittiRawSequence) {
   const CliRun r = RunSemap("synth --preset vegetated --frames 3 --seed 4 --speed-mps 5 --turns 0 --out " +
                             out.string() + kSmall);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_TRUE(Has(r, "wrote 3 frames")) << r.output;
-  EXPECT_TRUE(Has(r, "class composition")) << r.output;
+  EXPECT_TRUE(r.Has("wrote 3 frames")) << r.output;
+  EXPECT_TRUE(r.Has("class composition")) << r.output;
   const fs::path drive = out / "2026_01_01" / "2026_01_01_drive_0001_sync";
   for (const char* f : {"image_02/data/0000000002.png", "image_03/data/0000000002.png",
                         "velodyne_points/data/0000000002.bin", "oxts/data/0000000002.txt",
@@ -65,7 +49,7 @@ TEST(SemapSynth, BadArgumentsAreUsageErrors) {
   EXPECT_EQ(RunSemap("synth --frames 2").exit_code, 2);  // --out is required
   const CliRun r = RunSemap("synth --frames 2 --set synth.block_pitch_m=10 --out " + out.string());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r, "block_pitch_m")) << r.output;
+  EXPECT_TRUE(r.Has("block_pitch_m")) << r.output;
   EXPECT_FALSE(fs::exists(out));
 }
 
