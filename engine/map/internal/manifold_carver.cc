@@ -61,19 +61,71 @@ bool ManifoldCarver::IsRegular(VertexHandle v) {
   return steps == edges_.size();
 }
 
-bool ManifoldCarver::AllVerticesRegular(CellHandle cell) {
-  for (int k = 0; k < 4; ++k) {
-    if (!IsRegular(cell->vertex(k))) return false;
+// The link of a vertex v is a triangulated sphere; the carved cells around v are a set K of its triangles, and
+// v is regular iff K is empty, the whole sphere or a closed disk (its boundary one simple cycle). Carving a
+// cell c adds one triangle t to K; its three edges are shared with the link triangles of the three neighbours
+// of c across the facets through v. With K regular before and E of those edges already in K:
+//  - E = 3: t was the whole complement of K, K ∪ t is the sphere: regular;
+//  - E = 2: t is glued along two consecutive boundary edges of the disk K: still a disk, regular;
+//  - E = 1: t is glued along one boundary edge; a disk iff the opposite link vertex w of t is not in K
+//    (otherwise the boundary would touch itself at w), i.e. no carved cell around the edge (v, w);
+//  - E = 0: not regular if a vertex of t is in K (pinch); otherwise regular iff K is empty, which needs the
+//    whole star: left to IsRegular.
+ManifoldCarver::Verdict ManifoldCarver::CarveVerdict(CellHandle cell, int iv) const {
+  int carved_edges = 0;
+  for (int j = 0; j < 4; ++j) {
+    if (j == iv) continue;
+    if (cell->neighbor(j)->info().carved) ++carved_edges;
   }
-  return true;
+  if (carved_edges >= 2) return Verdict::kRegular;
+  if (carved_edges == 1) {
+    // The carved neighbour is across the facet opposite w; w is the vertex opposite that facet.
+    for (int j = 0; j < 4; ++j) {
+      if (j == iv || !cell->neighbor(j)->info().carved) continue;
+      return EdgeTouchesCarved(cell, iv, j) ? Verdict::kNotRegular : Verdict::kRegular;
+    }
+  }
+  for (int j = 0; j < 4; ++j) {
+    if (j != iv && EdgeTouchesCarved(cell, iv, j)) return Verdict::kNotRegular;
+  }
+  return Verdict::kUnknown;
+}
+
+bool ManifoldCarver::EdgeTouchesCarved(CellHandle cell, int i, int j) const {
+  const Delaunay::Cell_circulator start = dt_->incident_cells(cell, i, j);
+  Delaunay::Cell_circulator c = start;
+  do {
+    if (c->info().carved) return true;
+  } while (++c != start);
+  return false;
 }
 
 bool ManifoldCarver::TryCarve(CellHandle cell) {
   if (cell->info().carved || dt_->is_infinite(cell)) return false;
+  // Every vertex is regular before (the carver's invariant), so the local verdicts decide most cases.
+  VertexHandle unknown[4];
+  int num_unknown = 0;
+  for (int k = 0; k < 4; ++k) {
+    switch (CarveVerdict(cell, k)) {
+      case Verdict::kNotRegular:
+        ++num_tests_;
+        return false;
+      case Verdict::kUnknown:
+        unknown[num_unknown++] = cell->vertex(k);
+        break;
+      case Verdict::kRegular:
+        ++num_tests_;
+        break;
+    }
+  }
   cell->info().carved = true;
-  if (AllVerticesRegular(cell)) return true;
-  cell->info().carved = false;
-  return false;
+  for (int k = 0; k < num_unknown; ++k) {
+    if (!IsRegular(unknown[k])) {
+      cell->info().carved = false;
+      return false;
+    }
+  }
+  return true;
 }
 
 std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
