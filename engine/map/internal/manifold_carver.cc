@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <queue>
+#include <unordered_map>
 
 namespace semap::map_internal {
 namespace {
@@ -166,10 +167,27 @@ std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
 }
 
 void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<CellHandle>* uncarved) {
+  // A stack of vertices to test. An entry with a later push of the same vertex is skipped: that later entry
+  // was popped first, and every change of the vertex's link since then pushed it again above, so the earlier
+  // test would find it regular (its last test left it regular) and do nothing. Same result, far fewer tests.
+  struct Entry {
+    VertexHandle vertex;
+    std::uint64_t push_number;
+  };
+  std::vector<Entry> stack;
+  std::unordered_map<const void*, std::uint64_t> last_push;  // vertex → its latest push number
+  std::uint64_t pushes = 0;
+  auto push = [&](VertexHandle v) {
+    last_push[&*v] = pushes;
+    stack.push_back({v, pushes++});
+  };
+  for (const VertexHandle v : vertices) push(v);
   std::vector<CellHandle> star;
-  while (!vertices.empty()) {
-    const VertexHandle v = vertices.back();
-    vertices.pop_back();
+  while (!stack.empty()) {
+    const Entry entry = stack.back();
+    stack.pop_back();
+    const VertexHandle v = entry.vertex;
+    if (last_push.at(&*v) != entry.push_number) continue;
     if (dt_->is_infinite(v) || IsRegular(v)) continue;
     star.clear();
     dt_->incident_cells(v, std::back_inserter(star));
@@ -177,7 +195,7 @@ void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<Cell
       if (!c->info().carved) continue;
       c->info().carved = false;
       uncarved->push_back(c);
-      for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
+      for (int k = 0; k < 4; ++k) push(c->vertex(k));
     }
   }
 }
