@@ -98,7 +98,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
     c->info().stamp = touch_mark_;
     touched_.push_back(c);
   }
-  for (std::uint32_t ray : retrace) ApplyRay(ray, +1, /*only_created=*/true);
+  TraceRays(retrace, /*only_created=*/true);
   result->rays_retraced += retrace.size();
   result->cells_uncarved += uncarved.size() - lost.size() + ShrinkNonFree();
   result->cells_carved += Regrow();

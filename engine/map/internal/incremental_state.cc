@@ -4,6 +4,9 @@
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
@@ -103,7 +106,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
     }
   }
   touch_mark_ = touch_mark;
-  for (std::uint32_t ray : affected) ApplyRay(ray, +1, /*only_created=*/true);
+  TraceRays(affected, /*only_created=*/true);
   std::vector<std::uint32_t> created;
   for (const auto& [point, camera] : new_rays) {
     const std::uint32_t ray = rays_.Add(point, camera);
@@ -261,32 +264,53 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
 }
 
 void IncrementalState::ApplyRay(std::uint32_t ray, int sign, bool only_created) {
-  RayRecord& r = rays_[ray];
-  const PointRecord& point = points_.at(r.point);
-  const CameraRecord& camera = cameras_.at(r.camera);
-  if (ComputeRayVotes(dt_, point.vertex, camera.center, geometry_, &votes_,
-                      only_created ? created_mark_ : 0)) {
-    ++counters_.rays_traced;
-    counters_.cells_visited += votes_.entries.size();
-    for (const RayVotes::Entry& e : votes_.entries) {
-      CellInfo& info = e.cell->info();
-      (e.matter ? info.matter_q : info.free_q) += sign * e.weight_q;
-      if (sign > 0) {
-        rays_.AddRef(e.cell, ray);
-        if (info.stamp != touch_mark_) {
-          info.stamp = touch_mark_;
-          touched_.push_back(e.cell);
-        }
-      } else {
-        decreased_.push_back(e.cell);
-      }
-    }
-  }
-  if (sign < 0) ++r.epoch;
+  if (ComputeVotes(ray, only_created, &votes_)) ApplyVotes(ray, sign, votes_);
+  if (sign < 0) ++rays_[ray].epoch;
 }
 
-void IncrementalState::TraceRays(const std::vector<std::uint32_t>& rays) {
-  for (std::uint32_t ray : rays) ApplyRay(ray, +1);
+bool IncrementalState::ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const {
+  const RayRecord& r = rays_[ray];
+  return ComputeRayVotes(dt_, points_.at(r.point).vertex, cameras_.at(r.camera).center, geometry_, votes,
+                         only_created ? created_mark_ : 0);
+}
+
+void IncrementalState::ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes) {
+  ++counters_.rays_traced;
+  counters_.cells_visited += votes.entries.size();
+  for (const RayVotes::Entry& e : votes.entries) {
+    CellInfo& info = e.cell->info();
+    (e.matter ? info.matter_q : info.free_q) += sign * e.weight_q;
+    if (sign > 0) {
+      rays_.AddRef(e.cell, ray);
+      if (info.stamp != touch_mark_) {
+        info.stamp = touch_mark_;
+        touched_.push_back(e.cell);
+      }
+    } else {
+      decreased_.push_back(e.cell);
+    }
+  }
+}
+
+void IncrementalState::TraceRays(const std::vector<std::uint32_t>& rays, bool only_created) {
+  // Rays per parallel batch: enough work per batch for the threads, bounded memory for the buffered votes.
+  constexpr std::size_t kBatchRays = 2048;
+  constexpr std::size_t kGrainRays = 16;
+  std::vector<RayVotes> votes(std::min(kBatchRays, rays.size()));
+  std::vector<std::uint8_t> valid(votes.size());
+  for (std::size_t begin = 0; begin < rays.size(); begin += kBatchRays) {
+    const std::size_t count = std::min(kBatchRays, rays.size() - begin);
+    // Walks only: nothing below writes to the triangulation, the rays or the point and camera records.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrainRays),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          valid[i] = ComputeVotes(rays[begin + i], only_created, &votes[i]) ? 1 : 0;
+                        }
+                      });
+    for (std::size_t i = 0; i < count; ++i) {
+      if (valid[i]) ApplyVotes(rays[begin + i], +1, votes[i]);
+    }
+  }
 }
 
 std::size_t IncrementalState::ShrinkNonFree() {

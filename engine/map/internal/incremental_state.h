@@ -59,7 +59,9 @@ class IncrementalState {
   // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
   void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
-  void TraceRays(const std::vector<std::uint32_t>& rays);
+  // Traces `rays` (+1) like ApplyRay, with the walks run in parallel (they only read the triangulation) and
+  // their votes applied in the order of `rays`, so the result does not depend on the thread count.
+  void TraceRays(const std::vector<std::uint32_t>& rays, bool only_created = false);
   std::size_t Regrow();
   void Finalise(MapUpdateResult* result);
   void EmitFinalisedFacets(const std::vector<VertexHandle>& vertices);
@@ -68,6 +70,9 @@ class IncrementalState {
   // With `only_created`, the votes go to the cells created in this update only: the ray's votes in the cells
   // that survived the change are still there (same cell, same point, same weight).
   void ApplyRay(std::uint32_t ray, int sign, bool only_created = false);
+  // The two halves of ApplyRay: the walk (const, safe to run concurrently) and the bookkeeping.
+  bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
+  void ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes);
   std::uint32_t NewMark() { return ++mark_; }
   AttributeLookup Attributes() const;
 

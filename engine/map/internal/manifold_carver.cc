@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <queue>
+#include <unordered_map>
 
 namespace semap::map_internal {
 namespace {
@@ -61,19 +62,71 @@ bool ManifoldCarver::IsRegular(VertexHandle v) {
   return steps == edges_.size();
 }
 
-bool ManifoldCarver::AllVerticesRegular(CellHandle cell) {
-  for (int k = 0; k < 4; ++k) {
-    if (!IsRegular(cell->vertex(k))) return false;
+// The link of a vertex v is a triangulated sphere; the carved cells around v are a set K of its triangles, and
+// v is regular iff K is empty, the whole sphere or a closed disk (its boundary one simple cycle). Carving a
+// cell c adds one triangle t to K; its three edges are shared with the link triangles of the three neighbours
+// of c across the facets through v. With K regular before and E of those edges already in K:
+//  - E = 3: t was the whole complement of K, K ∪ t is the sphere: regular;
+//  - E = 2: t is glued along two consecutive boundary edges of the disk K: still a disk, regular;
+//  - E = 1: t is glued along one boundary edge; a disk iff the opposite link vertex w of t is not in K
+//    (otherwise the boundary would touch itself at w), i.e. no carved cell around the edge (v, w);
+//  - E = 0: not regular if a vertex of t is in K (pinch); otherwise regular iff K is empty, which needs the
+//    whole star: left to IsRegular.
+ManifoldCarver::Verdict ManifoldCarver::CarveVerdict(CellHandle cell, int iv) const {
+  int carved_edges = 0;
+  for (int j = 0; j < 4; ++j) {
+    if (j == iv) continue;
+    if (cell->neighbor(j)->info().carved) ++carved_edges;
   }
-  return true;
+  if (carved_edges >= 2) return Verdict::kRegular;
+  if (carved_edges == 1) {
+    // The carved neighbour is across the facet opposite w; w is the vertex opposite that facet.
+    for (int j = 0; j < 4; ++j) {
+      if (j == iv || !cell->neighbor(j)->info().carved) continue;
+      return EdgeTouchesCarved(cell, iv, j) ? Verdict::kNotRegular : Verdict::kRegular;
+    }
+  }
+  for (int j = 0; j < 4; ++j) {
+    if (j != iv && EdgeTouchesCarved(cell, iv, j)) return Verdict::kNotRegular;
+  }
+  return Verdict::kUnknown;
+}
+
+bool ManifoldCarver::EdgeTouchesCarved(CellHandle cell, int i, int j) const {
+  const Delaunay::Cell_circulator start = dt_->incident_cells(cell, i, j);
+  Delaunay::Cell_circulator c = start;
+  do {
+    if (c->info().carved) return true;
+  } while (++c != start);
+  return false;
 }
 
 bool ManifoldCarver::TryCarve(CellHandle cell) {
   if (cell->info().carved || dt_->is_infinite(cell)) return false;
+  // Every vertex is regular before (the carver's invariant), so the local verdicts decide most cases.
+  VertexHandle unknown[4];
+  int num_unknown = 0;
+  for (int k = 0; k < 4; ++k) {
+    switch (CarveVerdict(cell, k)) {
+      case Verdict::kNotRegular:
+        ++num_tests_;
+        return false;
+      case Verdict::kUnknown:
+        unknown[num_unknown++] = cell->vertex(k);
+        break;
+      case Verdict::kRegular:
+        ++num_tests_;
+        break;
+    }
+  }
   cell->info().carved = true;
-  if (AllVerticesRegular(cell)) return true;
-  cell->info().carved = false;
-  return false;
+  for (int k = 0; k < num_unknown; ++k) {
+    if (!IsRegular(unknown[k])) {
+      cell->info().carved = false;
+      return false;
+    }
+  }
+  return true;
 }
 
 std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
@@ -114,10 +167,27 @@ std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
 }
 
 void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<CellHandle>* uncarved) {
+  // A stack of vertices to test. An entry with a later push of the same vertex is skipped: that later entry
+  // was popped first, and every change of the vertex's link since then pushed it again above, so the earlier
+  // test would find it regular (its last test left it regular) and do nothing. Same result, far fewer tests.
+  struct Entry {
+    VertexHandle vertex;
+    std::uint64_t push_number;
+  };
+  std::vector<Entry> stack;
+  std::unordered_map<const void*, std::uint64_t> last_push;  // vertex → its latest push number
+  std::uint64_t pushes = 0;
+  auto push = [&](VertexHandle v) {
+    last_push[&*v] = pushes;
+    stack.push_back({v, pushes++});
+  };
+  for (const VertexHandle v : vertices) push(v);
   std::vector<CellHandle> star;
-  while (!vertices.empty()) {
-    const VertexHandle v = vertices.back();
-    vertices.pop_back();
+  while (!stack.empty()) {
+    const Entry entry = stack.back();
+    stack.pop_back();
+    const VertexHandle v = entry.vertex;
+    if (last_push.at(&*v) != entry.push_number) continue;
     if (dt_->is_infinite(v) || IsRegular(v)) continue;
     star.clear();
     dt_->incident_cells(v, std::back_inserter(star));
@@ -125,7 +195,7 @@ void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<Cell
       if (!c->info().carved) continue;
       c->info().carved = false;
       uncarved->push_back(c);
-      for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
+      for (int k = 0; k < 4; ++k) push(c->vertex(k));
     }
   }
 }

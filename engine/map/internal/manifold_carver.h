@@ -44,7 +44,12 @@ class ManifoldCarver {
   std::uint64_t num_tests() const { return num_tests_; }
 
  private:
-  bool AllVerticesRegular(CellHandle cell);
+  // Whether vertex `cell->vertex(iv)`, regular now, stays regular once the uncarved `cell` is carved, decided
+  // from the cells around `cell` only (see TryCarve); kUnknown when only the full link test can tell.
+  enum class Verdict { kRegular, kNotRegular, kUnknown };
+  Verdict CarveVerdict(CellHandle cell, int iv) const;
+  // True when a carved cell is incident to the edge (cell->vertex(i), cell->vertex(j)).
+  bool EdgeTouchesCarved(CellHandle cell, int i, int j) const;
 
   Delaunay* dt_;
   int max_passes_;
