@@ -50,6 +50,8 @@ TEST(LcmLogger, LogOfARunRebuildsTheWrittenMesh) {
   // the test's pipe open; `timeout` bounds the whole thing.
   const std::string script =
       "set -e; ip link set lo up; ip route add 224.0.0.0/4 dev lo; "
+      // Room for a whole mesh message in the receiver's socket (UDP drops fragments that do not fit).
+      "sysctl -q -w net.core.rmem_max=16777216 net.core.rmem_default=16777216 2>/dev/null || true; "
       "lcm-logger -q -f --lcm-url='" + url + "' " + (dir / "run.lcmlog").string() + " >" +
       (dir / "logger.txt").string() + " 2>&1 & logger=\\$!; trap 'kill -INT \\$logger; wait \\$logger' EXIT; "
       "sleep 0.5; " + exe + " run " + (dir / "seq").string() + " --out " + (dir / "out").string() +
