@@ -1,12 +1,12 @@
 // Points/s of every simplification method on a 300k-point labelled frame-like cloud, on one core
 // (TBB limited to one thread), and per-frame time of the WindowedSimplifier on a stream of such frames.
 //   ./build/bench/simplify_bench [--benchmark_filter=...]
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include <benchmark/benchmark.h>
-#include <tbb/global_control.h>
 
 #include "engine/simplify/simplify.h"
 #include "engine/simplify/windowed_simplifier.h"
@@ -101,8 +101,8 @@ void BM_Simplify(benchmark::State& state, SimplifyMethod method) {
   }
   state.counters["points"] = static_cast<double>(cloud.size());
   state.counters["kept%"] = 100.0 * static_cast<double>(kept) / static_cast<double>(cloud.size());
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(cloud.size()),
-                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] =
+      benchmark::Counter(static_cast<double>(cloud.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // One WindowedSimplifier over a drive at 1 m per frame; the time per frame (after a 5-frame warm-up that
