@@ -17,11 +17,11 @@ namespace {
 constexpr Label kRoad = 1, kSidewalk = 2, kBuilding = 3, kCar = 14;
 
 // A stereo-like frame of a street seen from a camera at x = camera_x, 1.65 m high, looking along +x
-// (world: x forward, y left, z up): rays through a 1000 x 300 pixel grid (fx = 700 px) hit the road
+// (world: x forward, y left, z up): rays through a 1100 x 306 pixel grid (fx = 700 px) hit the road
 // (|y| < 5 m), sidewalks (5-8 m), building walls (|y| = 8 m, up to 12 m high) and car boxes, up to 40 m;
 // depth noise grows with range² like SGBM's (σ = 0.002 m at 1 m). About 300k points.
 LabelledCloud StreetFrame(double camera_x, std::uint64_t seed) {
-  constexpr int kWidth = 1000, kHeight = 300;
+  constexpr int kWidth = 1100, kHeight = 306;
   constexpr double kFocalPx = 700.0, kHeightM = 1.65, kMaxRangeM = 40.0, kNoiseAt1M = 0.002;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, 1.0);
