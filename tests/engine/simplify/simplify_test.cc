@@ -233,3 +233,37 @@ TEST(Simplify, RankingRemovesTiltedPointsFirst) {
 
 }  // namespace
 }  // namespace semap
+
+namespace semap {
+namespace {
+
+TEST(Simplify, EmptyUnlabelledAndCameralessClouds) {
+  const LabelledCloud empty;
+  LabelledCloud unlabelled = test::MakeScene();
+  unlabelled.labels.clear();
+  LabelledCloud no_cameras = test::MakeScene();
+  no_cameras.camera_index.clear();
+  no_cameras.camera_centers_world.clear();
+  no_cameras.camera_frame_ids.clear();
+  for (auto m : AllSimplifyMethods()) {
+    SCOPED_TRACE(SimplifyMethodName(m));
+    SimplifyOptions o;
+    o.method = m;
+    const auto r_empty = Simplify(empty, ClassMap::Cityscapes(), o);
+    EXPECT_EQ(r_empty.kept(), 0u);
+    EXPECT_TRUE(r_empty.per_class.empty());
+    // Without labels every point is "Unlabeled" (role keep): semantic methods keep everything.
+    const auto r_unlabelled = Simplify(unlabelled, ClassMap::Cityscapes(), o);
+    if (IsSemanticMethod(m)) {
+      EXPECT_EQ(r_unlabelled.kept(), unlabelled.size());
+    }
+    // Without cameras normals are oriented along the class plane: still simplifies the targets.
+    const auto r_no_cameras = Simplify(no_cameras, ClassMap::Cityscapes(), o);
+    if (IsSemanticMethod(m)) {
+      EXPECT_LT(r_no_cameras.kept(), no_cameras.size());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace semap
