@@ -22,6 +22,11 @@
 //   when a uniform draw in [0, 1) exceeds P_c. Points in no region are kept (the paper notes that some areas
 //   may stay uncovered). Deciding once (rather than removing a point whenever any region's draw fails)
 //   keeps the kept share of an interior area near E[P_I] instead of compounding the overlaps.
+// - Streaming (windowed contexts, decided points present): like LS's quota, the decided points of the
+//   group inside a region count against what the region would keep: with E = Σ P_c over the region's
+//   candidates (what a fresh frame would keep there) and K the decided points, every candidate's P_c is
+//   multiplied by max(0, 1 − K / E); a region already holding E decided points keeps no new ones. In batch
+//   mode (no decided points) the factor is 1 and PS is exactly the paper's.
 // - PSB: the whole cloud is one group and P_c = P_I everywhere (no boundaries without semantics).
 #include <algorithm>
 #include <cmath>
@@ -183,14 +188,33 @@ MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const Si
       }
       boundary = FitBoundary(xy, positive, o.region_radius_m, o.ps_svm_c);
     }
+    auto conservation = [&](std::uint32_t j) {
+      const Eigen::Vector2d x = plane.Project(pts[j]) - mu;
+      return boundary
+                 ? PsBoundaryProbability(boundary->normal.dot(x) + boundary->offset, o.ps_boundary_sigma_m)
+                 : PsInteriorProbability(x.squaredNorm(), d_norm, o.ps_interior_sigma_m);
+    };
+    // Streaming gate (1 in batch mode): the decided points of the group in the region count against what
+    // the region would keep of its candidates, P_c' = P_c · max(0, 1 − decided / Σ P_c(candidates)).
+    double gate = 1.0;
+    if (in.num_fixed > 0) {
+      std::size_t decided_points = 0;
+      double expected_kept = 0.0;
+      for (auto j : region) {
+        if (in.groups[j] != g) continue;
+        if (in.IsCandidate(j)) {
+          expected_kept += conservation(j);
+        } else {
+          ++decided_points;
+        }
+      }
+      gate = expected_kept > 0.0 ? std::max(0.0, 1.0 - static_cast<double>(decided_points) / expected_kept)
+                                 : 0.0;
+    }
     for (auto j : region) {
       if (in.groups[j] != g || !in.IsCandidate(j) || decided[j]) continue;
       decided[j] = 1;
-      const Eigen::Vector2d x = plane.Project(pts[j]) - mu;
-      const double p_conserve =
-          boundary ? PsBoundaryProbability(boundary->normal.dot(x) + boundary->offset, o.ps_boundary_sigma_m)
-                   : PsInteriorProbability(x.squaredNorm(), d_norm, o.ps_interior_sigma_m);
-      if (uniform(rng) > p_conserve) out.removed[j] = 1;
+      if (uniform(rng) > gate * conservation(j)) out.removed[j] = 1;
     }
   }
   return out;
