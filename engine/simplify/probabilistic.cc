@@ -26,7 +26,7 @@
 //   group inside a region count against what the region would keep: with E = Σ P_c over the region's
 //   candidates (what a fresh frame would keep there) and K the decided points, every candidate's P_c is
 //   multiplied by max(0, 1 − K / E); a region already holding E decided points keeps no new ones. In batch
-//   mode (no decided points) the factor is 1 and PS is exactly the paper's.
+//   mode (no decided points) the factor is 1.
 // - PSB: the whole cloud is one group and P_c = P_I everywhere (no boundaries without semantics).
 #include <algorithm>
 #include <cmath>
