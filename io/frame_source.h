@@ -6,15 +6,21 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "engine/core/class_map.h"
 #include "engine/core/frame.h"
+#include "engine/pipeline/stages.h"
+#include "io/file_error.h"
 
 namespace semap::io {
 
 enum class DatasetLayout { kAuto, kKittiRaw, kKittiOdometry, kKittiStereo2015 };
 
 const char* DatasetLayoutName(DatasetLayout layout);
+
+// Which stereo pair of a KITTI odometry sequence is read.
+enum class CameraPair { kAuto, kGray, kColor };
 
 struct FrameSourceOptions {
   // Layout of the dataset folder; auto detects it from the folder's contents.
@@ -30,20 +36,25 @@ struct FrameSourceOptions {
   std::string labels_dir;
   // YAML class map naming the id scheme of the label images; empty = Cityscapes 20 classes.
   std::string class_map;
+  // Odometry layout: gray pair (image_0/1) or colour pair (image_2/3); auto = colour when present.
+  CameraPair odometry_pair = CameraPair::kAuto;
+  // Frame period used for timestamps when the dataset has none (KITTI records at 10 Hz).
+  double default_frame_period_s = 0.1;
 
   void Check() const;
 };
 
 // A lazily read sequence of frames. Not thread-safe: one consumer calls Next().
-class FrameSource {
+// It is the pipeline's FrameReader: `semap run` hands it to the Pipeline as is.
+class FrameSource : public FrameReader {
  public:
-  virtual ~FrameSource() = default;
+  ~FrameSource() override = default;
   virtual DatasetLayout layout() const = 0;
   // Total number of frames this source will yield (after first_frame / max_frames).
   virtual std::int64_t size() const = 0;
   // The next frame, or std::nullopt at the end. A frame that cannot be read throws FrameError (the
   // caller logs, counts and goes on with the next one).
-  virtual std::optional<Frame> Next() = 0;
+  std::optional<Frame> Next() override = 0;
   virtual const ClassMap& class_map() const = 0;
 };
 
@@ -57,5 +68,40 @@ class FrameError : public std::runtime_error {
  private:
   std::int64_t frame_id_;
 };
+
+// What a dataset folder holds, as `semap info` reports it (nothing but the first image's header is read).
+struct SequenceInfo {
+  DatasetLayout layout = DatasetLayout::kAuto;
+  std::filesystem::path root;           // the drive / sequence / subset folder the frames come from
+  std::filesystem::path left_dir;       // folder of the left images
+  std::int64_t num_frames = 0;          // frames selected by first_frame / max_frames
+  std::int64_t num_frames_on_disk = 0;  // left images in the folder
+  std::int64_t first_frame_id = 0;      // ids (as on disk) of the first and last selected frames
+  std::int64_t last_frame_id = 0;
+  bool color = false;             // colour (BGR) or gray images
+  StereoCalibration calibration;  // image size from the first selected left image
+  bool has_poses = false;
+  bool has_timestamps = false;  // false: timestamps are id × default_frame_period_s
+  bool has_velodyne = false;    // scans and their calibration present
+  std::optional<Pose3d> cam_from_velo;
+  bool has_labels = false;
+  std::filesystem::path labels_dir;
+  std::vector<std::filesystem::path> label_files;  // the selected frames' label images that exist
+  ClassMap class_map;
+  std::vector<std::string> notes;  // why something present on disk is not used
+};
+
+// The layout of the dataset at `path` (raw drive / date folder, odometry root or sequence folder, stereo-2015
+// folder). Throws FileError naming the path when it is missing or matches no layout.
+DatasetLayout DetectLayout(const std::filesystem::path& path);
+
+// Opens the dataset at `path` for streaming (layout from options, or detected). Throws FileError (naming
+// the file and the problem) or InvalidOption when the dataset cannot be used at all: missing folder,
+// missing or bad calibration, poses or timestamps file shorter than the frames, bad class map.
+std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,
+                                             const FrameSourceOptions& options);
+
+// Describes the dataset as OpenFrameSource would read it (same errors).
+SequenceInfo DescribeDataset(const std::filesystem::path& path, const FrameSourceOptions& options);
 
 }  // namespace semap::io

@@ -37,5 +37,6 @@ using RegisterFn = void (*)(CLI::App& app, int* exit_code);
 void RegisterConfigCommand(CLI::App& app, int* exit_code);
 void RegisterLcmMeshCommand(CLI::App& app, int* exit_code);
 void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
+void RegisterInfoCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

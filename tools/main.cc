@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
       RegisterConfigCommand,
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,
+      RegisterInfoCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

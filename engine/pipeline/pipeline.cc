@@ -245,6 +245,20 @@ struct Pipeline::Impl {
     to_output.PushEnd();
   }
 
+  // A sink that throws (e.g. its output folder became unwritable) does not stop the run: the error is
+  // recorded in the summary and the sink is called again for the next frames.
+  template <typename Call>
+  void ForEachSink(PipelineSummary* summary, Call&& call) {
+    for (auto* s : p.sinks_) {
+      try {
+        call(*s);
+      } catch (const std::exception& e) {
+        ++summary->sink_errors;
+        if (summary->first_sink_error.empty()) summary->first_sink_error = e.what();
+      }
+    }
+  }
+
   void OutputLoop(PipelineSummary* summary) {
     std::array<TimingStats, kNumStages> timing;
     FrameStats stats;
@@ -254,7 +268,7 @@ struct Pipeline::Impl {
       stats.frames_dropped = frames_dropped.load();
       if (item->final) {
         if (item->failed()) {
-          for (auto* s : p.sinks_) s->OnFrameError(-1, item->error_stage, item->error);
+          ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
         }
         stats.map_vertices = item->update.vertices;
         stats.map_cells = item->update.cells;
@@ -262,12 +276,12 @@ struct Pipeline::Impl {
         stats.mesh_triangles = item->update.mesh_triangles;
         stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
         stats.rss_mb = CurrentRssMb();
-        for (auto* s : p.sinks_) s->OnFinish(stats, item->update.delta);
+        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
         continue;
       }
       if (item->failed()) {
         ++stats.frames_failed;
-        for (auto* s : p.sinks_) s->OnFrameError(item->frame_id, item->error_stage, item->error);
+        ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(item->frame_id, item->error_stage, item->error); });
         continue;
       }
       ++stats.frames_processed;
@@ -291,7 +305,7 @@ struct Pipeline::Impl {
       stats.map_rays = item->update.rays;
       stats.mesh_triangles = item->update.mesh_triangles;
       stats.rss_mb = CurrentRssMb();
-      for (auto* s : p.sinks_) s->OnFrame(stats, item->update.delta, item->world_from_cam);
+      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
     }
     summary->final_stats = stats;
   }

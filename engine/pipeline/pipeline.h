@@ -41,6 +41,8 @@ struct PipelineSummary {
   std::int64_t frames_read = 0;
   bool stopped_early = false;  // RequestStop() or a stage error with on_error = stop
   std::string fatal_error;     // the error that stopped the run, if any
+  std::int64_t sink_errors = 0;   // exceptions thrown by sinks (the run went on)
+  std::string first_sink_error;
 };
 
 // Owns its stages and threads. Run() may be called once. RequestStop() is thread-safe and

@@ -6,10 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "engine/depth/stereo_depth.h"
+#include "engine/semantics/segmenter.h"
 #include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "engine/pipeline/pipeline.h"
 #include "io/lcm/lcm_publisher.h"
+#include "io/output/output_sinks.h"
 
 namespace semap::io {
 
@@ -23,7 +27,11 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   FrameSourceOptions input;  // where frames come from and what is loaded with them
+  PipelineOptions pipeline;  // stage threads, queues, modes
+  OutputOptions output;      // files written by a run
   LcmOptions lcm;            // mesh / stats publishing over LCM
+  DepthOptions depth;        // stereo matching and point cloud
+  SemanticsOptions semantics;  // where per-pixel labels come from
   SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
 };
 

@@ -19,6 +19,32 @@ void Bind(FieldBinder& b, FrameSourceOptions& o) {
   b.Field("labels_dir", &o.labels_dir,
           "folder of label PNGs, one per frame with the image's stem; empty = the dataset's own if any");
   b.Field("class_map", &o.class_map, "YAML class map of the label ids; empty = Cityscapes 20 classes");
+  b.Enum("odometry_pair", &o.odometry_pair,
+         {{"auto", CameraPair::kAuto}, {"gray", CameraPair::kGray}, {"color", CameraPair::kColor}},
+         "KITTI odometry: stereo pair to read (gray image_0/1, colour image_2/3; auto = colour if present)");
+  b.Field("default_frame_period_s", &o.default_frame_period_s,
+          "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)");
+}
+
+void Bind(FieldBinder& b, PipelineOptions& o) {
+  using M = PipelineOptions::Mode;
+  using E = PipelineOptions::OnError;
+  b.Enum("mode", &o.mode, {{"exhaustive", M::kExhaustive}, {"realtime", M::kRealtime}},
+         "exhaustive: every frame processed (the paper's table); realtime: read at sensor rate, drop when behind");
+  b.Field("realtime_rate_hz", &o.realtime_rate_hz, "realtime mode: frame rate when the sequence has no timestamps");
+  b.Field("depth_workers", &o.depth_workers, "threads running SGBM depth (frames are reordered after them)");
+  b.Field("queue_capacity", &o.queue_capacity, "frames each queue between stages holds at most");
+  b.Enum("on_error", &o.on_error, {{"skip", E::kSkipFrame}, {"stop", E::kStop}},
+         "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
+  b.Field("cpu_affinity", &o.cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+}
+
+void Bind(FieldBinder& b, OutputOptions& o) {
+  b.Field("dir", &o.dir, "output folder (mesh.ply, mesh.off, frames.csv, frames.jsonl, summary.json)");
+  b.Field("mesh_ply", &o.mesh_ply, "write the final mesh as PLY with colour and label");
+  b.Field("mesh_off", &o.mesh_off, "write the final mesh as ASCII OFF (the paper's size measure)");
+  b.Field("ply_ascii", &o.ply_ascii, "ASCII PLY instead of binary little-endian");
+  b.Field("frame_stats", &o.frame_stats, "per-frame statistics as frames.csv and frames.jsonl");
 }
 
 void Bind(FieldBinder& b, LcmOptions& o) {
@@ -30,6 +56,52 @@ void Bind(FieldBinder& b, LcmOptions& o) {
           "full mesh snapshot every N mesh messages for late subscribers (0 = first only; N > 0 keeps the whole "
           "published mesh in memory)");
   b.Field("queue_capacity", &o.queue_capacity, "stats/pose messages queued at most; more are dropped and counted");
+}
+
+void Bind(FieldBinder& b, DepthOptions& o) {
+  b.Field("num_disparities", &o.num_disparities, "disparity search range in px at full resolution (multiple of 16)");
+  b.Field("block_size", &o.block_size, "SGBM matched block size in px (odd, 1..11)");
+  b.Field("p1", &o.p1, "SGBM penalty for 1 px disparity changes; 0 = 8*channels*block_size^2");
+  b.Field("p2", &o.p2, "SGBM penalty for larger disparity changes; 0 = 32*channels*block_size^2");
+  b.Field("uniqueness_ratio", &o.uniqueness_ratio, "margin in % of the best cost over the second best");
+  b.Field("speckle_window_size", &o.speckle_window_size,
+          "speckle filter: largest region in px invalidated (0 = off)");
+  b.Field("speckle_range_px", &o.speckle_range_px, "speckle filter: disparity variation within a region");
+  b.Field("disp12_max_diff_px", &o.disp12_max_diff_px,
+          "left-right consistency check: max left/right disparity difference in px (-1 = off)");
+  b.Field("left_right_max_diff_px", &o.left_right_max_diff_px,
+          "explicit left-right check with a second matching pass: max difference in px (-1 = off)");
+  b.Field("pre_filter_cap", &o.pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
+  b.Enum("mode", &o.mode,
+         {{"sgbm", SgbmMode::kSgbm}, {"hh", SgbmMode::kHh}, {"3way", SgbmMode::kThreeWay}, {"hh4", SgbmMode::kHh4}},
+         "OpenCV SGBM mode");
+  b.Field("half_resolution", &o.half_resolution, "match at half resolution (about 4x faster)");
+  b.Field("fill_max_gap_px", &o.fill_max_gap_px,
+          "fill horizontal gaps up to this many px with the background disparity (0 = off)");
+  b.Field("fill_left_border", &o.fill_left_border,
+          "extend each row's first valid disparity over the unmatched left band (confidence 0)");
+  b.Field("filled_confidence", &o.filled_confidence, "confidence of gap-filled pixels (matched = 1)");
+  b.Field("min_depth_m", &o.min_depth_m, "nearest point kept (camera-frame z, m)");
+  b.Field("max_depth_m", &o.max_depth_m, "farthest point kept (camera-frame z, m)");
+  b.Field("pixel_stride", &o.pixel_stride, "one point every pixel_stride px on every pixel_stride-th row");
+  b.Field("max_points_per_frame", &o.max_points_per_frame, "point budget per frame after the stride (0 = none)");
+  b.Field("min_point_confidence", &o.min_point_confidence, "pixels below this confidence give no point");
+}
+
+void Bind(FieldBinder& b, SemanticsOptions& o) {
+  b.Enum("source", &o.source,
+         {{"auto", LabelSource::kAuto}, {"disk", LabelSource::kDisk}, {"enet", LabelSource::kEnet},
+          {"none", LabelSource::kNone}},
+         "label source: auto = label images from disk when present else unlabelled, enet = built-in segmenter");
+  b.Field("enet_model_path", &o.enet_model_path, "ENet Cityscapes Torch7 model file");
+  b.Field("enet_input_width_px", &o.enet_input_width_px, "ENet input width in px (multiple of 8)");
+  b.Field("enet_input_height_px", &o.enet_input_height_px, "ENet input height in px (multiple of 8)");
+  b.Field("enet_keep_aspect", &o.enet_keep_aspect,
+          "keep the image's aspect ratio in the network input (pad) instead of stretching it");
+  b.Field("enet_threads", &o.enet_threads, "OpenCV threads for ENet (process-wide; 0 = unchanged)");
+  b.Enum("size_mismatch", &o.size_mismatch,
+         {{"resize", LabelSizePolicy::kResizeNearest}, {"refuse", LabelSizePolicy::kRefuse}},
+         "label image of another size than the image: resize with nearest neighbour (warned) or refuse");
 }
 
 void Bind(FieldBinder& b, SimplifyOptions& o) {
@@ -79,7 +151,12 @@ Section MakeSection(std::string name, std::string doc, Options& options) {
 std::vector<Section> BindSections(Config& c) {
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
+  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
+  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
   s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
+  s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
+  s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
+                          c.semantics));
   s.push_back(MakeSection("simplify", "Semantic simplification of ground and walls (paper Sec. III) and baselines.",
                           c.simplify));
   return s;

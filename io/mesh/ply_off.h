@@ -5,24 +5,12 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <stdexcept>
-#include <string>
 
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh.h"
+#include "io/file_error.h"
 
 namespace semap::io {
-
-// A file that cannot be read or written: the message names the path.
-class FileError : public std::runtime_error {
- public:
-  FileError(const std::filesystem::path& path, const std::string& problem)
-      : std::runtime_error(path.string() + ": " + problem), path_(path) {}
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 enum class PlyEncoding { kBinaryLittleEndian, kAscii };
 

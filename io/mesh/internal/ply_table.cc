@@ -10,7 +10,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "io/mesh/ply_off.h"
+#include "io/file_error.h"
 
 namespace semap::io::internal {
 namespace {

@@ -225,6 +225,28 @@ TEST(Pipeline, StopRequestDrainsAndFinishes) {
   EXPECT_EQ(sink.finishes, 1);
 }
 
+TEST(Pipeline, AThrowingSinkDoesNotStopTheRun) {
+  class BrokenSink : public PipelineSink {
+   public:
+    void OnFrame(const FrameStats&, const MeshDelta&, const std::optional<Pose3d>&) override {
+      throw std::runtime_error("/out/stats.csv: not writable");
+    }
+    void OnFinish(const FrameStats&, const MeshDelta&) override { throw std::runtime_error("/out/mesh.ply: disk full"); }
+  };
+  PipelineOptions options;
+  RecordingSink good;
+  BrokenSink broken;
+  Pipeline pipeline(options, std::make_unique<FakeReader>(10), [] { return std::make_unique<FakeDepth>(); },
+                    std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+  pipeline.AddSink(&broken);
+  pipeline.AddSink(&good);
+  const auto summary = pipeline.Run();
+  EXPECT_EQ(good.frames.size(), 10u);
+  EXPECT_EQ(good.finishes, 1);
+  EXPECT_EQ(summary.sink_errors, 11);
+  EXPECT_NE(summary.first_sink_error.find("/out/stats.csv"), std::string::npos);
+}
+
 TEST(PipelineOptions, CheckNamesTheField) {
   PipelineOptions o;
   o.depth_workers = 0;

@@ -1,0 +1,111 @@
+// semap_depth_eval: quality and speed of the depth stage on ../shared/data/kitti_stereo2015_subset.
+// Prints, for the plain OpenCV SGBM reference and for semap's configured depth stage: KITTI D1-all (pixels
+// without a disparity count as errors), density, D1 among estimated pixels, point depth errors against the
+// Velodyne (median, RMSE of |z − z_lidar| within max_depth_m, camera-frame z on both sides) and the time per
+// frame of the depth stage (Compute + ToCloud) on one core (cv::setNumThreads(1)).
+//
+// Usage: semap_depth_eval [--data DIR] [--config FILE] [--set depth.key=value ...] [--no-reference]
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core/utility.hpp>
+
+#include "engine/depth/depth_metrics.h"
+#include "engine/depth/stereo_depth.h"
+#include "io/config/config.h"
+#include "tests/common/kitti2015_subset.h"
+
+namespace {
+
+using semap::DepthOptions;
+
+// The reference of the issue: plain OpenCV SGBM 3-way, 128 disparities, block 5, P1 = 8·3·25,
+// P2 = 32·3·25, every other parameter at OpenCV's create() default (no uniqueness test, no speckle filter).
+DepthOptions PlainSgbmReference(const DepthOptions& base) {
+  DepthOptions o = base;
+  o.mode = semap::SgbmMode::kThreeWay;
+  o.num_disparities = 128;
+  o.block_size = 5;
+  o.p1 = 8 * 3 * 25;
+  o.p2 = 32 * 3 * 25;
+  o.uniqueness_ratio = 0;
+  o.speckle_window_size = 0;
+  o.speckle_range_px = 0;
+  o.disp12_max_diff_px = 0;
+  o.pre_filter_cap = 0;
+  o.half_resolution = false;
+  o.fill_max_gap_px = 0;
+  o.fill_left_border = false;
+  o.min_point_confidence = 1.0f;
+  return o;
+}
+
+void Evaluate(const std::string& title, const DepthOptions& options,
+              const std::vector<semap::test::Stereo2015Frame>& frames) {
+  const semap::StereoDepth depth(options);
+  semap::DisparityMetrics total;
+  std::vector<double> errors;
+  double seconds = 0.0;
+  size_t points = 0;
+  for (const auto& f : frames) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const semap::DisparityResult r = depth.Compute(f.frame.left, f.frame.right);
+    const semap::LabelledCloud cloud = depth.ToCloud(f.frame, r.disparity_px, r.confidence);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    points += cloud.size();
+    total += semap::EvaluateDisparity(r.disparity_px, f.gt_disparity_px);
+    if (f.frame.velodyne) {
+      const cv::Mat lidar = semap::LidarDepthImage(*f.frame.velodyne, f.frame.calibration, options.max_depth_m);
+      const auto e = semap::DepthErrorsAgainstLidar(cloud, semap::Pose3d::Identity(), lidar, options.max_depth_m);
+      errors.insert(errors.end(), e.begin(), e.end());
+    }
+  }
+  const auto stats = semap::SummarizeErrors(errors);
+  const double n = static_cast<double>(frames.size());
+  std::printf("%-28s D1-all %6.2f %%  density %6.2f %%  D1-est %6.2f %%  | LiDAR: %8zu pts median %.3f m "
+              "RMSE %.3f m mean %.3f m | %6.0f pts/frame %7.1f ms/frame\n",
+              title.c_str(), 100.0 * total.d1_all(), 100.0 * total.density(), 100.0 * total.d1_estimated(),
+              stats.count, stats.median_m, stats.rmse_m, stats.mean_abs_m, points / n, 1000.0 * seconds / n);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Depth-stage quality (D1-all, density, LiDAR errors) and speed on the KITTI stereo-2015 subset"};
+  std::string data = std::string(SEMAP_SHARED_DIR) + "/data/kitti_stereo2015_subset";
+  std::string config_path;
+  std::vector<std::string> overrides;
+  bool no_reference = false;
+  bool half = true;
+  int threads = 1;
+  app.add_option("--data", data, "kitti_stereo2015_subset folder");
+  app.add_option("--config", config_path, "YAML config");
+  app.add_option("--set", overrides, "section.key=value overrides");
+  app.add_flag("--no-reference", no_reference, "skip the plain OpenCV SGBM reference");
+  app.add_option("--half", half, "also evaluate the configured stage at half resolution");
+  app.add_option("--threads", threads, "OpenCV threads (1 = one core)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    cv::setNumThreads(threads);
+    const semap::io::Config config = semap::io::LoadConfig(config_path, overrides);
+    std::vector<semap::test::Stereo2015Frame> frames;
+    for (const auto& name : semap::test::ListStereo2015Frames(data)) {
+      frames.push_back(semap::test::LoadStereo2015Frame(data, name));
+    }
+    std::printf("%zu frames from %s, OpenCV threads %d\n", frames.size(), data.c_str(), cv::getNumThreads());
+    if (!no_reference) Evaluate("plain SGBM 3way (reference)", PlainSgbmReference(config.depth), frames);
+    Evaluate("semap depth (config)", config.depth, frames);
+    if (half && !config.depth.half_resolution) {
+      DepthOptions h = config.depth;
+      h.half_resolution = true;
+      Evaluate("semap depth, half res", h, frames);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "semap_depth_eval: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,261 @@
+#include "engine/depth/stereo_depth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "engine/core/check.h"
+#include "engine/depth/internal/disparity_fill.h"
+
+namespace semap {
+namespace {
+
+// OpenCV's fixed-point disparity scale (CV_16S maps hold disparity · 16).
+constexpr float kSgbmDisparityScale = 16.0f;
+// Block sizes OpenCV accepts for SGBM.
+constexpr int kMaxBlockSize = 11;
+constexpr int kDisparityMultiple = 16;
+
+int ToOpenCvMode(SgbmMode mode) {
+  switch (mode) {
+    case SgbmMode::kSgbm:
+      return cv::StereoSGBM::MODE_SGBM;
+    case SgbmMode::kHh:
+      return cv::StereoSGBM::MODE_HH;
+    case SgbmMode::kThreeWay:
+      return cv::StereoSGBM::MODE_SGBM_3WAY;
+    case SgbmMode::kHh4:
+      return cv::StereoSGBM::MODE_HH4;
+  }
+  return cv::StereoSGBM::MODE_SGBM;
+}
+
+std::string Describe(const cv::Mat& m) {
+  return std::to_string(m.cols) + "x" + std::to_string(m.rows) + " with " + std::to_string(m.channels()) +
+         " channel(s), depth " + std::to_string(m.depth());
+}
+
+void CheckPair(const cv::Mat& left, const cv::Mat& right) {
+  if (left.empty() || right.empty()) {
+    throw std::invalid_argument(std::string("stereo pair: the ") + (left.empty() ? "left" : "right") +
+                                " image is empty");
+  }
+  if (left.size() != right.size()) {
+    throw std::invalid_argument("stereo pair: left image is " + Describe(left) + " but right image is " +
+                                Describe(right) + " (sizes differ)");
+  }
+  if (left.type() != right.type()) {
+    throw std::invalid_argument("stereo pair: left image is " + Describe(left) + " but right image is " +
+                                Describe(right) + " (grayscale/colour or depth mix)");
+  }
+  if (left.type() != CV_8UC1 && left.type() != CV_8UC3) {
+    throw std::invalid_argument("stereo pair: images must be 8-bit grayscale or 8-bit 3-channel BGR, got " +
+                                Describe(left));
+  }
+}
+
+cv::Mat RunSgbm(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  const int channels = left.channels();
+  const int area = o.block_size * o.block_size;
+  const int p1 = o.p1 > 0 ? o.p1 : 8 * channels * area;
+  const int p2 = o.p2 > 0 ? o.p2 : 32 * channels * area;
+  auto sgbm = cv::StereoSGBM::create(/*minDisparity=*/0, num_disparities, o.block_size, p1, p2,
+                                     o.disp12_max_diff_px, o.pre_filter_cap, o.uniqueness_ratio,
+                                     o.speckle_window_size, o.speckle_range_px, ToOpenCvMode(o.mode));
+  cv::Mat disparity_fixed;
+  sgbm->compute(left, right, disparity_fixed);
+  cv::Mat disparity;
+  disparity_fixed.convertTo(disparity, CV_32F, 1.0 / kSgbmDisparityScale);
+  // OpenCV marks invalid pixels with (minDisparity - 1); a zero disparity is a point at infinity: both invalid.
+  cv::threshold(disparity, disparity, 0.0, 0.0, cv::THRESH_TOZERO);
+  return disparity;
+}
+
+// Disparity of the right image (positive values, right pixel u matches left pixel u + d): SGBM on the
+// mirrored pair (mirrored right as the reference image).
+cv::Mat RunSgbmRight(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  cv::Mat left_flipped, right_flipped, disparity;
+  cv::flip(left, left_flipped, 1);
+  cv::flip(right, right_flipped, 1);
+  cv::flip(RunSgbm(o, right_flipped, left_flipped, num_disparities), disparity, 1);
+  return disparity;
+}
+
+// Invalidates the left pixels whose match in the right image does not map back within max_diff_px.
+void LeftRightCheck(const cv::Mat& right_disparity, float max_diff_px, cv::Mat* left_disparity) {
+  for (int v = 0; v < left_disparity->rows; ++v) {
+    float* dl = left_disparity->ptr<float>(v);
+    const float* dr = right_disparity.ptr<float>(v);
+    for (int u = 0; u < left_disparity->cols; ++u) {
+      if (!(dl[u] > 0.0f)) continue;
+      const int ur = static_cast<int>(std::lround(u - dl[u]));
+      if (ur < 0 || !(dr[ur] > 0.0f) || std::abs(dr[ur] - dl[u]) > max_diff_px) dl[u] = 0.0f;
+    }
+  }
+}
+
+cv::Mat MatchPair(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  cv::Mat disparity = RunSgbm(o, left, right, num_disparities);
+  if (o.left_right_max_diff_px >= 0.0f) {
+    LeftRightCheck(RunSgbmRight(o, left, right, num_disparities), o.left_right_max_diff_px, &disparity);
+  }
+  return disparity;
+}
+
+}  // namespace
+
+const char* SgbmModeName(SgbmMode mode) {
+  switch (mode) {
+    case SgbmMode::kSgbm:
+      return "sgbm";
+    case SgbmMode::kHh:
+      return "hh";
+    case SgbmMode::kThreeWay:
+      return "3way";
+    case SgbmMode::kHh4:
+      return "hh4";
+  }
+  return "?";
+}
+
+void DepthOptions::Check() const {
+  SEMAP_CHECK_OPTION(num_disparities >= kDisparityMultiple && num_disparities % kDisparityMultiple == 0,
+                     "num_disparities", num_disparities, "must be a positive multiple of 16");
+  SEMAP_CHECK_OPTION(block_size >= 1 && block_size <= kMaxBlockSize && block_size % 2 == 1, "block_size",
+                     block_size, "must be odd, in [1, 11]");
+  SEMAP_CHECK_OPTION(p1 >= 0, "p1", p1, "must be >= 0 (0 = 8*channels*block_size^2)");
+  SEMAP_CHECK_OPTION(p2 >= 0, "p2", p2, "must be >= 0 (0 = 32*channels*block_size^2)");
+  SEMAP_CHECK_OPTION(p1 == 0 || p2 == 0 || p2 > p1, "p2", p2, "must be greater than p1");
+  SEMAP_CHECK_OPTION(uniqueness_ratio >= 0 && uniqueness_ratio <= 100, "uniqueness_ratio", uniqueness_ratio,
+                     "must be a percentage in [0, 100]");
+  SEMAP_CHECK_OPTION(speckle_window_size >= 0, "speckle_window_size", speckle_window_size, "must be >= 0");
+  SEMAP_CHECK_OPTION(speckle_range_px >= 0, "speckle_range_px", speckle_range_px, "must be >= 0");
+  SEMAP_CHECK_OPTION(disp12_max_diff_px >= -1, "disp12_max_diff_px", disp12_max_diff_px,
+                     "must be >= 0, or -1 to disable the left-right check");
+  SEMAP_CHECK_OPTION(left_right_max_diff_px == -1.0f || left_right_max_diff_px >= 0.0f, "left_right_max_diff_px",
+                     left_right_max_diff_px, "must be >= 0, or -1 to disable the explicit left-right check");
+  SEMAP_CHECK_OPTION(pre_filter_cap >= 0 && pre_filter_cap <= 63, "pre_filter_cap", pre_filter_cap,
+                     "must be in [0, 63]");
+  SEMAP_CHECK_OPTION(fill_max_gap_px >= 0, "fill_max_gap_px", fill_max_gap_px, "must be >= 0 (0 = off)");
+  SEMAP_CHECK_OPTION(filled_confidence >= 0.0f && filled_confidence <= 1.0f, "filled_confidence",
+                     filled_confidence, "must be in [0, 1]");
+  SEMAP_CHECK_OPTION(std::isfinite(min_depth_m) && min_depth_m > 0.0, "min_depth_m", min_depth_m,
+                     "must be finite and > 0");
+  SEMAP_CHECK_OPTION(std::isfinite(max_depth_m) && max_depth_m > min_depth_m, "max_depth_m", max_depth_m,
+                     "must be finite and greater than min_depth_m");
+  SEMAP_CHECK_OPTION(pixel_stride >= 1, "pixel_stride", pixel_stride, "must be >= 1");
+  SEMAP_CHECK_OPTION(max_points_per_frame >= 0, "max_points_per_frame", max_points_per_frame,
+                     "must be >= 0 (0 = no bound)");
+  SEMAP_CHECK_OPTION(min_point_confidence >= 0.0f && min_point_confidence <= 1.0f, "min_point_confidence",
+                     min_point_confidence, "must be in [0, 1]");
+}
+
+StereoDepth::StereoDepth(const DepthOptions& options) : options_(options) { options_.Check(); }
+
+DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) const {
+  CheckPair(left, right);
+  const DepthOptions& o = options_;
+  DisparityResult result;
+  if (!o.half_resolution) {
+    result.disparity_px = MatchPair(o, left, right, o.num_disparities);
+  } else {
+    cv::Mat left_half, right_half;
+    cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    cv::resize(right, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    const int half_range =
+        std::max(kDisparityMultiple, (o.num_disparities / 2 + kDisparityMultiple - 1) / kDisparityMultiple *
+                                         kDisparityMultiple);
+    if (left_half.empty()) {
+      result.disparity_px = cv::Mat::zeros(left.size(), CV_32F);
+    } else {
+      const cv::Mat half = MatchPair(o, left_half, right_half, half_range);
+      // Back to full resolution: nearest neighbour (never mixes valid and invalid pixels), values × 2.
+      cv::resize(half, result.disparity_px, left.size(), 0.0, 0.0, cv::INTER_NEAREST);
+      result.disparity_px *= 2.0f;
+    }
+  }
+  result.confidence = cv::Mat(left.size(), CV_32F);
+  internal::FillDisparity(o.fill_max_gap_px, o.fill_left_border ? o.num_disparities : 0, o.filled_confidence,
+                          &result.disparity_px, &result.confidence);
+  return result;
+}
+
+cv::Mat StereoDepth::ComputeDisparity(const cv::Mat& left, const cv::Mat& right) const {
+  return Compute(left, right).disparity_px;
+}
+
+LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_px,
+                                   const cv::Mat& confidence) const {
+  const DepthOptions& o = options_;
+  const cv::Mat& image = frame.left;
+  if (disparity_px.empty() || disparity_px.type() != CV_32FC1) {
+    throw std::invalid_argument("ToCloud: the disparity must be a non-empty CV_32F image, got " +
+                                Describe(disparity_px));
+  }
+  if (image.size() != disparity_px.size() || (image.type() != CV_8UC1 && image.type() != CV_8UC3)) {
+    throw std::invalid_argument("ToCloud: frame " + std::to_string(frame.id) + " left image is " +
+                                Describe(image) + ", expected 8-bit grey or BGR of the disparity's size " +
+                                Describe(disparity_px));
+  }
+  if (!confidence.empty() && (confidence.size() != disparity_px.size() || confidence.type() != CV_32FC1)) {
+    throw std::invalid_argument("ToCloud: the confidence must be CV_32F of the disparity's size, got " +
+                                Describe(confidence));
+  }
+  if (!frame.calibration.IsValid()) {
+    throw std::invalid_argument("ToCloud: frame " + std::to_string(frame.id) + " has an invalid calibration");
+  }
+  const StereoCalibration& calib = frame.calibration;
+  const Pose3d world_from_cam = frame.world_from_cam.value_or(Pose3d::Identity());
+  // Depth range → disparity range: z in [min, max] ⇔ d in [fB / max, fB / min].
+  const double min_disparity = calib.DisparityFromDepth(o.max_depth_m);
+  const double max_disparity = calib.DisparityFromDepth(o.min_depth_m);
+
+  LabelledCloud cloud;
+  cloud.camera_centers_world.push_back(world_from_cam.translation());
+  cloud.camera_frame_ids.push_back(frame.id);
+  const bool colour = image.channels() == 3;
+  for (int v = 0; v < disparity_px.rows; v += o.pixel_stride) {
+    const float* d_row = disparity_px.ptr<float>(v);
+    const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(v);
+    const std::uint8_t* img_row = image.ptr<std::uint8_t>(v);
+    for (int u = 0; u < disparity_px.cols; u += o.pixel_stride) {
+      const float d = d_row[u];
+      if (!std::isfinite(d) || d <= 0.0f || d < min_disparity || d > max_disparity) continue;
+      const float c = c_row ? c_row[u] : 1.0f;
+      if (!(c >= o.min_point_confidence)) continue;
+      const double z = calib.DepthFromDisparity(d);
+      if (z < o.min_depth_m || z > o.max_depth_m) continue;  // rounding at the range ends
+      cloud.positions_world.push_back(world_from_cam * calib.Unproject(u, v, z));
+      cloud.pixels_px.emplace_back(static_cast<float>(u), static_cast<float>(v));
+      if (colour) {
+        const std::uint8_t* bgr = img_row + 3 * u;
+        cloud.colors_rgb.push_back({bgr[2], bgr[1], bgr[0]});
+      } else {
+        cloud.colors_rgb.push_back({img_row[u], img_row[u], img_row[u]});
+      }
+      cloud.confidence.push_back(c);
+    }
+  }
+  cloud.camera_index.assign(cloud.size(), 0);
+  if (o.max_points_per_frame > 0 && cloud.size() > static_cast<size_t>(o.max_points_per_frame)) {
+    // Uniform decimation to exactly the budget: keep point i when floor(i·k/n) steps.
+    const size_t n = cloud.size();
+    const size_t k = static_cast<size_t>(o.max_points_per_frame);
+    std::vector<std::uint32_t> keep;
+    keep.reserve(k);
+    for (size_t j = 0; j < k; ++j) keep.push_back(static_cast<std::uint32_t>(j * n / k));
+    cloud = cloud.Subset(keep);
+  }
+  return cloud;
+}
+
+LabelledCloud StereoDepth::Process(const Frame& frame) const {
+  const DisparityResult r = Compute(frame.left, frame.right);
+  return ToCloud(frame, r.disparity_px, r.confidence);
+}
+
+}  // namespace semap

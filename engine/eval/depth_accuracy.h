@@ -1,0 +1,67 @@
+// The paper's accuracy measure: per camera, the mesh's rendered depth against reference depths (Velodyne
+// points projected into the image, or exact depth maps of generated sequences), at the same pixels.
+//
+// Definitions (both sides use the same depth: camera-frame z of the left camera, never LiDAR range):
+// - reference pixels: pixels with a reference depth in [min_depth_m, max_depth_m]; a LiDAR point is
+//   projected with cam_from_velo and the intrinsics, rounded to the nearest pixel, and only points in front
+//   of the camera (z > min_depth_m) are kept; where several land on one pixel the nearest wins;
+// - compared pixels: reference pixels where the mesh has a depth;
+// - error = mesh depth − reference depth; RMSE, MAE, median |error| and mean error over compared pixels
+//   (no outlier filter unless max_abs_error_m > 0: a hole is never an error, it lowers completeness);
+// - completeness = compared pixels / reference pixels: a mesh with holes cannot look better than it is.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "engine/core/calibration.h"
+#include "engine/core/frame.h"
+
+namespace semap {
+
+struct DepthAccuracyOptions {
+  // Reference depths nearer than this are ignored (m).
+  double min_depth_m = 1.0;
+  // Reference depths farther than this are ignored (m); the depth stage's range.
+  double max_depth_m = 40.0;
+  // Errors larger than this are left out of the error figures (0 = keep all; the 2018 authors used 2 m).
+  double max_abs_error_m = 0.0;
+  void Check() const;
+};
+
+// Nearest camera-frame z per pixel of the Velodyne points (CV_32F, 0 = none), filtered as described above.
+cv::Mat LidarDepthImage(const VelodyneScan& scan, const StereoCalibration& calibration,
+                        const DepthAccuracyOptions& options);
+
+struct DepthAccuracy {
+  std::int64_t reference_pixels = 0;
+  std::int64_t compared_pixels = 0;
+  double rmse_m = 0.0;
+  double mae_m = 0.0;
+  double median_abs_m = 0.0;
+  double mean_error_m = 0.0;  // signed: > 0 means the mesh is behind the reference
+  double completeness = 0.0;
+};
+
+// Accumulates errors over pixels and frames. Not thread-safe; merge per-thread accumulators with Merge().
+class DepthAccuracyAccumulator {
+ public:
+  explicit DepthAccuracyAccumulator(const DepthAccuracyOptions& options = {});
+  // Adds the pixels of one camera: `reference` and `mesh` are CV_32F depth maps of the same size, 0 = none.
+  void Add(const cv::Mat& reference, const cv::Mat& mesh);
+  void Merge(const DepthAccuracyAccumulator& other);
+  DepthAccuracy Result() const;
+
+ private:
+  DepthAccuracyOptions options_;
+  std::int64_t reference_pixels_ = 0;
+  std::int64_t outliers_ = 0;
+  double sum_sq_ = 0.0;
+  double sum_abs_ = 0.0;
+  double sum_ = 0.0;
+  std::vector<float> abs_errors_;  // for the median
+};
+
+}  // namespace semap

@@ -1,0 +1,40 @@
+// semap's concrete pipeline stages: thin adapters from the stage interfaces (stages.h) to the depth,
+// semantics, simplification and map modules.
+#pragma once
+
+#include <memory>
+
+#include "engine/core/class_map.h"
+#include "engine/depth/stereo_depth.h"
+#include "engine/pipeline/stages.h"
+#include "engine/semantics/labelling.h"
+#include "engine/semantics/segmenter.h"
+#include "engine/simplify/windowed_simplifier.h"
+
+namespace semap {
+
+// SGBM depth, then the paper's labelling rule: the frame's points are labelled from the frame's own label
+// image (its camera is their first camera). One instance per depth worker (owns its segmenter).
+class StereoLabelStage : public DepthStage {
+ public:
+  StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map);
+  LabelledCloud Process(const Frame& frame) override;
+
+ private:
+  StereoDepth depth_;
+  SemanticsOptions semantics_;
+  ClassMap class_map_;
+  std::unique_ptr<Segmenter> segmenter_;  // only for the ENet source
+};
+
+// The windowed simplifier (any method by name, O = keep everything).
+class WindowedSimplifyStage : public SimplifyStage {
+ public:
+  WindowedSimplifyStage(const SimplifyOptions& options, ClassMap class_map);
+  LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>* counts) override;
+
+ private:
+  WindowedSimplifier simplifier_;
+};
+
+}  // namespace semap

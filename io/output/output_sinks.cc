@@ -1,0 +1,120 @@
+#include "io/output/output_sinks.h"
+
+#include <nlohmann/json.hpp>
+
+#include "engine/core/check.h"
+#include "io/mesh/ply_off.h"
+
+namespace semap::io {
+namespace {
+
+std::ofstream OpenForWriting(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::create_directories(path.parent_path(), ec);
+  std::ofstream out(path);
+  if (!out) throw FileError(path, "cannot open for writing");
+  return out;
+}
+
+nlohmann::json StatsJson(const FrameStats& s) {
+  nlohmann::json j;
+  j["frame_id"] = s.frame_id;
+  j["timestamp_s"] = s.timestamp_s;
+  j["elapsed_s"] = s.elapsed_s;
+  j["fps"] = s.fps;
+  j["frames_processed"] = s.frames_processed;
+  j["frames_dropped"] = s.frames_dropped;
+  j["frames_failed"] = s.frames_failed;
+  for (const auto& st : s.stages) {
+    j["stages"][st.name] = {{"last_ms", st.last_ms}, {"mean_ms", st.mean_ms}, {"p50_ms", st.p50_ms},
+                            {"p95_ms", st.p95_ms},   {"max_ms", st.max_ms},   {"queue", st.queue_occupancy}};
+  }
+  j["points_in"] = s.points_in;
+  j["points_kept"] = s.points_kept;
+  for (const auto& c : s.class_counts) j["classes"][std::to_string(c.label)] = {{"in", c.in}, {"kept", c.kept}};
+  j["map_vertices"] = s.map_vertices;
+  j["map_cells"] = s.map_cells;
+  j["map_rays"] = s.map_rays;
+  j["mesh_triangles"] = s.mesh_triangles;
+  j["rss_mb"] = s.rss_mb;
+  return j;
+}
+
+}  // namespace
+
+void OutputOptions::Check() const { SEMAP_CHECK_OPTION(!dir.empty(), "dir", "''", "must not be empty"); }
+
+MeshFileSink::MeshFileSink(const OutputOptions& options) : options_(options) { options_.Check(); }
+
+void MeshFileSink::OnFrame(const FrameStats&, const MeshDelta& delta, const std::optional<Pose3d>&) {
+  accumulator_.Apply(delta);
+}
+
+void MeshFileSink::OnFinish(const FrameStats&, const MeshDelta& final_delta) {
+  accumulator_.Apply(final_delta);
+  const Mesh mesh = accumulator_.ToMesh();
+  const std::filesystem::path dir(options_.dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (options_.mesh_ply) {
+    WriteMeshPly(dir / "mesh.ply", mesh,
+                 options_.ply_ascii ? PlyEncoding::kAscii : PlyEncoding::kBinaryLittleEndian);
+    written_.push_back(dir / "mesh.ply");
+  }
+  if (options_.mesh_off) {
+    WriteMeshOff(dir / "mesh.off", mesh);
+    written_.push_back(dir / "mesh.off");
+  }
+}
+
+StatsFileSink::StatsFileSink(const OutputOptions& options) : dir_(options.dir) {
+  options.Check();
+  csv_ = OpenForWriting(dir_ / "frames.csv");
+  jsonl_ = OpenForWriting(dir_ / "frames.jsonl");
+  errors_ = OpenForWriting(dir_ / "errors.jsonl");
+}
+
+void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::optional<Pose3d>&) {
+  if (!header_written_) {
+    csv_ << "frame_id,timestamp_s,elapsed_s,fps,frames_processed,frames_dropped,frames_failed";
+    for (const auto& st : s.stages) csv_ << "," << st.name << "_ms," << st.name << "_queue";
+    csv_ << ",points_in,points_kept,map_vertices,map_cells,map_rays,mesh_triangles,rss_mb\n";
+    header_written_ = true;
+  }
+  csv_ << s.frame_id << ',' << s.timestamp_s << ',' << s.elapsed_s << ',' << s.fps << ',' << s.frames_processed
+       << ',' << s.frames_dropped << ',' << s.frames_failed;
+  for (const auto& st : s.stages) csv_ << ',' << st.last_ms << ',' << st.queue_occupancy;
+  csv_ << ',' << s.points_in << ',' << s.points_kept << ',' << s.map_vertices << ',' << s.map_cells << ','
+       << s.map_rays << ',' << s.mesh_triangles << ',' << s.rss_mb << '\n';
+  jsonl_ << StatsJson(s).dump() << '\n';
+  if (!csv_ || !jsonl_) throw FileError(dir_ / "frames.csv", "write failed");
+}
+
+void StatsFileSink::OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) {
+  errors_ << nlohmann::json{{"frame_id", frame_id}, {"stage", stage}, {"error", what}}.dump() << '\n';
+}
+
+void StatsFileSink::OnFinish(const FrameStats& stats, const MeshDelta&) {
+  csv_.flush();
+  jsonl_.flush();
+  errors_.flush();
+  auto out = OpenForWriting(dir_ / "summary.json");
+  out << SummaryJson(stats) << '\n';
+  if (!out) throw FileError(dir_ / "summary.json", "write failed");
+}
+
+std::string SummaryJson(const FrameStats& stats) { return StatsJson(stats).dump(2); }
+
+void LcmSink::OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) {
+  publisher_->PublishMeshDelta(delta);
+  publisher_->PublishFrameStats(stats);
+  if (pose) publisher_->PublishCameraPose(stats.frame_id, stats.timestamp_s, *pose);
+}
+
+void LcmSink::OnFinish(const FrameStats& stats, const MeshDelta& final_delta) {
+  publisher_->PublishMeshDelta(final_delta);
+  publisher_->PublishFrameStats(stats);
+  publisher_->Flush();
+}
+
+}  // namespace semap::io

@@ -1,0 +1,81 @@
+// Pipeline sinks that write the run's results: the mesh (PLY/OFF), per-frame stats (CSV + JSON lines and a
+// summary JSON), and the LCM publisher adapter. Each is called from the pipeline's output thread only.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "engine/core/mesh_delta.h"
+#include "engine/pipeline/pipeline.h"
+#include "io/lcm/lcm_publisher.h"
+
+namespace semap::io {
+
+struct OutputOptions {
+  // Folder receiving mesh.ply / mesh.off / frames.csv / frames.jsonl / summary.json.
+  std::string dir = "semap_out";
+  // Write the final mesh as binary PLY (with colour and label).
+  bool mesh_ply = true;
+  // Write the final mesh as ASCII OFF (the paper's mesh-size measure).
+  bool mesh_off = true;
+  // Write the PLY as ASCII instead of binary little-endian.
+  bool ply_ascii = false;
+  // Per-frame statistics as CSV (frames.csv) and JSON lines (frames.jsonl).
+  bool frame_stats = true;
+
+  void Check() const;
+};
+
+// Accumulates the mesh deltas and writes the final mesh at the end of the run. Throws FileError (naming the
+// path) when a file cannot be written; the pipeline records it and goes on.
+class MeshFileSink : public PipelineSink {
+ public:
+  explicit MeshFileSink(const OutputOptions& options);
+  void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override;
+  void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
+  // The mesh as accumulated so far (the final one after OnFinish).
+  Mesh mesh() const { return accumulator_.ToMesh(); }
+  // Written files (after OnFinish).
+  const std::vector<std::filesystem::path>& written() const { return written_; }
+
+ private:
+  OutputOptions options_;
+  MeshAccumulator accumulator_;
+  std::vector<std::filesystem::path> written_;
+};
+
+// frames.csv + frames.jsonl (one line per processed frame) and summary.json at the end; frame errors go
+// to errors.jsonl. Opening a file that cannot be written throws FileError.
+class StatsFileSink : public PipelineSink {
+ public:
+  explicit StatsFileSink(const OutputOptions& options);
+  void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override;
+  void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) override;
+  void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
+
+ private:
+  std::filesystem::path dir_;
+  std::ofstream csv_;
+  std::ofstream jsonl_;
+  std::ofstream errors_;
+  bool header_written_ = false;
+};
+
+// Publishes every mesh delta, frame stats and camera pose. Never blocks (see LcmPublisher).
+class LcmSink : public PipelineSink {
+ public:
+  explicit LcmSink(std::unique_ptr<LcmPublisher> publisher) : publisher_(std::move(publisher)) {}
+  void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override;
+  void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
+  LcmPublisher& publisher() { return *publisher_; }
+
+ private:
+  std::unique_ptr<LcmPublisher> publisher_;
+};
+
+// The summary of a run as JSON text (fps, totals, per-stage timing): what summary.json holds.
+std::string SummaryJson(const FrameStats& stats);
+
+}  // namespace semap::io
