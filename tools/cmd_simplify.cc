@@ -1,11 +1,12 @@
 // `semap simplify CLOUD.ply --method PS --out OUT.ply`: simplify a labelled point cloud (labels in the PLY,
-// Cityscapes ids) and print per-class in/kept counts and the time.
+// ids of input.class_map, Cityscapes by default) and print per-class in/kept counts and the time.
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <iostream>
 
 #include "engine/simplify/simplify.h"
+#include "io/labels/class_map_yaml.h"
 #include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
 
@@ -24,7 +25,8 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code) {
                                  "Simplify a labelled point cloud (PLY with a `label` property) with "
                                  "one of the paper's methods or a baseline");
   AddCommonOptions(cmd, &args->common);
-  cmd->add_option("CLOUD", args->cloud, "input point cloud (.ply, per-vertex label = Cityscapes id)")
+  cmd->add_option("CLOUD", args->cloud,
+                  "input point cloud (.ply, per-vertex label = class id of input.class_map)")
       ->required();
   cmd->add_option("--out", args->out, "output point cloud (.ply); omitted = statistics only");
   std::string names;
@@ -35,7 +37,7 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code) {
     *exit_code = RunGuarded(args->common, [&]() {
       io::Config config = LoadConfigFrom(args->common);
       if (!args->method.empty()) config.simplify.method = SimplifyMethodFromName(args->method);
-      const ClassMap class_map = ClassMap::Cityscapes();
+      const ClassMap class_map = io::LoadClassMap(config.input.class_map);  // empty = Cityscapes
       const LabelledCloud cloud = io::ReadCloudPly(args->cloud);
       const SimplifyResult result = Simplify(cloud, class_map, config.simplify);
 
