@@ -38,5 +38,6 @@ void RegisterConfigCommand(CLI::App& app, int* exit_code);
 void RegisterLcmMeshCommand(CLI::App& app, int* exit_code);
 void RegisterSimplifyCommand(CLI::App& app, int* exit_code);
 void RegisterInfoCommand(CLI::App& app, int* exit_code);
+void RegisterEvalCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

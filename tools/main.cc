@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
       RegisterLcmMeshCommand,
       RegisterSimplifyCommand,
       RegisterInfoCommand,
+      RegisterEvalCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

@@ -11,6 +11,7 @@
 #include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "engine/eval/depth_accuracy.h"
 #include "engine/pipeline/pipeline.h"
 #include "io/lcm/lcm_publisher.h"
 #include "io/output/output_sinks.h"
@@ -30,6 +31,7 @@ struct Config {
   PipelineOptions pipeline;  // stage threads, queues, modes
   OutputOptions output;      // files written by a run
   LcmOptions lcm;            // mesh / stats publishing over LCM
+  DepthAccuracyOptions eval; // accuracy against Velodyne / exact depth
   DepthOptions depth;        // stereo matching and point cloud
   SemanticsOptions semantics;  // where per-pixel labels come from
   SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)

@@ -139,6 +139,13 @@ void Bind(FieldBinder& b, SimplifyOptions& o) {
   b.Field("seed", &o.seed, "seed of the random generator (same seed, same output)");
 }
 
+void Bind(FieldBinder& b, DepthAccuracyOptions& o) {
+  b.Field("min_depth_m", &o.min_depth_m, "reference depths (camera-frame z, not range) nearer than this are ignored");
+  b.Field("max_depth_m", &o.max_depth_m, "reference depths farther than this are ignored");
+  b.Field("max_abs_error_m", &o.max_abs_error_m,
+          "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all");
+}
+
 template <typename Options>
 Section MakeSection(std::string name, std::string doc, Options& options) {
   Section s{std::move(name), std::move(doc), {}, [&options]() { options.Check(); }};
@@ -149,16 +156,19 @@ Section MakeSection(std::string name, std::string doc, Options& options) {
 }  // namespace
 
 std::vector<Section> BindSections(Config& c) {
+  // In the order of the data flow.
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
-  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
-  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
-  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
   s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
   s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
                           c.semantics));
   s.push_back(MakeSection("simplify", "Semantic simplification of ground and walls (paper Sec. III) and baselines.",
                           c.simplify));
+  s.push_back(MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
+  s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
+  s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
+  s.push_back(MakeSection("eval", "Accuracy of a mesh against Velodyne / exact depth (semap eval, table, compare).",
+                          c.eval));
   return s;
 }
 

@@ -1,0 +1,34 @@
+// Evaluates a mesh against a sequence's ground truth, the way the paper measures accuracy: per camera, the
+// mesh's rendered depth against the Velodyne points projected into the image (engine/eval/depth_accuracy.h
+// defines the filters), and, for generated sequences, against their exact depth maps.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+
+#include "engine/core/mesh.h"
+#include "engine/eval/depth_accuracy.h"
+#include "engine/eval/depth_render.h"
+#include "io/frame_source.h"
+
+namespace semap::io {
+
+struct MeshEvaluation {
+  std::int64_t frames = 0;                    // frames with a pose that were evaluated
+  std::int64_t frames_with_lidar = 0;
+  std::int64_t frames_with_exact_depth = 0;
+  DepthAccuracy lidar;                        // against Velodyne (the paper's RMSE)
+  std::optional<DepthAccuracy> exact_depth;   // against exact depth maps (generated sequences only)
+  std::uint64_t off_bytes = 0;                // mesh size as ASCII OFF (the paper's measure)
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+};
+
+// Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;
+// frames without a pose are skipped) and compares `mesh` with them. Throws FileError for an unreadable
+// dataset; frames that fail to read are skipped.
+MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, FrameSourceOptions input,
+                            const DepthAccuracyOptions& accuracy = {});
+
+}  // namespace semap::io
