@@ -1,11 +1,12 @@
 // `semap simplify CLOUD.ply --method PS --out OUT.ply`: simplify a labelled point cloud (labels in the PLY,
-// Cityscapes ids) and print per-class in/kept counts and the time.
+// ids of input.class_map, Cityscapes by default) and print per-class in/kept counts and the time.
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <iostream>
 
-#include <spdlog/spdlog.h>
-
 #include "engine/simplify/simplify.h"
+#include "io/labels/class_map_yaml.h"
 #include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
 
@@ -20,10 +21,13 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code) {
     bool ascii = false;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("simplify", "Simplify a labelled point cloud (PLY with a `label` property) with "
-                                             "one of the paper's methods or a baseline");
+  auto* cmd = app.add_subcommand("simplify",
+                                 "Simplify a labelled point cloud (PLY with a `label` property) with "
+                                 "one of the paper's methods or a baseline");
   AddCommonOptions(cmd, &args->common);
-  cmd->add_option("CLOUD", args->cloud, "input point cloud (.ply, per-vertex label = Cityscapes id)")->required();
+  cmd->add_option("CLOUD", args->cloud,
+                  "input point cloud (.ply, per-vertex label = class id of input.class_map)")
+      ->required();
   cmd->add_option("--out", args->out, "output point cloud (.ply); omitted = statistics only");
   std::string names;
   for (auto m : AllSimplifyMethods()) names += std::string(names.empty() ? "" : ", ") + SimplifyMethodName(m);
@@ -33,7 +37,7 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code) {
     *exit_code = RunGuarded(args->common, [&]() {
       io::Config config = LoadConfigFrom(args->common);
       if (!args->method.empty()) config.simplify.method = SimplifyMethodFromName(args->method);
-      const ClassMap class_map = ClassMap::Cityscapes();
+      const ClassMap class_map = io::LoadClassMap(config.input.class_map);  // empty = Cityscapes
       const LabelledCloud cloud = io::ReadCloudPly(args->cloud);
       const SimplifyResult result = Simplify(cloud, class_map, config.simplify);
 
@@ -48,10 +52,11 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code) {
                     static_cast<unsigned long long>(s.kept), static_cast<unsigned long long>(s.removed),
                     s.in > 0 ? 100.0 * static_cast<double>(s.kept) / static_cast<double>(s.in) : 100.0);
       }
-      std::printf("%-14s %-7s %10llu %10llu %10llu %7.1f%%\n", "total", "", static_cast<unsigned long long>(result.in),
-                  static_cast<unsigned long long>(result.kept()),
+      std::printf("%-14s %-7s %10llu %10llu %10llu %7.1f%%\n", "total", "",
+                  static_cast<unsigned long long>(result.in), static_cast<unsigned long long>(result.kept()),
                   static_cast<unsigned long long>(result.in - result.kept()),
-                  result.in > 0 ? 100.0 * static_cast<double>(result.kept()) / static_cast<double>(result.in) : 100.0);
+                  result.in > 0 ? 100.0 * static_cast<double>(result.kept()) / static_cast<double>(result.in)
+                                : 100.0);
       std::printf("time: %.3f s (%.0f points/s)\n", result.time_s,
                   result.time_s > 0.0 ? static_cast<double>(result.in) / result.time_s : 0.0);
       if (!args->out.empty()) {

@@ -1,12 +1,12 @@
 // Non-semantic baselines: GB (curvature), voxel grid, CGAL hierarchy clustering. They see the whole cloud.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/hierarchy_simplify_point_set.h>
+#include <CGAL/property_map.h>
+
 #include <cmath>
 #include <limits>
 #include <unordered_map>
 #include <utility>
-
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/hierarchy_simplify_point_set.h>
-#include <CGAL/property_map.h>
 
 #include "engine/core/check.h"
 #include "engine/simplify/internal/methods.h"
@@ -65,7 +65,8 @@ std::vector<std::uint8_t> RunVoxelGrid(const LabelledCloud& cloud, const Simplif
   std::vector<VoxelKey> keys(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d q = (pts[i] / o.voxel_size_m).array().floor();
-    keys[i] = {static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()), static_cast<std::int64_t>(q.z())};
+    keys[i] = {static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()),
+               static_cast<std::int64_t>(q.z())};
     Cell& c = cells[keys[i]];
     c.sum += pts[i];
     ++c.count;

@@ -33,9 +33,15 @@ MethodInput MakeMethodInput(const LabelledCloud& cloud, const ClassMap& class_ma
       continue;
     }
     switch (class_map.Role(in.labels[i])) {
-      case ClassRole::kKeep: in.groups[i] = 0; break;
-      case ClassRole::kGround: in.groups[i] = 1; break;
-      case ClassRole::kWall: in.groups[i] = 2; break;
+      case ClassRole::kKeep:
+        in.groups[i] = 0;
+        break;
+      case ClassRole::kGround:
+        in.groups[i] = 1;
+        break;
+      case ClassRole::kWall:
+        in.groups[i] = 2;
+        break;
     }
   }
   return in;

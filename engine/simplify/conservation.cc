@@ -21,7 +21,9 @@ double LinearConservation(double normalised_density, double target, double min_c
   return Clamp(target - (normalised_density - 1.0) / target, min_conservation);
 }
 
-double AdaptiveF(double x, double stretch) { return 0.5 + stretch * x / (2.0 * (1.0 + stretch * std::abs(x))); }
+double AdaptiveF(double x, double stretch) {
+  return 0.5 + stretch * x / (2.0 * (1.0 + stretch * std::abs(x)));
+}
 
 double AdaptiveFInverse(double c, double stretch) {
   SEMAP_ASSERT(c > 0.0 && c < 1.0 && stretch > 0.0, "c " << c << " w " << stretch);
@@ -32,7 +34,8 @@ double AdaptiveFInverse(double c, double stretch) {
 
 double AdaptiveTau(double target, double stretch) { return 1.0 + AdaptiveFInverse(target, stretch); }
 
-double AdaptiveConservation(double normalised_density, double target, double stretch, double min_conservation) {
+double AdaptiveConservation(double normalised_density, double target, double stretch,
+                            double min_conservation) {
   const double tau = AdaptiveTau(target, stretch);
   return Clamp(AdaptiveF(tau - normalised_density, stretch), min_conservation);
 }

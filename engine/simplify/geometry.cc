@@ -1,12 +1,12 @@
-#include <algorithm>
-#include <cmath>
-#include <numeric>
+#include "engine/simplify/internal/geometry.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
 #include <nanoflann.hpp>
+#include <numeric>
 
 #include "engine/core/check.h"
-#include "engine/simplify/internal/geometry.h"
 
 namespace semap::simplify {
 
@@ -35,7 +35,8 @@ struct PointIndex::Impl {
 PointIndex::PointIndex(const std::vector<Eigen::Vector3d>& points) : impl_(std::make_unique<Impl>(points)) {}
 PointIndex::~PointIndex() = default;
 
-void PointIndex::Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::uint32_t>* out) const {
+void PointIndex::Radius(const Eigen::Vector3d& query, double radius_m,
+                        std::vector<std::uint32_t>* out) const {
   out->clear();
   if (impl_->adaptor.points->empty()) return;
   thread_local std::vector<std::pair<std::uint32_t, double>> matches;
@@ -45,7 +46,6 @@ void PointIndex::Radius(const Eigen::Vector3d& query, double radius_m, std::vect
   impl_->tree.radiusSearch(query.data(), radius_m * radius_m, matches, params);
   out->reserve(matches.size());
   for (const auto& m : matches) out->push_back(m.first);
-  std::sort(out->begin(), out->end());
 }
 
 void PointIndex::Knn(const Eigen::Vector3d& query, int k, std::vector<std::uint32_t>* out) const {

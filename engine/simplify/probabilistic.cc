@@ -15,19 +15,26 @@
 //   P_B = exp(−d² / (2 σ_B²)), d = distance on π_l to the line separating "label of the centre" from
 //       "other labels", a linear soft-margin SVM (cv::ml::SVM, C_SVC, LINEAR) on the projected region.
 //       If the SVM cannot be trained or degenerates (|w| = 0), P_I is used for that region.
+// - D̄ is estimated from at most density_samples regions per group (a uniform sample of the centres).
+// - The SVM is trained on at most ps_svm_max_samples points of the region (evenly strided): near the camera
+//   a 0.3 m region of a dense stereo cloud holds thousands of points, and a 2-D line needs far fewer.
 // - A point is decided once, by the first region (in a random, seeded order) that contains it: it is removed
 //   when a uniform draw in [0, 1) exceeds P_c. Points in no region are kept (the paper notes that some areas
 //   may stay uncovered). Deciding once (rather than removing a point whenever any region's draw fails)
 //   keeps the kept share of an interior area near E[P_I] instead of compounding the overlaps.
+// - Streaming (windowed contexts, decided points present): like LS's quota, the decided points of the
+//   group inside a region count against what the region would keep: with E = Σ P_c over the region's
+//   candidates (what a fresh frame would keep there) and K the decided points, every candidate's P_c is
+//   multiplied by max(0, 1 − K / E); a region already holding E decided points keeps no new ones. In batch
+//   mode (no decided points) the factor is 1.
 // - PSB: the whole cloud is one group and P_c = P_I everywhere (no boundaries without semantics).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <numeric>
-#include <optional>
-
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
+#include <optional>
 
 #include "engine/core/check.h"
 #include "engine/simplify/conservation.h"
@@ -39,7 +46,7 @@ namespace {
 
 struct Boundary {
   Eigen::Vector2d normal;  // unit normal of the line in plane coordinates (metres)
-  double offset = 0.0;        // line: normal · x + offset = 0 (x in metres on the plane)
+  double offset = 0.0;     // line: normal · x + offset = 0 (x in metres on the plane)
 };
 
 // Fits the class boundary on the plane: `xy` in metres relative to the region centre, `positive` = label of
@@ -47,6 +54,7 @@ struct Boundary {
 std::optional<Boundary> FitBoundary(const std::vector<Eigen::Vector2d>& xy, const std::vector<int>& positive,
                                     double scale_m, double svm_c) {
   const int n = static_cast<int>(xy.size());
+  if (n < 2) return std::nullopt;
   cv::Mat samples(n, 2, CV_32F);
   cv::Mat responses(n, 1, CV_32S);
   int n_pos = 0;
@@ -63,8 +71,8 @@ std::optional<Boundary> FitBoundary(const std::vector<Eigen::Vector2d>& xy, cons
   svm->setType(cv::ml::SVM::C_SVC);
   svm->setKernel(cv::ml::SVM::LINEAR);
   svm->setC(svm_c);
-  svm->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, kMaxIterations,
-                                        kEpsilon));
+  svm->setTermCriteria(
+      cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, kMaxIterations, kEpsilon));
   try {
     if (!svm->train(samples, cv::ml::ROW_SAMPLE, responses)) return std::nullopt;
   } catch (const cv::Exception&) {
@@ -116,27 +124,32 @@ MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const Si
   const PointIndex index(pts);
   const double area = std::numbers::pi * o.region_radius_m * o.region_radius_m;
 
-  // Pass 1 (parallel): region densities and p̃.
-  std::vector<double> density(centres.size());
-  std::vector<double> candidate_density(centres.size());
-  std::vector<double> other_share(centres.size());
-  ParallelBlocks(centres.size(), [&](std::size_t begin, std::size_t end) {
+  // D̄ per group: mean candidate density over the regions of at most density_samples of the centres (the
+  // first ones of the shuffled list, i.e. a uniform sample), computed in parallel.
+  std::vector<std::uint32_t> sample_centres;
+  {
+    std::array<std::size_t, kNumGroups> taken{};
+    for (auto c : centres) {
+      const GroupId g = in.groups[c];
+      if (o.density_samples == 0 || taken[g] < static_cast<std::size_t>(o.density_samples)) {
+        sample_centres.push_back(c);
+        ++taken[g];
+      }
+    }
+  }
+  std::vector<double> sample_density(sample_centres.size());
+  ParallelBlocks(sample_centres.size(), [&](std::size_t begin, std::size_t end) {
     std::vector<std::uint32_t> region;
     for (std::size_t k = begin; k < end; ++k) {
-      const std::uint32_t c = centres[k];
-      index.Radius(pts[c], o.region_radius_m, &region);
-      density[k] = static_cast<double>(region.size()) / area;
+      index.Radius(pts[sample_centres[k]], o.region_radius_m, &region);
       std::size_t candidates = 0;
       for (auto j : region) candidates += in.IsCandidate(j) ? 1 : 0;
-      candidate_density[k] = static_cast<double>(candidates) / area;
-      std::size_t other = 0;
-      for (auto j : region) other += in.labels[j] != in.labels[c] ? 1 : 0;
-      other_share[k] = region.empty() ? 0.0 : static_cast<double>(other) / static_cast<double>(region.size());
+      sample_density[k] = static_cast<double>(candidates) / area;
     }
   });
-  for (std::size_t k = 0; k < centres.size(); ++k) {
-    const GroupId g = in.groups[centres[k]];
-    out.batch_densities.sum[g] += candidate_density[k];
+  for (std::size_t k = 0; k < sample_centres.size(); ++k) {
+    const GroupId g = in.groups[sample_centres[k]];
+    out.batch_densities.sum[g] += sample_density[k];
     out.batch_densities.count[g] += 1;
   }
   DensitySums all = in.prior_densities;
@@ -154,28 +167,54 @@ MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const Si
     const Plane& plane = planes.plane[g];
     const double mean = all.Mean(g);
     if (mean <= 0.0) continue;
-    const double d_norm = density[k] / mean;
     index.Radius(pts[c], o.region_radius_m, &region);
+    std::size_t other = 0;
+    for (auto j : region) other += in.labels[j] != in.labels[c] ? 1 : 0;
+    const double other_share = static_cast<double>(other) / static_cast<double>(region.size());
+    const double d_norm = (static_cast<double>(region.size()) / area) / mean;
     const Eigen::Vector2d mu = plane.Project(pts[c]);
 
     std::optional<Boundary> boundary;
-    if (use_boundary && !PsUsesInterior(other_share[k], o.ps_boundary_share)) {
+    if (use_boundary && !PsUsesInterior(other_share, o.ps_boundary_share)) {
       xy.clear();
       positive.clear();
-      for (auto j : region) {
+      // At most ps_svm_max_samples training points, evenly strided over the region (deterministic).
+      const std::size_t stride = (region.size() + static_cast<std::size_t>(o.ps_svm_max_samples) - 1) /
+                                 static_cast<std::size_t>(o.ps_svm_max_samples);
+      for (std::size_t r = 0; r < region.size(); r += stride) {
+        const auto j = region[r];
         xy.push_back(plane.Project(pts[j]) - mu);
         positive.push_back(in.labels[j] == in.labels[c] ? 1 : 0);
       }
       boundary = FitBoundary(xy, positive, o.region_radius_m, o.ps_svm_c);
     }
+    auto conservation = [&](std::uint32_t j) {
+      const Eigen::Vector2d x = plane.Project(pts[j]) - mu;
+      return boundary
+                 ? PsBoundaryProbability(boundary->normal.dot(x) + boundary->offset, o.ps_boundary_sigma_m)
+                 : PsInteriorProbability(x.squaredNorm(), d_norm, o.ps_interior_sigma_m);
+    };
+    // Streaming gate (1 in batch mode): the decided points of the group in the region count against what
+    // the region would keep of its candidates, P_c' = P_c · max(0, 1 − decided / Σ P_c(candidates)).
+    double gate = 1.0;
+    if (in.num_fixed > 0) {
+      std::size_t decided_points = 0;
+      double expected_kept = 0.0;
+      for (auto j : region) {
+        if (in.groups[j] != g) continue;
+        if (in.IsCandidate(j)) {
+          expected_kept += conservation(j);
+        } else {
+          ++decided_points;
+        }
+      }
+      gate = expected_kept > 0.0 ? std::max(0.0, 1.0 - static_cast<double>(decided_points) / expected_kept)
+                                 : 0.0;
+    }
     for (auto j : region) {
       if (in.groups[j] != g || !in.IsCandidate(j) || decided[j]) continue;
       decided[j] = 1;
-      const Eigen::Vector2d x = plane.Project(pts[j]) - mu;
-      const double p_conserve =
-          boundary ? PsBoundaryProbability(boundary->normal.dot(x) + boundary->offset, o.ps_boundary_sigma_m)
-                   : PsInteriorProbability(x.squaredNorm(), d_norm, o.ps_interior_sigma_m);
-      if (uniform(rng) > p_conserve) out.removed[j] = 1;
+      if (uniform(rng) > gate * conservation(j)) out.removed[j] = 1;
     }
   }
   return out;

@@ -69,8 +69,9 @@ double KnnRegionArea(const std::vector<Eigen::Vector3d>& pts, const std::vector<
   return std::max({e.x() * e.y(), e.x() * e.z(), e.y() * e.z()});
 }
 
-RegionStats ComputeRegionStats(const MethodInput& in, std::size_t centre, const std::vector<std::uint32_t>& region,
-                               RegionShape shape, const Plane& plane, const SimplifyOptions& o) {
+RegionStats ComputeRegionStats(const MethodInput& in, std::size_t centre,
+                               const std::vector<std::uint32_t>& region, RegionShape shape,
+                               const Plane& plane, const SimplifyOptions& o) {
   RegionStats s;
   const auto n = static_cast<double>(region.size());
   double area = std::numbers::pi * o.region_radius_m * o.region_radius_m;
@@ -127,8 +128,8 @@ MethodOutput RunRegional(const MethodInput& in, ConservationRule rule, RegionSha
   for (auto c : centres) samples[in.groups[c]].push_back(c);
   std::vector<std::uint32_t> sample_centres;
   for (auto& members : samples) {
-    const std::size_t n = o.density_samples > 0 ? std::min<std::size_t>(members.size(), o.density_samples)
-                                                : members.size();
+    const std::size_t n =
+        o.density_samples > 0 ? std::min<std::size_t>(members.size(), o.density_samples) : members.size();
     for (std::size_t k = 0; k < n; ++k) {
       std::uniform_int_distribution<std::size_t> pick(k, members.size() - 1);
       std::swap(members[k], members[pick(rng)]);
@@ -141,7 +142,8 @@ MethodOutput RunRegional(const MethodInput& in, ConservationRule rule, RegionSha
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t c = sample_centres[k];
       QueryRegion(index, pts[c], shape, o, &region);
-      sample_density[k] = ComputeRegionStats(in, c, region, shape, planes.plane[in.groups[c]], o).candidate_density;
+      sample_density[k] =
+          ComputeRegionStats(in, c, region, shape, planes.plane[in.groups[c]], o).candidate_density;
     }
   });
   for (std::size_t k = 0; k < sample_centres.size(); ++k) {
@@ -160,7 +162,9 @@ MethodOutput RunRegional(const MethodInput& in, ConservationRule rule, RegionSha
   std::vector<std::uint32_t> region;
   std::vector<std::uint32_t> undecided;
   // Best first: smallest r, ties broken by index so that the result is reproducible.
-  auto better = [&](std::uint32_t a, std::uint32_t b) { return rank[a] != rank[b] ? rank[a] < rank[b] : a < b; };
+  auto better = [&](std::uint32_t a, std::uint32_t b) {
+    return rank[a] != rank[b] ? rank[a] < rank[b] : a < b;
+  };
   for (const std::uint32_t k : order) {
     const std::uint32_t c = centres[k];
     if (decided[c]) continue;  // see the header comment: its region could only decide what others will
@@ -186,8 +190,8 @@ MethodOutput RunRegional(const MethodInput& in, ConservationRule rule, RegionSha
     if (undecided.empty()) continue;
     const std::size_t quota = n_candidates - DiscardCount(conservation, n_candidates);
     const std::size_t keep = std::min(undecided.size(), quota > kept_already ? quota - kept_already : 0);
-    std::partial_sort(undecided.begin(), undecided.begin() + static_cast<std::ptrdiff_t>(keep), undecided.end(),
-                      better);
+    std::partial_sort(undecided.begin(), undecided.begin() + static_cast<std::ptrdiff_t>(keep),
+                      undecided.end(), better);
     for (std::size_t e = 0; e < undecided.size(); ++e) {
       decided[undecided[e]] = 1;
       out.removed[undecided[e]] = e < keep ? 0 : 1;

@@ -89,6 +89,7 @@ void SimplifyOptions::Check() const {
   SEMAP_CHECK_OPTION(ps_interior_sigma_m > 0.0, "ps_interior_sigma_m", ps_interior_sigma_m, "must be > 0");
   SEMAP_CHECK_OPTION(ps_boundary_sigma_m > 0.0, "ps_boundary_sigma_m", ps_boundary_sigma_m, "must be > 0");
   SEMAP_CHECK_OPTION(ps_svm_c > 0.0, "ps_svm_c", ps_svm_c, "must be > 0");
+  SEMAP_CHECK_OPTION(ps_svm_max_samples >= 2, "ps_svm_max_samples", ps_svm_max_samples, "must be >= 2");
   SEMAP_CHECK_OPTION(ransac_threshold_m > 0.0, "ransac_threshold_m", ransac_threshold_m, "must be > 0");
   SEMAP_CHECK_OPTION(ransac_iterations >= 1, "ransac_iterations", ransac_iterations, "must be >= 1");
   SEMAP_CHECK_OPTION(ransac_max_points >= 3, "ransac_max_points", ransac_max_points, "must be >= 3");
@@ -131,28 +132,42 @@ std::vector<std::uint8_t> RunMethod(const LabelledCloud& cloud, const ClassMap& 
   };
   using M = SimplifyMethod;
   switch (o.method) {
-    case M::kOriginal: return std::vector<std::uint8_t>(cloud.size(), 0);
-    case M::kGeometricBaseline: return candidates_only(RunGeometricBaseline(cloud, o, rng));
-    case M::kLinearBaseline: return regional(ConservationRule::kLinear, RegionShape::kRadius, false);
-    case M::kAdaptiveBaseline: return regional(ConservationRule::kAdaptive, RegionShape::kRadius, false);
-    case M::kProbabilisticBaseline: return probabilistic(false);
-    case M::kLinearRadius: return regional(ConservationRule::kLinear, RegionShape::kRadius, true);
-    case M::kLinearKnn: return regional(ConservationRule::kLinear, RegionShape::kKnn, true);
-    case M::kAdaptiveRadius: return regional(ConservationRule::kAdaptive, RegionShape::kRadius, true);
-    case M::kAdaptiveKnn: return regional(ConservationRule::kAdaptive, RegionShape::kKnn, true);
-    case M::kAdaptiveClassRadius: return regional(ConservationRule::kAdaptiveClass, RegionShape::kRadius, true);
-    case M::kAdaptiveClassKnn: return regional(ConservationRule::kAdaptiveClass, RegionShape::kKnn, true);
-    case M::kProbabilistic: return probabilistic(true);
-    case M::kVoxel: return candidates_only(RunVoxelGrid(cloud, o));
-    case M::kHierarchy: return candidates_only(RunHierarchy(cloud, o));
+    case M::kOriginal:
+      return std::vector<std::uint8_t>(cloud.size(), 0);
+    case M::kGeometricBaseline:
+      return candidates_only(RunGeometricBaseline(cloud, o, rng));
+    case M::kLinearBaseline:
+      return regional(ConservationRule::kLinear, RegionShape::kRadius, false);
+    case M::kAdaptiveBaseline:
+      return regional(ConservationRule::kAdaptive, RegionShape::kRadius, false);
+    case M::kProbabilisticBaseline:
+      return probabilistic(false);
+    case M::kLinearRadius:
+      return regional(ConservationRule::kLinear, RegionShape::kRadius, true);
+    case M::kLinearKnn:
+      return regional(ConservationRule::kLinear, RegionShape::kKnn, true);
+    case M::kAdaptiveRadius:
+      return regional(ConservationRule::kAdaptive, RegionShape::kRadius, true);
+    case M::kAdaptiveKnn:
+      return regional(ConservationRule::kAdaptive, RegionShape::kKnn, true);
+    case M::kAdaptiveClassRadius:
+      return regional(ConservationRule::kAdaptiveClass, RegionShape::kRadius, true);
+    case M::kAdaptiveClassKnn:
+      return regional(ConservationRule::kAdaptiveClass, RegionShape::kKnn, true);
+    case M::kProbabilistic:
+      return probabilistic(true);
+    case M::kVoxel:
+      return candidates_only(RunVoxelGrid(cloud, o));
+    case M::kHierarchy:
+      return candidates_only(RunHierarchy(cloud, o));
   }
   SEMAP_ASSERT(false, "unhandled method");
   return {};
 }
 
 // Kept indices (relative to `offset`) and per-label statistics over the candidates [offset, n).
-void CollectResult(const LabelledCloud& cloud, const ClassMap& class_map, const std::vector<std::uint8_t>& removed,
-                   std::size_t offset, SimplifyResult* result) {
+void CollectResult(const LabelledCloud& cloud, const ClassMap& class_map,
+                   const std::vector<std::uint8_t>& removed, std::size_t offset, SimplifyResult* result) {
   std::map<Label, ClassSimplifyStats> stats;
   for (std::size_t i = offset; i < cloud.size(); ++i) {
     const Label label = cloud.labels.empty() ? class_map.unlabelled_id() : cloud.labels[i];
@@ -171,7 +186,8 @@ void CollectResult(const LabelledCloud& cloud, const ClassMap& class_map, const 
 }
 }  // namespace simplify
 
-SimplifyResult Simplify(const LabelledCloud& cloud, const ClassMap& class_map, const SimplifyOptions& options) {
+SimplifyResult Simplify(const LabelledCloud& cloud, const ClassMap& class_map,
+                        const SimplifyOptions& options) {
   options.Check();
   const auto start = std::chrono::steady_clock::now();
   const auto removed = simplify::RunMethod(cloud, class_map, options, 0, {}, nullptr);

@@ -53,7 +53,7 @@ struct SimplifyOptions {
   // Regions rho_i.
   double region_radius_m = 0.3;  // radius of the spherical regions (R methods, PS, LSB/ASB/PSB)
   int region_k = 32;             // neighbours per region for the K methods (the centre included)
-  int density_samples = 4096;  // regions per group whose densities estimate D̄ (LS/AS/ACS); 0 = every region
+  int density_samples = 4096;    // regions per group whose densities estimate D̄ (LS/AS/ACS/PS); 0 = all
   int normal_k = 12;             // neighbours of the PCA tangent-plane normal (and GB's surface variation)
 
   // Conservation factor (LS / AS / ACS).
@@ -62,11 +62,12 @@ struct SimplifyOptions {
   double min_conservation = 0.0;     // lower clamp of c (paper: 0; > 0 never empties a very dense region)
 
   // Probabilistic simplification (PS / PSB).
-  int ps_region_divisor = 8;            // N_r = |points of the class group| / divisor (paper: 8)
-  double ps_boundary_share = 0.1;       // i(p̃) = 1 (interior, P_I) when p̃ < this, else P_B (paper: 0.1)
-  double ps_interior_sigma_m = 0.2;     // σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²)) on the class plane
-  double ps_boundary_sigma_m = 0.1;     // σ of P_B = exp(−d² / (2 σ²)), d = distance to the SVM boundary
-  double ps_svm_c = 10.0;               // soft-margin C of the linear SVM (coordinates in region radii)
+  int ps_region_divisor = 8;         // N_r = |points of the class group| / divisor (paper: 8)
+  double ps_boundary_share = 0.1;    // i(p̃) = 1 (interior, P_I) when p̃ < this, else P_B (paper: 0.1)
+  double ps_interior_sigma_m = 0.2;  // σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²)) on the class plane
+  double ps_boundary_sigma_m = 0.1;  // σ of P_B = exp(−d² / (2 σ²)), d = distance to the SVM boundary
+  double ps_svm_c = 10.0;            // soft-margin C of the linear SVM (coordinates in region radii)
+  int ps_svm_max_samples = 256;      // training points per SVM at most (evenly strided over the region)
 
   // Class planes (RANSAC per target group).
   double ransac_threshold_m = 0.05;  // inlier distance to the plane
@@ -74,11 +75,11 @@ struct SimplifyOptions {
   int ransac_max_points = 20000;     // inliers are counted on at most this many random points of the group
 
   // Baselines.
-  double gb_flatness_threshold = 0.01;    // GB: surface variation λ0/(λ0+λ1+λ2) below this is "flat"
-  double gb_flat_keep_probability = 0.4;  // GB: a flat point is kept with this probability; others always
-  double voxel_size_m = 0.1;              // voxel: edge of the grid cells
-  int hierarchy_cluster_size = 10;        // hierarchy: CGAL size (max points per cluster)
-  double hierarchy_max_variation = 0.333; // hierarchy: CGAL maximum_variation (surface variation bound)
+  double gb_flatness_threshold = 0.01;     // GB: surface variation λ0/(λ0+λ1+λ2) below this is "flat"
+  double gb_flat_keep_probability = 0.4;   // GB: a flat point is kept with this probability; others always
+  double voxel_size_m = 0.1;               // voxel: edge of the grid cells
+  int hierarchy_cluster_size = 10;         // hierarchy: CGAL size (max points per cluster)
+  double hierarchy_max_variation = 0.333;  // hierarchy: CGAL maximum_variation (surface variation bound)
 
   // Streaming (WindowedSimplifier).
   int window_frames = 5;  // W: frames whose decided points give densities, planes and neighbourhoods
@@ -91,22 +92,23 @@ struct SimplifyOptions {
 // What happened to one label's points.
 struct ClassSimplifyStats {
   Label label = 0;
-  std::uint64_t in = 0;       // points of this label given to the simplifier
+  std::uint64_t in = 0;  // points of this label given to the simplifier
   std::uint64_t kept = 0;
   std::uint64_t removed = 0;  // in − kept
 };
 
 struct SimplifyResult {
-  std::vector<std::uint32_t> kept_indices;     // ascending indices into the input cloud
-  std::vector<ClassSimplifyStats> per_class;   // one entry per label present, ascending label
-  double time_s = 0.0;                         // wall time of the simplification
+  std::vector<std::uint32_t> kept_indices;    // ascending indices into the input cloud
+  std::vector<ClassSimplifyStats> per_class;  // one entry per label present, ascending label
+  double time_s = 0.0;                        // wall time of the simplification
   std::uint64_t in = 0;
   std::uint64_t kept() const { return kept_indices.size(); }
 };
 
 // Simplifies `cloud` (labels absent = every point unlabelled). Thread-safe (no shared state).
 // Requires options.Check() to pass (asserted via Check(), which throws InvalidOption).
-SimplifyResult Simplify(const LabelledCloud& cloud, const ClassMap& class_map, const SimplifyOptions& options);
+SimplifyResult Simplify(const LabelledCloud& cloud, const ClassMap& class_map,
+                        const SimplifyOptions& options);
 
 // The kept subset of `cloud` (every attribute carried, cameras unchanged).
 LabelledCloud ApplySimplification(const LabelledCloud& cloud, const SimplifyResult& result);

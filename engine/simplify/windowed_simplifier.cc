@@ -46,8 +46,7 @@ WindowedSimplifier::FrameResult WindowedSimplifier::Process(const LabelledCloud&
   SimplifyOptions frame_options = options_;
   frame_options.seed = options_.seed + kGolden * (frames_processed_ + 1);
   simplify::DensitySums batch;
-  const auto removed =
-      simplify::RunMethod(context, class_map_, frame_options, num_fixed, prior, &batch);
+  const auto removed = simplify::RunMethod(context, class_map_, frame_options, num_fixed, prior, &batch);
 
   FrameResult out;
   simplify::CollectResult(context, class_map_, removed, num_fixed, &out.result);

@@ -20,7 +20,11 @@ namespace semap {
 //   include the kept points of the previous frames;
 // - D̄ is the mean over the regions of the last W frames (including this one), not of this frame alone;
 // - in LS/AS/ACS a region's quota counts the decided points it contains, so new points that fall on ground
-//   or walls already covered by kept points mostly go; in PS the higher density (d̃) widens P_I's Gaussian.
+//   or walls already covered by kept points mostly go; in PS the decided points of a region likewise scale
+//   the candidates' P_c by max(0, 1 − decided / Σ P_c) (see probabilistic.cc), and the higher density d̃
+//   widens P_I's Gaussian.
+// W should cover the frames that see the same area (view depth / distance per frame): decided points older
+// than W frames are forgotten, and an area still in view is then filled again as if new.
 // The baselines (GB, voxel, hierarchy) also run on the context; decided points are never removed.
 // The random generator of frame n is seeded from (options.seed, n), so a replay gives the same output.
 //

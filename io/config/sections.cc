@@ -158,7 +158,7 @@ void Bind(FieldBinder& b, SimplifyOptions& o) {
   b.Field("region_radius_m", &o.region_radius_m, "radius of the spherical regions (R methods, PS, LSB/ASB/PSB)");
   b.Field("region_k", &o.region_k, "neighbours per region of the K methods");
   b.Field("density_samples", &o.density_samples,
-          "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS); 0 = every region");
+          "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS/PS); 0 = all");
   b.Field("normal_k", &o.normal_k, "neighbours of the PCA normals (ranking r) and of GB's surface variation");
   b.Field("target_conservation", &o.target_conservation,
           "c̄: share of points kept in a region of average density (paper: 0.4 / 0.5)");
@@ -170,6 +170,7 @@ void Bind(FieldBinder& b, SimplifyOptions& o) {
   b.Field("ps_interior_sigma_m", &o.ps_interior_sigma_m, "PS: σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²))");
   b.Field("ps_boundary_sigma_m", &o.ps_boundary_sigma_m, "PS: σ of P_B = exp(−d² / (2 σ²)), d to the SVM boundary");
   b.Field("ps_svm_c", &o.ps_svm_c, "PS: soft-margin C of the linear SVM (coordinates in region radii)");
+  b.Field("ps_svm_max_samples", &o.ps_svm_max_samples, "PS: training points per SVM at most (strided)");
   b.Field("ransac_threshold_m", &o.ransac_threshold_m, "class planes: RANSAC inlier distance");
   b.Field("ransac_iterations", &o.ransac_iterations, "class planes: RANSAC hypotheses per class group");
   b.Field("ransac_max_points", &o.ransac_max_points, "class planes: inliers counted on at most this many points");

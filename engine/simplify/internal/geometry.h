@@ -2,13 +2,12 @@
 // planes and PCA normals. Not API.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <random>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace semap::simplify {
 
@@ -20,7 +19,8 @@ class PointIndex {
   PointIndex(const PointIndex&) = delete;
   PointIndex& operator=(const PointIndex&) = delete;
 
-  // Indices of the points within `radius_m` of `query` (ascending index order). `out` is overwritten.
+  // Indices of the points within `radius_m` of `query`, in the tree's (deterministic, unsorted) order.
+  // `out` is overwritten.
   void Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::uint32_t>* out) const;
   // The min(k, size) nearest points (nearest first). `out` is overwritten.
   void Knn(const Eigen::Vector3d& query, int k, std::vector<std::uint32_t>* out) const;

@@ -5,13 +5,12 @@
 // Batch simplification has num_fixed = 0.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <functional>
 #include <random>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/class_map.h"
 #include "engine/core/labelled_cloud.h"
@@ -43,7 +42,7 @@ struct MethodInput {
   std::size_t num_fixed = 0;             // leading decided points
   std::vector<Label> labels;             // per point (the unlabelled id where the cloud has none)
   std::vector<GroupId> groups;           // per point
-  DensitySums prior_densities;           // region densities of earlier frames (windowed), added to this call's
+  DensitySums prior_densities;  // region densities of earlier frames (windowed), added to this call's
 
   std::size_t size() const { return labels.size(); }
   bool IsCandidate(std::size_t i) const { return i >= num_fixed; }
@@ -85,8 +84,8 @@ std::vector<std::uint8_t> RunMethod(const LabelledCloud& cloud, const ClassMap& 
                                     const SimplifyOptions& options, std::size_t num_fixed,
                                     const DensitySums& prior, DensitySums* densities);
 // Fills kept_indices (relative to `offset`), per_class and `in` from the candidates [offset, n).
-void CollectResult(const LabelledCloud& cloud, const ClassMap& class_map, const std::vector<std::uint8_t>& removed,
-                   std::size_t offset, SimplifyResult* result);
+void CollectResult(const LabelledCloud& cloud, const ClassMap& class_map,
+                   const std::vector<std::uint8_t>& removed, std::size_t offset, SimplifyResult* result);
 
 // ---- helpers shared by regional.cc and probabilistic.cc ----
 

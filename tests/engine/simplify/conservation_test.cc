@@ -1,20 +1,20 @@
 #include "engine/simplify/conservation.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace semap::simplify {
 namespace {
 
 TEST(Conservation, LinearMatchesHandValues) {
   // c = c̄ − (d̃ − 1) / c̄ with c̄ = 0.4.
-  EXPECT_DOUBLE_EQ(LinearConservation(1.0, 0.4), 0.4);            // c(D̄) = c̄
-  EXPECT_NEAR(LinearConservation(1.1, 0.4), 0.4 - 0.25, 1e-12);   // 0.15
-  EXPECT_NEAR(LinearConservation(0.9, 0.4), 0.4 + 0.25, 1e-12);   // 0.65
-  EXPECT_DOUBLE_EQ(LinearConservation(0.5, 0.4), 1.0);            // clamped high
-  EXPECT_DOUBLE_EQ(LinearConservation(2.0, 0.4), 0.0);            // clamped low
-  EXPECT_DOUBLE_EQ(LinearConservation(2.0, 0.4, 0.1), 0.1);       // min_conservation
+  EXPECT_DOUBLE_EQ(LinearConservation(1.0, 0.4), 0.4);           // c(D̄) = c̄
+  EXPECT_NEAR(LinearConservation(1.1, 0.4), 0.4 - 0.25, 1e-12);  // 0.15
+  EXPECT_NEAR(LinearConservation(0.9, 0.4), 0.4 + 0.25, 1e-12);  // 0.65
+  EXPECT_DOUBLE_EQ(LinearConservation(0.5, 0.4), 1.0);           // clamped high
+  EXPECT_DOUBLE_EQ(LinearConservation(2.0, 0.4), 0.0);           // clamped low
+  EXPECT_DOUBLE_EQ(LinearConservation(2.0, 0.4, 0.1), 0.1);      // min_conservation
   EXPECT_DOUBLE_EQ(LinearConservation(1.0, 0.5), 0.5);
 }
 
@@ -29,9 +29,9 @@ TEST(Conservation, LinearFallsWithDensity) {
 
 TEST(Conservation, AdaptiveFunctionMatchesHandValues) {
   EXPECT_DOUBLE_EQ(AdaptiveF(0.0, 1.0), 0.5);
-  EXPECT_DOUBLE_EQ(AdaptiveF(1.0, 1.0), 0.75);   // 0.5 + 1 / (2·2)
+  EXPECT_DOUBLE_EQ(AdaptiveF(1.0, 1.0), 0.75);  // 0.5 + 1 / (2·2)
   EXPECT_DOUBLE_EQ(AdaptiveF(-1.0, 1.0), 0.25);
-  EXPECT_DOUBLE_EQ(AdaptiveF(2.0, 0.5), 0.75);   // 0.5 + 1 / (2·2)
+  EXPECT_DOUBLE_EQ(AdaptiveF(2.0, 0.5), 0.75);  // 0.5 + 1 / (2·2)
   EXPECT_NEAR(AdaptiveF(1e9, 1.0), 1.0, 1e-8);
   for (double c : {0.1, 0.4, 0.5, 0.77}) EXPECT_NEAR(AdaptiveF(AdaptiveFInverse(c, 2.0), 2.0), c, 1e-12);
   // c̄ = 0.4, w = 1: f⁻¹(0.4) = −0.2 / 0.8 = −0.25, τ = 0.75.
@@ -39,7 +39,7 @@ TEST(Conservation, AdaptiveFunctionMatchesHandValues) {
 }
 
 TEST(Conservation, AdaptiveMatchesHandValuesAndTarget) {
-  EXPECT_NEAR(AdaptiveConservation(1.0, 0.4, 1.0), 0.4, 1e-12);             // c(D̄) = c̄
+  EXPECT_NEAR(AdaptiveConservation(1.0, 0.4, 1.0), 0.4, 1e-12);  // c(D̄) = c̄
   EXPECT_NEAR(AdaptiveConservation(1.0, 0.5, 3.0), 0.5, 1e-12);
   EXPECT_NEAR(AdaptiveConservation(2.0, 0.4, 1.0), 0.5 - 1.25 / 4.5, 1e-12);  // f(−1.25)
   EXPECT_NEAR(AdaptiveConservation(0.0, 0.4, 1.0), 0.5 + 0.75 / 3.5, 1e-12);  // f(0.75)

@@ -1,9 +1,9 @@
 #include "engine/simplify/internal/geometry.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <gtest/gtest.h>
 
 namespace semap::simplify {
 namespace {
@@ -22,6 +22,7 @@ TEST(PointIndex, RadiusAndKnnMatchBruteForce) {
   const Eigen::Vector3d q(0.1, -0.2, 0.3);
   std::vector<std::uint32_t> got;
   index.Radius(q, 0.25, &got);
+  std::sort(got.begin(), got.end());
   std::vector<std::uint32_t> want;
   for (std::uint32_t i = 0; i < pts.size(); ++i) {
     if ((pts[i] - q).norm() <= 0.25) want.push_back(i);
@@ -32,7 +33,8 @@ TEST(PointIndex, RadiusAndKnnMatchBruteForce) {
   index.Knn(q, 10, &got);
   std::vector<std::uint32_t> order(pts.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return (pts[a] - q).norm() < (pts[b] - q).norm(); });
+  std::sort(order.begin(), order.end(),
+            [&](auto a, auto b) { return (pts[a] - q).norm() < (pts[b] - q).norm(); });
   order.resize(10);
   EXPECT_EQ(got, order);
 }

@@ -15,12 +15,12 @@ inline constexpr Label kBuilding = 3;  // wall
 inline constexpr Label kCar = 14;      // keep
 
 struct SceneOptions {
-  double spacing_m = 0.05;       // grid step of the surfaces
-  double jitter_m = 0.01;        // uniform in-surface jitter
+  double spacing_m = 0.05;  // grid step of the surfaces
+  double jitter_m = 0.01;   // uniform in-surface jitter
   double x_min = -4.0, x_max = 4.0;
   double y_min = -4.0, y_max = 4.0;
-  bool with_box = true;          // box [0, 2] x [0, 1] x [0, 1], label car
-  bool with_wall = true;         // wall x = x_max, z ∈ [0, 2], label building
+  bool with_box = true;   // box [0, 2] x [0, 1] x [0, 1], label car
+  bool with_wall = true;  // wall x = x_max, z ∈ [0, 2], label building
   Eigen::Vector3d camera{-3.0, -3.0, 1.7};
   std::uint64_t seed = 7;
 };

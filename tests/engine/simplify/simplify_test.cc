@@ -1,9 +1,9 @@
 // The methods on the synthetic road + box + wall scene.
 #include "engine/simplify/simplify.h"
 
-#include <map>
-
 #include <gtest/gtest.h>
+
+#include <map>
 
 #include "engine/core/check.h"
 #include "tests/engine/simplify/scene.h"
@@ -113,8 +113,8 @@ TEST(Simplify, SemanticMethodsLeaveNonTargetClassesBitIdentical) {
 
 TEST(Simplify, SameSeedSameOutputOtherSeedOtherOutput) {
   const LabelledCloud cloud = test::MakeScene();
-  for (auto m : {SimplifyMethod::kProbabilistic, SimplifyMethod::kLinearRadius, SimplifyMethod::kAdaptiveClassKnn,
-                 SimplifyMethod::kGeometricBaseline}) {
+  for (auto m : {SimplifyMethod::kProbabilistic, SimplifyMethod::kLinearRadius,
+                 SimplifyMethod::kAdaptiveClassKnn, SimplifyMethod::kGeometricBaseline}) {
     SCOPED_TRACE(SimplifyMethodName(m));
     SimplifyOptions o = WithMethod(m);
     const auto a = Simplify(cloud, ClassMap::Cityscapes(), o);
@@ -144,8 +144,8 @@ TEST(Simplify, AdaptiveClassNeverRemovesMoreThanAdaptive) {
 }
 
 // Kept share of road points within `band_m` of the box footprint and farther than `interior_m`.
-std::pair<double, double> BandAndInteriorShares(const LabelledCloud& cloud, const SimplifyResult& r, double band_m,
-                                                double interior_m) {
+std::pair<double, double> BandAndInteriorShares(const LabelledCloud& cloud, const SimplifyResult& r,
+                                                double band_m, double interior_m) {
   std::vector<std::uint8_t> kept(cloud.size(), 0);
   for (auto i : r.kept_indices) kept[i] = 1;
   double band_in = 0, band_kept = 0, int_in = 0, int_kept = 0;
@@ -174,7 +174,8 @@ TEST(Simplify, ProbabilisticKeepsMoreNearTheClassBoundary) {
   RecordProperty("interior_share", std::to_string(interior));
   EXPECT_GT(band, 1.5 * interior) << "band " << band << " interior " << interior;
   // Without semantics (PSB) the boundary band gets no such protection.
-  const auto psb = Simplify(cloud, ClassMap::Cityscapes(), WithMethod(SimplifyMethod::kProbabilisticBaseline));
+  const auto psb =
+      Simplify(cloud, ClassMap::Cityscapes(), WithMethod(SimplifyMethod::kProbabilisticBaseline));
   const auto [band_b, interior_b] = BandAndInteriorShares(cloud, psb, 0.1, 1.0);
   EXPECT_LT(band_b, band) << "PSB band " << band_b << " interior " << interior_b;
 }
@@ -184,7 +185,8 @@ TEST(Simplify, RegionMethodsKeepAboutTheTargetShareOfAUniformPlane) {
   scene.with_box = false;
   scene.with_wall = false;
   const LabelledCloud cloud = test::MakeScene(scene);
-  for (auto m : {SimplifyMethod::kLinearRadius, SimplifyMethod::kAdaptiveRadius, SimplifyMethod::kLinearKnn}) {
+  for (auto m :
+       {SimplifyMethod::kLinearRadius, SimplifyMethod::kAdaptiveRadius, SimplifyMethod::kLinearKnn}) {
     SCOPED_TRACE(SimplifyMethodName(m));
     const auto r = Simplify(cloud, ClassMap::Cityscapes(), WithMethod(m));
     const double share = KeptShare(r, kRoad);
@@ -227,6 +229,40 @@ TEST(Simplify, RankingRemovesTiltedPointsFirst) {
   }
   EXPECT_LT(rough_kept / rough_in, 0.5 * flat_kept / flat_in)
       << "rough " << rough_kept / rough_in << " flat " << flat_kept / flat_in;
+}
+
+}  // namespace
+}  // namespace semap
+
+namespace semap {
+namespace {
+
+TEST(Simplify, EmptyUnlabelledAndCameralessClouds) {
+  const LabelledCloud empty;
+  LabelledCloud unlabelled = test::MakeScene();
+  unlabelled.labels.clear();
+  LabelledCloud no_cameras = test::MakeScene();
+  no_cameras.camera_index.clear();
+  no_cameras.camera_centers_world.clear();
+  no_cameras.camera_frame_ids.clear();
+  for (auto m : AllSimplifyMethods()) {
+    SCOPED_TRACE(SimplifyMethodName(m));
+    SimplifyOptions o;
+    o.method = m;
+    const auto r_empty = Simplify(empty, ClassMap::Cityscapes(), o);
+    EXPECT_EQ(r_empty.kept(), 0u);
+    EXPECT_TRUE(r_empty.per_class.empty());
+    // Without labels every point is "Unlabeled" (role keep): semantic methods keep everything.
+    const auto r_unlabelled = Simplify(unlabelled, ClassMap::Cityscapes(), o);
+    if (IsSemanticMethod(m)) {
+      EXPECT_EQ(r_unlabelled.kept(), unlabelled.size());
+    }
+    // Without cameras normals are oriented along the class plane: still simplifies the targets.
+    const auto r_no_cameras = Simplify(no_cameras, ClassMap::Cityscapes(), o);
+    if (IsSemanticMethod(m)) {
+      EXPECT_LT(r_no_cameras.kept(), no_cameras.size());
+    }
+  }
 }
 
 }  // namespace
