@@ -66,15 +66,7 @@ std::unique_ptr<SequenceSource> OpenKittiOdometry(const fs::path& path, const Fr
 
   const fs::path times = seq / "times.txt";
   if (fs::exists(times)) {
-    const std::vector<double> t = ReadOdometryTimes(times);
-    const std::int64_t needed = scan.frames.back().id + 1;
-    if (static_cast<std::int64_t>(t.size()) < needed) {
-      throw FileError(times, "has " + std::to_string(t.size()) + " times but frame " +
-                                 std::to_string(scan.frames.back().id) + " needs line " +
-                                 std::to_string(needed));
-    }
-    for (const auto& f : scan.frames) scan.timestamps_s.push_back(t[f.id] - t[scan.all_frames.front().id]);
-    info.has_timestamps = true;
+    TimestampsFromFile(ReadOdometryTimes(times), times, "times", &scan);
   } else {
     NominalTimestamps(options, &scan);
     info.notes.push_back("no times.txt: timestamps are frame id x default_frame_period_s");

@@ -98,15 +98,7 @@ std::unique_ptr<SequenceSource> OpenKittiRaw(const fs::path& path, const FrameSo
   // Timestamps of the left camera; line k belongs to frame k.
   const fs::path stamps = *drive / "image_02" / "timestamps.txt";
   if (fs::exists(stamps)) {
-    const std::vector<double> t = ReadKittiTimestamps(stamps);
-    const std::int64_t needed = scan.frames.back().id + 1;
-    if (static_cast<std::int64_t>(t.size()) < needed) {
-      throw FileError(stamps, "has " + std::to_string(t.size()) + " timestamps but frame " +
-                                  std::to_string(scan.frames.back().id) + " needs line " +
-                                  std::to_string(needed));
-    }
-    for (const auto& f : scan.frames) scan.timestamps_s.push_back(t[f.id] - t[scan.all_frames.front().id]);
-    info.has_timestamps = true;
+    TimestampsFromFile(ReadKittiTimestamps(stamps), stamps, "timestamps", &scan);
   } else {
     NominalTimestamps(options, &scan);
     info.notes.push_back("no image_02/timestamps.txt: timestamps are frame id x default_frame_period_s");

@@ -61,6 +61,19 @@ void SelectFrames(const FrameSourceOptions& options, SequenceScan* scan) {
   }
 }
 
+void TimestampsFromFile(const std::vector<double>& times_s, const std::filesystem::path& path,
+                        const std::string& noun, SequenceScan* scan) {
+  const std::int64_t needed = scan->frames.back().id + 1;
+  if (static_cast<std::int64_t>(times_s.size()) < needed) {
+    throw FileError(path, "has " + std::to_string(times_s.size()) + " " + noun + " but frame " +
+                              std::to_string(scan->frames.back().id) + " needs line " + std::to_string(needed));
+  }
+  scan->timestamps_s.clear();
+  const double t0 = times_s[scan->all_frames.front().id];
+  for (const auto& f : scan->frames) scan->timestamps_s.push_back(times_s[f.id] - t0);
+  scan->info.has_timestamps = true;
+}
+
 void NominalTimestamps(const FrameSourceOptions& options, SequenceScan* scan) {
   scan->timestamps_s.clear();
   const std::int64_t id0 = scan->all_frames.front().id;

@@ -42,6 +42,12 @@ void SelectFrames(const FrameSourceOptions& options, SequenceScan* scan);
 // Timestamps by id × period (no timestamps on disk).
 void NominalTimestamps(const FrameSourceOptions& options, SequenceScan* scan);
 
+// Timestamps of the selected frames from a times file already read (line k = frame k), relative to the first
+// frame on disk. Throws FileError naming `path` when it has too few lines; `noun` names its lines in the
+// message ("timestamps", "times").
+void TimestampsFromFile(const std::vector<double>& times_s, const std::filesystem::path& path,
+                        const std::string& noun, SequenceScan* scan);
+
 // Labels: options.labels_dir, else `default_dir` when it exists; loads the class map. Sets labels_dir and
 // the info's label fields.
 void AttachLabels(const FrameSourceOptions& options, const std::filesystem::path& default_dir,
