@@ -201,8 +201,16 @@ void Bind(FieldBinder& b, MapOptions& o) {
   b.Field("merge_distance_m", &o.merge_distance_m,
           "a new point this close to an existing one is merged into it (only its ray is added); 0 = exact "
           "duplicates only");
+  b.Enum("extraction", &o.extraction,
+         {{"carve_and_repair", SurfaceExtraction::kCarveAndRepair},
+          {"greedy_growth", SurfaceExtraction::kGreedyGrowth}},
+         "manifold surface extraction: carve_and_repair (carve every free cell, repair the manifold "
+         "locally, grow) | greedy_growth (the paper's region growing from the most free cell)");
   b.Field("grow_passes", &o.grow_passes,
           "region-growing passes retrying the cells the manifold test refused");
+  b.Field("repair_fill_cost", &o.repair_fill_cost,
+          "carve_and_repair: cost in ray weights of carving a non-free cell to make a vertex regular "
+          "(besides its matter excess), against the free votes given up by uncarving instead");
   b.Field("steiner_spacing_m", &o.steiner_spacing_m, "spacing of the bounding Steiner lattice, metres");
   b.Field("steiner_margin_cubes", &o.steiner_margin_cubes, "lattice cubes kept around each point and camera");
   b.Field("drop_steiner_triangles", &o.drop_steiner_triangles,
