@@ -33,7 +33,15 @@ struct Row {
   std::size_t triangles = 0;
   std::int64_t frames = 0;
   double exact_rmse_m = -1.0;  // against exact depth maps (generated sequences), < 0 = none
+  bool has_lidar = false;      // false: the sequence has no Velodyne, RMSE and completeness are not defined
 };
+
+std::string Figure(bool defined, const char* format, double value) {
+  if (!defined) return "–";
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
 
 // The paper's incremental table (ICRA 2019, Table III): KITTI sequences 95 and 104.
 struct PaperRow {
@@ -66,10 +74,10 @@ std::string Markdown(const std::vector<Row>& rows) {
     for (const Row& o : rows) {
       if (o.sequence == r.sequence && o.method == "O" && o.fps > 0.0) speedup = r.fps / o.fps;
     }
-    std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.3f | %.2f× | %.1f %% | %.2f | %zu | %lld | %s |\n",
-                  r.sequence.c_str(), r.method.c_str(), r.rmse_m, r.fps, speedup, 100.0 * r.completeness,
-                  r.mesh_mb, r.triangles, static_cast<long long>(r.frames),
-                  r.exact_rmse_m < 0.0 ? "–" : std::to_string(r.exact_rmse_m).substr(0, 6).c_str());
+    std::snprintf(line, sizeof(line), "| %s | %s | %s | %.3f | %.2f× | %s | %.2f | %zu | %lld | %s |\n",
+                  r.sequence.c_str(), r.method.c_str(), Figure(r.has_lidar, "%.4f", r.rmse_m).c_str(), r.fps,
+                  speedup, Figure(r.has_lidar, "%.1f %%", 100.0 * r.completeness).c_str(), r.mesh_mb, r.triangles,
+                  static_cast<long long>(r.frames), Figure(r.exact_rmse_m >= 0.0, "%.4f", r.exact_rmse_m).c_str());
     md += line;
   }
   md += "\nThe paper (KITTI, its Table III):\n\n| sequence | method | RMSE (m) | f/s | speed-up |\n|---|---|---|---|---|\n";
@@ -101,6 +109,7 @@ int Table(const TableArgs& args) {
       Row r;
       r.sequence = name;
       r.method = method;
+      r.has_lidar = run.evaluation.frames_with_lidar > 0;
       r.rmse_m = run.evaluation.lidar.rmse_m;
       r.completeness = run.evaluation.lidar.completeness;
       r.fps = run.summary.final_stats.fps;
@@ -123,7 +132,8 @@ int Table(const TableArgs& args) {
   for (const Row& r : rows) {
     j.push_back({{"sequence", r.sequence}, {"method", r.method}, {"rmse_m", r.rmse_m}, {"fps", r.fps},
                  {"completeness", r.completeness}, {"mesh_mb", r.mesh_mb}, {"triangles", r.triangles},
-                 {"frames", r.frames}, {"exact_depth_rmse_m", r.exact_rmse_m}});
+                 {"frames", r.frames}, {"exact_depth_rmse_m", r.exact_rmse_m},
+                 {"has_lidar", r.has_lidar}});
   }
   std::ofstream(json_path) << j.dump(2) << "\n";
   if (!std::filesystem::is_regular_file(md_path) || !std::filesystem::is_regular_file(json_path)) {
