@@ -216,7 +216,7 @@ void WriteOutputs(const CompareArgs& args, const std::vector<Row>& rows) {
   }
   dat.close();
   std::ofstream gp(out / "compare.gp");
-  gp << "set terminal pngcairo size 900,600\nset output 'compare.png'\n"
+  gp << "set terminal pngcairo size 900,600 noenhanced\nset output 'compare.png'\n"
      << "set title 'Mesh size vs accuracy (" << args.mode << ": " << std::filesystem::path(args.path).filename().string()
      << ")'\nset xlabel 'mesh size (MB, OFF)'\nset ylabel 'RMSE vs Velodyne (m)'\nset grid\n"
      << "set xrange [0:*]\nset yrange [0:*]\n"
