@@ -41,14 +41,23 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     if (!frame->world_from_cam) continue;
     ++result.frames;
     const cv::Mat mesh_depth = RenderDepth(mesh, frame->calibration, *frame->world_from_cam);
+    FrameAccuracy frame_accuracy;
+    frame_accuracy.frame_id = frame->id;
     if (frame->velodyne) {
-      lidar.Add(LidarDepthImage(*frame->velodyne, frame->calibration, accuracy), mesh_depth);
+      DepthAccuracyAccumulator one(accuracy);
+      one.Add(LidarDepthImage(*frame->velodyne, frame->calibration, accuracy), mesh_depth);
+      frame_accuracy.lidar = one.Result();
+      lidar.Merge(one);
       ++result.frames_with_lidar;
     }
     if (const auto path = ExactDepthPath(info, frame->id)) {
-      exact.Add(ReadDepthPngMm(*path), mesh_depth);
+      DepthAccuracyAccumulator one(accuracy);
+      one.Add(ReadDepthPngMm(*path), mesh_depth);
+      frame_accuracy.exact_depth = one.Result();
+      exact.Merge(one);
       ++result.frames_with_exact_depth;
     }
+    result.per_frame.push_back(frame_accuracy);
   }
   result.lidar = lidar.Result();
   if (result.frames_with_exact_depth > 0) result.exact_depth = exact.Result();

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "engine/core/mesh.h"
 #include "engine/eval/depth_accuracy.h"
@@ -13,6 +14,13 @@
 #include "io/frame_source.h"
 
 namespace semap::io {
+
+// One frame's figures (the same filters, that frame's pixels only).
+struct FrameAccuracy {
+  std::int64_t frame_id = 0;
+  std::optional<DepthAccuracy> lidar;        // when the frame has a Velodyne scan
+  std::optional<DepthAccuracy> exact_depth;  // when it has an exact depth map
+};
 
 struct MeshEvaluation {
   std::int64_t frames = 0;                    // frames with a pose that were evaluated
@@ -23,6 +31,7 @@ struct MeshEvaluation {
   std::uint64_t off_bytes = 0;                // mesh size as ASCII OFF (the paper's measure)
   std::size_t vertices = 0;
   std::size_t triangles = 0;
+  std::vector<FrameAccuracy> per_frame;       // every evaluated frame, in order
 };
 
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;
