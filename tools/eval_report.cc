@@ -36,6 +36,15 @@ nlohmann::json ToJson(const io::MeshEvaluation& e, bool per_frame) {
                    {"frames", e.frames}};
   if (e.frames_with_lidar > 0) j["lidar"] = ToJson(e.lidar);
   if (e.exact_depth) j["exact_depth"] = ToJson(*e.exact_depth);
+  if (e.scene) {
+    j["scene_mesh"] = {{"threshold_m", e.scene_threshold_m},
+                       {"accuracy", e.scene->accuracy},
+                       {"mean_accuracy_m", e.scene->mean_accuracy_m},
+                       {"completeness", e.scene->completeness},
+                       {"mean_completeness_m", e.scene->mean_completeness_m},
+                       {"reconstruction_samples", e.scene->reconstruction_samples},
+                       {"truth_samples", e.scene->truth_samples}};
+  }
   if (per_frame) {
     j["per_frame"] = nlohmann::json::array();
     for (const io::FrameAccuracy& f : e.per_frame) {
@@ -56,6 +65,11 @@ void PrintEvaluation(const io::MeshEvaluation& e) {
               static_cast<long long>(e.frames_with_exact_depth));
   if (e.frames_with_lidar > 0) Print("vs Velodyne", e.lidar);
   if (e.exact_depth) Print("vs exact depth", *e.exact_depth);
+  if (e.scene) {
+    std::printf("vs scene mesh accuracy %.1f %% (mean %.4f m), completeness %.1f %% (mean %.4f m) at tau = %.2f m\n",
+                100.0 * e.scene->accuracy, e.scene->mean_accuracy_m, 100.0 * e.scene->completeness,
+                e.scene->mean_completeness_m, e.scene_threshold_m);
+  }
 }
 
 void WritePerFrameCsv(const io::MeshEvaluation& e, const std::filesystem::path& path) {

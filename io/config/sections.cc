@@ -189,6 +189,10 @@ void Bind(FieldBinder& b, DepthAccuracyOptions& o) {
   b.Field("max_depth_m", &o.max_depth_m, "reference depths farther than this are ignored");
   b.Field("max_abs_error_m", &o.max_abs_error_m,
           "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all");
+  b.Field("surface_threshold_m", &o.surface_threshold_m,
+          "generated sequences: distance τ of accuracy / completeness against the exact scene mesh");
+  b.Field("surface_pixel_stride", &o.surface_pixel_stride,
+          "generated sequences: exact depth maps sampled every this many pixels give the observed true surface");
 }
 
 void Bind(FieldBinder& b, MapOptions& o) {

@@ -11,6 +11,7 @@
 #include "engine/core/mesh.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
+#include "engine/eval/surface_metrics.h"
 #include "io/frame_source.h"
 
 namespace semap::io {
@@ -32,6 +33,10 @@ struct MeshEvaluation {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
   std::vector<FrameAccuracy> per_frame;       // every evaluated frame, in order
+  // Generated sequences with scene_mesh.ply: accuracy / completeness in the MVS sense at
+  // accuracy.surface_threshold_m, the truth samples being the exact depth maps' points.
+  std::optional<SurfaceMetrics> scene;
+  double scene_threshold_m = 0.0;
 };
 
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;

@@ -53,5 +53,21 @@ TEST(SemapRunEval, WritesPerFrameAccuracyThatAgreesWithSemapEval) {
   EXPECT_TRUE(b["per_frame"][2].contains("exact_depth"));
 }
 
+TEST(SemapEval, TheExactSceneMeshIsAccurateAndComplete) {
+  const fs::path seq = test::SmallGeneratedSequence(3);
+  const fs::path json = test::TempDir() / "scene.json";
+  const fs::path scene = seq / "2026_01_01" / "2026_01_01_drive_0001_sync" / "scene_mesh.ply";
+  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + scene.string() + " --json " + json.string());
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_TRUE(eval.Has("vs scene mesh accuracy 100.0 %")) << eval.output;
+  const auto j = nlohmann::json::parse(std::ifstream(json));
+  EXPECT_DOUBLE_EQ(j["scene_mesh"]["accuracy"].get<double>(), 1.0);
+  // Truth samples come from the 16-bit millimetre depth PNGs: within a millimetre of the true surface.
+  EXPECT_GT(j["scene_mesh"]["completeness"].get<double>(), 0.999);
+  EXPECT_LT(j["scene_mesh"]["mean_completeness_m"].get<double>(), 1e-3);
+  EXPECT_GT(j["scene_mesh"]["truth_samples"].get<int>(), 1000);
+  EXPECT_LT(j["exact_depth"]["rmse_m"].get<double>(), 0.01);
+}
+
 }  // namespace
 }  // namespace semap::tools
