@@ -52,11 +52,16 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
       std::printf("frames        %lld evaluated (%lld with Velodyne, %lld with exact depth)\n",
                   static_cast<long long>(e.frames), static_cast<long long>(e.frames_with_lidar),
                   static_cast<long long>(e.frames_with_exact_depth));
+      if (e.frames_unreadable > 0) {
+        spdlog::warn("{} frame(s) could not be read and were not evaluated; first: {}", e.frames_unreadable,
+                     e.first_unreadable);
+      }
       if (e.frames_with_lidar > 0) Print("vs Velodyne", e.lidar);
       if (e.exact_depth) Print("vs exact depth", *e.exact_depth);
       if (!args->json.empty()) {
         nlohmann::json j{{"mesh", args->mesh}, {"vertices", e.vertices}, {"triangles", e.triangles},
-                         {"off_bytes", e.off_bytes}, {"frames", e.frames}};
+                         {"off_bytes", e.off_bytes}, {"frames", e.frames},
+                         {"frames_unreadable", e.frames_unreadable}};
         if (e.frames_with_lidar > 0) j["lidar"] = ToJson(e.lidar);
         if (e.exact_depth) j["exact_depth"] = ToJson(*e.exact_depth);
         std::ofstream(args->json) << j.dump(2) << "\n";
