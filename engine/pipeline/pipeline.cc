@@ -2,6 +2,7 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <array>
@@ -37,6 +38,12 @@ double CurrentRssMb() {
   std::fclose(f);
   if (n != 2) return 0.0;
   return static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+double ProcessCpuSeconds() {
+  timespec t{};
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0.0;
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 namespace {
@@ -327,6 +334,7 @@ struct Pipeline::Impl {
         stats.mesh_triangles = item->update.mesh_triangles;
         stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
         stats.rss_mb = CurrentRssMb();
+        stats.cpu_s = ProcessCpuSeconds();
         ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
         continue;
       }
@@ -356,6 +364,7 @@ struct Pipeline::Impl {
       stats.map_rays = item->update.rays;
       stats.mesh_triangles = item->update.mesh_triangles;
       stats.rss_mb = CurrentRssMb();
+      stats.cpu_s = ProcessCpuSeconds();
       ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
     }
     summary->final_stats = stats;

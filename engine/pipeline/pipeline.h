@@ -81,5 +81,7 @@ class Pipeline {
 
 // Resident set size of this process in MiB (Linux /proc/self/statm), 0 if unknown.
 double CurrentRssMb();
+// CPU time used so far by this process, all threads, in seconds.
+double ProcessCpuSeconds();
 
 }  // namespace semap

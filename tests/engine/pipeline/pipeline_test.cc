@@ -146,6 +146,7 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   EXPECT_EQ(summary.frames_read, 40);
   EXPECT_FALSE(summary.stopped_early);
   EXPECT_GT(summary.final_stats.fps, 0.0);
+  EXPECT_GT(summary.final_stats.cpu_s, 0.0);
   // Accounting of the last frame (id 39: 49 points, every other kept → 25).
   EXPECT_EQ(sink.last.points_in, 49);
   EXPECT_EQ(sink.last.points_kept, 25);
@@ -323,7 +324,13 @@ TEST(PipelineOptions, CheckNamesTheField) {
   }
 }
 
-TEST(Pipeline, RssIsMeasured) { EXPECT_GT(CurrentRssMb(), 1.0); }
+TEST(Pipeline, RssAndCpuTimeAreMeasured) {
+  EXPECT_GT(CurrentRssMb(), 1.0);
+  const double before = ProcessCpuSeconds();
+  volatile double x = 0.0;
+  for (int i = 0; i < 20000000; ++i) x = x + 1.0;
+  EXPECT_GT(ProcessCpuSeconds(), before);
+}
 
 }  // namespace
 }  // namespace semap
