@@ -20,8 +20,11 @@ namespace {
 // A signal handler receives no context: this is the one way for SIGINT to reach the running pipeline.
 std::atomic<Pipeline*> g_running_pipeline{nullptr};
 
+// The first Ctrl-C drains the frames in flight and writes the mesh so far; a second one ends the process at
+// once (the default action is back in place).
 extern "C" void StopOnSignal(int) {
   if (Pipeline* p = g_running_pipeline.load()) p->RequestStop();
+  std::signal(SIGINT, SIG_DFL);
 }
 
 struct RunArgs {
@@ -52,7 +55,9 @@ std::vector<std::string> Overrides(const RunArgs& a) {
 
 int Run(const RunArgs& args) {
   const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
-  auto source = io::OpenFrameSource(args.path, config.input);
+  io::FrameSourceOptions input = config.input;
+  input.load_velodyne = false;  // the scans serve evaluation only: a missing one must not cost a frame here
+  auto source = io::OpenFrameSource(args.path, input);
   const std::int64_t total = source->size();
   const ClassMap class_map = source->class_map();
   spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers", args.path, total,

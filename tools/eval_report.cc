@@ -4,6 +4,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <spdlog/spdlog.h>
+
 namespace semap::tools {
 namespace {
 
@@ -33,7 +35,7 @@ nlohmann::json ToJson(const DepthAccuracy& a) {
 
 nlohmann::json ToJson(const io::MeshEvaluation& e, bool per_frame) {
   nlohmann::json j{{"vertices", e.vertices}, {"triangles", e.triangles}, {"off_bytes", e.off_bytes},
-                   {"frames", e.frames}};
+                   {"frames", e.frames}, {"frames_unreadable", e.frames_unreadable}};
   if (e.frames_with_lidar > 0) j["lidar"] = ToJson(e.lidar);
   if (e.exact_depth) j["exact_depth"] = ToJson(*e.exact_depth);
   if (e.scene) {
@@ -63,6 +65,10 @@ void PrintEvaluation(const io::MeshEvaluation& e) {
   std::printf("frames        %lld evaluated (%lld with Velodyne, %lld with exact depth)\n",
               static_cast<long long>(e.frames), static_cast<long long>(e.frames_with_lidar),
               static_cast<long long>(e.frames_with_exact_depth));
+  if (e.frames_unreadable > 0) {
+    spdlog::warn("{} frame(s) could not be read and were not evaluated; first: {}", e.frames_unreadable,
+                 e.first_unreadable);
+  }
   if (e.frames_with_lidar > 0) Print("vs Velodyne", e.lidar);
   if (e.exact_depth) Print("vs exact depth", *e.exact_depth);
   if (e.scene) {

@@ -24,6 +24,10 @@ void Bind(FieldBinder& b, FrameSourceOptions& o) {
          "KITTI odometry: stereo pair to read (gray image_0/1, colour image_2/3; auto = colour if present)");
   b.Field("default_frame_period_s", &o.default_frame_period_s,
           "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)");
+  b.Field("loops", &o.loops,
+          "read the frames this many times (soak runs); each pass is shifted past the previous one's track");
+  b.Field("loop_gap_m", &o.loop_gap_m,
+          "gap between the camera tracks of consecutive passes, m (keep above 2 x depth.max_depth_m)");
 }
 
 void Bind(FieldBinder& b, sim::SynthOptions& o) {
@@ -81,6 +85,9 @@ void Bind(FieldBinder& b, PipelineOptions& o) {
   b.Field("queue_capacity", &o.queue_capacity, "frames each queue between stages holds at most");
   b.Enum("on_error", &o.on_error, {{"skip", E::kSkipFrame}, {"stop", E::kStop}},
          "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
+  b.Field("max_speed_mps", &o.max_speed_mps,
+          "skip (and count) a frame whose camera moved faster than this since the last accepted frame, m/s "
+          "(a pose jump); 0 = no check");
   b.Field("cpu_affinity", &o.cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
 }
 

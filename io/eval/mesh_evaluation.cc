@@ -35,7 +35,8 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     std::optional<Frame> frame;
     try {
       frame = source->Next();
-    } catch (const FrameError&) {
+    } catch (const FrameError& e) {
+      if (result.frames_unreadable++ == 0) result.first_unreadable = e.what();
       continue;  // an unreadable frame is not evaluated
     }
     if (!frame) break;

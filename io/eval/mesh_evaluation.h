@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <vector>
+#include <string>
 
 #include "engine/core/mesh.h"
 #include "engine/eval/depth_accuracy.h"
@@ -27,6 +28,8 @@ struct MeshEvaluation {
   std::int64_t frames = 0;                    // frames with a pose that were evaluated
   std::int64_t frames_with_lidar = 0;
   std::int64_t frames_with_exact_depth = 0;
+  std::int64_t frames_unreadable = 0;         // skipped: a file of the frame (e.g. its Velodyne scan) failed
+  std::string first_unreadable;               // the first such error, naming the file
   DepthAccuracy lidar;                        // against Velodyne (the paper's RMSE)
   std::optional<DepthAccuracy> exact_depth;   // against exact depth maps (generated sequences only)
   std::uint64_t off_bytes = 0;                // mesh size as ASCII OFF (the paper's measure)
@@ -41,7 +44,7 @@ struct MeshEvaluation {
 
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;
 // frames without a pose are skipped) and compares `mesh` with them. Throws FileError for an unreadable
-// dataset; frames that fail to read are skipped.
+// dataset; frames that fail to read are skipped and counted.
 MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, FrameSourceOptions input,
                             const DepthAccuracyOptions& accuracy = {});
 
