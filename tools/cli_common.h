@@ -43,5 +43,6 @@ void RegisterDepthCommand(CLI::App& app, int* exit_code);
 void RegisterSegmentCommand(CLI::App& app, int* exit_code);
 void RegisterEvalCommand(CLI::App& app, int* exit_code);
 void RegisterRunCommand(CLI::App& app, int* exit_code);
+void RegisterMapSfmCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools
