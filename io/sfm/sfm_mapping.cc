@@ -180,12 +180,16 @@ SfmKeyframeResult SfmIncrementalMapper::Step() {
 
   const auto t0 = std::chrono::steady_clock::now();
   const MapUpdateResult update = map_.Update(cloud, extra);
+  out.map_s = SecondsSince(t0);
   for (std::size_t i = 0; i < points.size(); ++i) {
     map_id_[points[i]] = update.point_ids[i];
     if (update.point_ids[i] != kDroppedPoint) mapped_points_.push_back(points[i]);
   }
-  if (update.points_finalised > 0) RefreshLivePoints();
-  out.map_s = SecondsSince(t0);
+  if (update.points_finalised > 0) {
+    const auto t_live = std::chrono::steady_clock::now();
+    RefreshLivePoints();
+    out.live_s = SecondsSince(t_live);
+  }
   out.inserted = update.inserted;
   out.merged = update.merged;
   out.dropped = update.dropped;

@@ -69,7 +69,8 @@ struct SfmKeyframeResult {
   std::size_t inserted = 0, merged = 0, dropped = 0, finalised = 0;  // MapUpdateResult counters
   std::vector<ClassPointCount> class_counts;  // simplification per class (empty without it)
   double simplify_s = 0.0;
-  double map_s = 0.0;   // IncrementalMap::Update (and the live-point refresh after a finalisation)
+  double map_s = 0.0;   // IncrementalMap::Update
+  double live_s = 0.0;  // after an update that finalised points: which points are still live (a snapshot)
   double mesh_s = 0.0;  // surface extraction and mesh delta
   MeshDelta delta;      // change of the published mesh (finalised parts are added once, never removed)
   MapStatistics statistics;
