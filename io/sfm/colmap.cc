@@ -159,6 +159,7 @@ void ReadCamerasText(Model* m) {
     k.model = std::string(t[1]);
     k.width_px = ParseInteger<int>(t[2], at, "WIDTH");
     k.height_px = ParseInteger<int>(t[3], at, "HEIGHT");
+    if (k.width_px < 0 || k.height_px < 0) at.Fail("WIDTH HEIGHT", "must not be negative");
     for (std::size_t i = 4; i < t.size(); ++i) k.params.push_back(ParseReal(t[i], at, "PARAMS"));
     CheckModelParams(at, k);
     m->cameras.push_back(std::move(k));
