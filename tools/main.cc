@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   int exit_code = kExitOk;
   const RegisterFn commands[] = {
       RegisterRunCommand,
+      RegisterMapSfmCommand,
       RegisterConfigCommand,
       RegisterSynthCommand,
       RegisterLcmMeshCommand,
