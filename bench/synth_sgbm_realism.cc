@@ -65,6 +65,15 @@ Score Evaluate(const cv::Mat& disp16, const cv::Mat& gt, const cv::Mat& labels =
 
 }  // namespace
 
+// Per-frame spread of a figure: is a synthetic frame's figure inside the range of the real frames'?
+struct Range {
+  double min = 1e9, max = -1e9;
+  void Add(double v) {
+    min = std::min(min, v);
+    max = std::max(max, v);
+  }
+};
+
 int main(int argc, char** argv) {
   const fs::path kitti = argc > 1 ? argv[1] : "../shared/data/kitti_stereo2015_subset";
   const std::string preset = argc > 2 ? argv[2] : "urban";
@@ -74,6 +83,7 @@ int main(int argc, char** argv) {
   Score real;
   int real_frames = 0;
   double real_d1_sum = 0.0, real_density_sum = 0.0;
+  Range real_d1, real_density, synth_d1, synth_density;
   if (fs::exists(kitti / "image_2")) {
     std::vector<fs::path> names;
     for (const auto& e : fs::directory_iterator(kitti / "image_2")) names.push_back(e.path().filename());
@@ -89,6 +99,8 @@ int main(int argc, char** argv) {
       real.Add(s);
       real_d1_sum += s.D1();
       real_density_sum += s.Density();
+      real_d1.Add(s.D1());
+      real_density.Add(s.Density());
       ++real_frames;
     }
     std::printf(
@@ -124,12 +136,18 @@ int main(int argc, char** argv) {
     synth.Add(s);
     d1_sum += s.D1();
     density_sum += s.Density();
+    synth_d1.Add(s.D1());
+    synth_density.Add(s.Density());
   }
   std::printf(
       "synthetic %s (%d frames, seed %llu): D1 %.1f %%, density %.1f %% over all GT pixels; mean over "
       "frames: D1 %.1f %%, density %.1f %%\n",
       preset.c_str(), frames, static_cast<unsigned long long>(seed), synth.D1(), synth.Density(),
       d1_sum / frames, density_sum / frames);
+  std::printf("per-frame range: real D1 %.1f-%.1f %%, density %.1f-%.1f %%; synthetic D1 %.1f-%.1f %%, density "
+              "%.1f-%.1f %%\n",
+              real_d1.min, real_d1.max, real_density.min, real_density.max, synth_d1.min, synth_d1.max,
+              synth_density.min, synth_density.max);
   const semap::ClassMap classes = semap::ClassMap::Cityscapes();
   for (int l = 0; l < 256; ++l) {
     if (per_label[l].gt == 0) continue;

@@ -40,6 +40,13 @@ struct FrameSourceOptions {
   CameraPair odometry_pair = CameraPair::kAuto;
   // Frame period used for timestamps when the dataset has none (KITTI records at 10 Hz).
   double default_frame_period_s = 0.1;
+  // Read the selected frames this many times in a row (long soak runs from a short sequence). Pass k is
+  // moved by k shifts along the longest axis of the first pass's camera track, so that the map meets new
+  // ground; its ids and timestamps follow on from the previous pass (see OpenFrameSource).
+  int loops = 1;
+  // Gap between the camera tracks of consecutive passes, m (keep it above 2 × depth.max_depth_m so that
+  // what one pass sees does not overlap the next).
+  double loop_gap_m = 100.0;
 
   void Check() const;
 };
@@ -98,6 +105,10 @@ DatasetLayout DetectLayout(const std::filesystem::path& path);
 // Opens the dataset at `path` for streaming (layout from options, or detected). Throws FileError (naming
 // the file and the problem) or InvalidOption when the dataset cannot be used at all: missing folder,
 // missing or bad calibration, poses or timestamps file shorter than the frames, bad class map.
+// With options.loops > 1 the selected frames are read loops times: frame i of pass k has id
+// i + k·(last id - first id + 1), its pose translated by k·shift (shift: the first pass's track extent along
+// its longest axis + loop_gap_m) and its timestamp offset so that the jump between passes is driven at the
+// first pass's mean speed (a pose-jump check sees an ordinary drive).
 std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,
                                              const FrameSourceOptions& options);
 

@@ -1,14 +1,17 @@
 // `semap run PATH`: stream a sequence through the whole engine (depth → labels → simplification →
 // incremental Delaunay map) and write / publish the mesh.
 #include <csignal>
+#include <fstream>
 
 #include <spdlog/spdlog.h>
 
 #include "engine/pipeline/pipeline.h"
 #include "engine/pipeline/semap_stages.h"
+#include "io/eval/mesh_evaluation.h"
 #include "io/mesh/ply_off.h"
 #include "io/output/output_sinks.h"
 #include "tools/cli_common.h"
+#include "tools/eval_report.h"
 #include "tools/progress_sink.h"
 
 namespace semap::tools {
@@ -17,8 +20,11 @@ namespace {
 // A signal handler receives no context: this is the one way for SIGINT to reach the running pipeline.
 std::atomic<Pipeline*> g_running_pipeline{nullptr};
 
+// The first Ctrl-C drains the frames in flight and writes the mesh so far; a second one ends the process at
+// once (the default action is back in place).
 extern "C" void StopOnSignal(int) {
   if (Pipeline* p = g_running_pipeline.load()) p->RequestStop();
+  std::signal(SIGINT, SIG_DFL);
 }
 
 struct RunArgs {
@@ -30,6 +36,7 @@ struct RunArgs {
   std::string lcm_url;
   int frames = -1;
   double progress_s = 1.0;
+  bool eval = false;
 };
 
 // Command-line shortcuts become config overrides, so that they are validated like any config value.
@@ -48,7 +55,9 @@ std::vector<std::string> Overrides(const RunArgs& a) {
 
 int Run(const RunArgs& args) {
   const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
-  auto source = io::OpenFrameSource(args.path, config.input);
+  io::FrameSourceOptions input = config.input;
+  input.load_velodyne = false;  // the scans serve evaluation only: a missing one must not cost a frame here
+  auto source = io::OpenFrameSource(args.path, input);
   const std::int64_t total = source->size();
   const ClassMap class_map = source->class_map();
   spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers", args.path, total,
@@ -96,6 +105,15 @@ int Run(const RunArgs& args) {
     spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
                  c.other_messages, c.send_failures, c.dropped);
   }
+  if (args.eval) {
+    // After the run, so that it does not count in the frame rate: every frame's camera against the final mesh.
+    const io::MeshEvaluation e = io::EvaluateMesh(mesh, args.path, config.input, config.eval);
+    PrintEvaluation(e);
+    const std::filesystem::path dir(config.output.dir);
+    WritePerFrameCsv(e, dir / "eval_frames.csv");
+    std::ofstream(dir / "eval.json") << ToJson(e, /*per_frame=*/false).dump(2) << "\n";
+    spdlog::info("wrote {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string());
+  }
   if (summary.sink_errors > 0) {
     spdlog::error("{} output errors; first: {}", summary.sink_errors, summary.first_sink_error);
     return kExitFailure;
@@ -122,6 +140,9 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--lcm-url", args->lcm_url,
                   "publish over LCM at this URL, e.g. udpm://239.255.76.67:7667?ttl=0 (lcm.url)");
   cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")->capture_default_str();
+  cmd->add_flag("--eval", args->eval,
+                "after the run (not counted in the frame rate), evaluate the mesh against every frame's Velodyne "
+                "/ exact depth: totals printed, eval_frames.csv and eval.json in the output folder");
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Run(*args); }); });
 }
 

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
       RegisterDepthCommand,
       RegisterSegmentCommand,
       RegisterEvalCommand,
+      RegisterTableCommand,
+      RegisterCompareCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {

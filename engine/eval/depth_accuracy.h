@@ -28,6 +28,10 @@ struct DepthAccuracyOptions {
   double max_depth_m = 40.0;
   // Errors larger than this are left out of the error figures (0 = keep all; the 2018 authors used 2 m).
   double max_abs_error_m = 0.0;
+  // Generated sequences, against the exact scene mesh (engine/eval/surface_metrics.h): τ of accuracy and
+  // completeness (m), and the pixel stride at which the exact depth maps give the observed true surface.
+  double surface_threshold_m = 0.2;
+  int surface_pixel_stride = 8;
   void Check() const;
 };
 

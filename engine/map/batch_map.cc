@@ -82,13 +82,22 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
     trace(o.point, o.camera);
   }
 
-  // Region growing from the cell with the highest free vote.
-  CellHandle seed;
-  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
-    if (c->info().IsFree() && (seed == CellHandle() || c->info().free_q > seed->info().free_q)) seed = c;
+  // The manifold free-space region.
+  ManifoldCarver carver(&dt, options.grow_passes, options.repair_fill_cost_q());
+  if (options.extraction == SurfaceExtraction::kGreedyGrowth) {
+    // Region growing from the cell with the highest free vote.
+    CellHandle seed;
+    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+      if (c->info().IsFree() && (seed == CellHandle() || c->info().free_q > seed->info().free_q)) seed = c;
+    }
+    if (seed != CellHandle()) carver.Grow({seed});
+  } else {
+    std::vector<CellHandle> free_cells, changed;
+    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+      if (c->info().IsFree()) free_cells.push_back(c);
+    }
+    carver.CarveAndRepair(free_cells, &changed);
   }
-  ManifoldCarver carver(&dt, options.grow_passes);
-  if (seed != CellHandle()) carver.Grow({seed});
 
   std::vector<SurfaceFacet> facets;
   CollectSurface(dt, options.drop_steiner_triangles, &facets);

@@ -1,6 +1,9 @@
 #include "engine/map/map_options.h"
 
+#include <cmath>
+
 #include "engine/core/check.h"
+#include "engine/map/map_types.h"
 
 namespace semap {
 
@@ -12,6 +15,8 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(max_ray_length_m >= 0.0, "max_ray_length_m", max_ray_length_m, "must be >= 0");
   SEMAP_CHECK_OPTION(merge_distance_m >= 0.0, "merge_distance_m", merge_distance_m, "must be >= 0");
   SEMAP_CHECK_OPTION(grow_passes >= 1, "grow_passes", grow_passes, "must be >= 1");
+  SEMAP_CHECK_OPTION(std::isfinite(repair_fill_cost) && repair_fill_cost >= 0.0, "repair_fill_cost",
+                     repair_fill_cost, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(steiner_spacing_m > 0.0, "steiner_spacing_m", steiner_spacing_m, "must be > 0");
   SEMAP_CHECK_OPTION(steiner_margin_cubes >= 1, "steiner_margin_cubes", steiner_margin_cubes, "must be >= 1");
   SEMAP_CHECK_OPTION(finalise_age_frames >= 0, "finalise_age_frames", finalise_age_frames, "must be >= 0");
@@ -23,5 +28,7 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(steiner_spacing_m > 2.0 * ray_extension_m(), "steiner_spacing_m", steiner_spacing_m,
                      "must exceed twice the ray extension (ray_extension_factor * sigma_matter_m)");
 }
+
+std::int64_t MapOptions::repair_fill_cost_q() const { return std::llround(repair_fill_cost * kVoteFixedScale); }
 
 }  // namespace semap

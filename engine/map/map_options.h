@@ -9,6 +9,17 @@ namespace semap {
 //   w_free(d)   = 1 - exp(-d^2 / (2 sigma_free^2))
 //   w_matter(d) = 1 - exp(-d^2 / (2 sigma_matter^2))
 // A cell is free space when its summed free weight exceeds its summed matter weight.
+// How the manifold surface is extracted from the free cells.
+enum class SurfaceExtraction {
+  // The paper's: region growing from the cell with the highest free vote, adding free neighbours only
+  // while the boundary stays manifold. Its greedy order blocks itself: on stereo streets it leaves about
+  // a third of the free cells out, and their boundary is spurious surface in front of the true one.
+  kGreedyGrowth,
+  // Carve every free cell, restore the manifold locally (ManifoldCarver::Repair: the cheaper of filling or
+  // trimming around each non-regular vertex), then grow into what is still free. Default.
+  kCarveAndRepair,
+};
+
 struct MapOptions {
   double sigma_free_m = 0.05;    // σ_free of the free-space weight (paper: 0.05 m)
   double sigma_matter_m = 0.01;  // σ_matter of the matter weight (paper: 0.01 m)
@@ -20,8 +31,13 @@ struct MapOptions {
   // it: only its ray is added. 0 = never merge.
   double merge_distance_m = 0.05;
 
+  SurfaceExtraction extraction = SurfaceExtraction::kCarveAndRepair;
   // Region growing retries the cells the manifold test refused, in up to this many passes (≥ 1).
   int grow_passes = 3;
+  // kCarveAndRepair: the cost, in vote units (one unit = one ray's full weight), of carving one cell that is
+  // not free to make a vertex regular, on top of its matter excess; compared with the free votes given up
+  // by uncarving instead (≥ 0). Measured insensitive between 0.5 and 2.
+  double repair_fill_cost = 0.5;
 
   // Bounding Steiner points: a jittered lattice of this spacing around every point and camera keeps the
   // convex hull (and its infinite cells) away from the data, so the carved region never touches the hull.
@@ -46,6 +62,7 @@ struct MapOptions {
   void Check() const;
 
   double ray_extension_m() const { return ray_extension_factor * sigma_matter_m; }
+  std::int64_t repair_fill_cost_q() const;  // repair_fill_cost in fixed-point vote units
 };
 
 }  // namespace semap

@@ -42,6 +42,8 @@ struct FrameStats {
   std::int64_t map_rays = 0;
   std::int64_t mesh_triangles = 0;
   double rss_mb = 0.0;
+  double cpu_s = 0.0;  // CPU time of the whole process so far (all threads): unlike elapsed_s, not slowed by
+                       // other processes sharing the cores
 };
 
 }  // namespace semap

@@ -2,10 +2,12 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -21,6 +23,8 @@ void PipelineOptions::Check() const {
   SEMAP_CHECK_OPTION(realtime_rate_hz > 0.0, "realtime_rate_hz", realtime_rate_hz, "must be > 0");
   SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers, "must be in [1, 64]");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
+  SEMAP_CHECK_OPTION(max_speed_mps >= 0.0 && std::isfinite(max_speed_mps), "max_speed_mps", max_speed_mps,
+                     "must be >= 0 (0 = no check)");
   for (int cpu : cpu_affinity) {
     SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu, "CPU ids must be in [0, CPU_SETSIZE)");
   }
@@ -34,6 +38,12 @@ double CurrentRssMb() {
   std::fclose(f);
   if (n != 2) return 0.0;
   return static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+double ProcessCpuSeconds() {
+  timespec t{};
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0.0;
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 namespace {
@@ -66,6 +76,33 @@ struct Item {
   std::array<double, kNumStages> ms{};
   bool failed() const { return !error.empty(); }
 };
+
+// Why a frame's pose cannot go into the map, or "" when it can: non-finite entries, a linear part that is
+// not a rotation, or (against the last accepted frame `last`) a speed above options.max_speed_mps.
+struct AcceptedPose {
+  std::int64_t frame_id = -1;
+  double timestamp_s = 0.0;
+  Eigen::Vector3d position;
+};
+std::string PoseProblem(const Pose3d& pose, double timestamp_s, const std::optional<AcceptedPose>& last,
+                        const PipelineOptions& options) {
+  if (!pose.matrix().allFinite()) return "pose is not finite (NaN or inf)";
+  const Eigen::Matrix3d r = pose.linear();
+  const double orthogonality_error = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orthogonality_error > 1e-3 || r.determinant() <= 0.0) {
+    return "pose rotation is not a rotation (|RᵀR - I| = " + std::to_string(orthogonality_error) +
+           ", det " + std::to_string(r.determinant()) + ")";
+  }
+  if (!last || options.max_speed_mps <= 0.0) return "";
+  const double dt_s = std::max(timestamp_s - last->timestamp_s, 1.0 / options.realtime_rate_hz);
+  const double moved_m = (pose.translation() - last->position).norm();
+  if (moved_m <= options.max_speed_mps * dt_s) return "";
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "pose jumps %.1f m in %.2f s since frame %lld (%.0f m/s > max_speed_mps %.0f)", moved_m, dt_s,
+                static_cast<long long>(last->frame_id), moved_m / dt_s, options.max_speed_mps);
+  return text;
+}
 
 void PinCurrentThread(const std::vector<int>& cpus) {
   if (cpus.empty()) return;
@@ -111,6 +148,20 @@ struct Pipeline::Impl {
     }
   }
 
+  // A frame that could not be read or whose pose is unusable; too many in a row (the dataset vanished, the
+  // poses jumped for good) end the run.
+  void FailRead(Item& item, const char* stage, const std::string& what, int* consecutive_failures) {
+    Fail(item, stage, what);
+    if (++*consecutive_failures >= kMaxConsecutiveReadFailures) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (fatal_error.empty()) {
+        fatal_error = std::to_string(*consecutive_failures) + " frames in a row could not be read or had an "
+                      "unusable pose; last: " + what;
+      }
+      error_stop.store(true);
+    }
+  }
+
   void ReadLoop() {
     PinCurrentThread(p.options_.cpu_affinity);
     const bool realtime = p.options_.mode == PipelineOptions::Mode::kRealtime;
@@ -118,6 +169,7 @@ struct Pipeline::Impl {
     std::int64_t last_id = -1;
     int consecutive_failures = 0;
     std::optional<double> first_timestamp;
+    std::optional<AcceptedPose> last_pose;
     std::int64_t paced = 0;
     while (!Stopping()) {
       Item item;
@@ -125,22 +177,28 @@ struct Pipeline::Impl {
       try {
         std::optional<Frame> frame = p.reader_->Next();
         if (!frame) break;
-        consecutive_failures = 0;
         item.frame_id = frame->id;
         item.timestamp_s = frame->timestamp_s;
         item.world_from_cam = frame->world_from_cam;
-        item.frame = std::make_unique<Frame>(std::move(*frame));
         last_id = item.frame_id;
+        const std::string pose_problem =
+            frame->world_from_cam ? PoseProblem(*frame->world_from_cam, frame->timestamp_s, last_pose, p.options_)
+                                  : std::string();
+        if (pose_problem.empty()) {
+          consecutive_failures = 0;
+          if (frame->world_from_cam) {
+            last_pose = AcceptedPose{frame->id, frame->timestamp_s, frame->world_from_cam->translation()};
+          }
+          item.frame = std::make_unique<Frame>(std::move(*frame));
+        } else {
+          item.world_from_cam.reset();
+          FailRead(item, "pose", "frame " + std::to_string(item.frame_id) + ": " + pose_problem,
+                   &consecutive_failures);
+        }
       } catch (const std::exception& e) {
         item.frame_id = last_id + 1;
         last_id = item.frame_id;
-        Fail(item, kStageNames[kRead], e.what());
-        if (++consecutive_failures >= kMaxConsecutiveReadFailures) {
-          std::lock_guard<std::mutex> lock(error_mutex);
-          if (fatal_error.empty()) fatal_error = "read failed " + std::to_string(consecutive_failures) +
-                                                 " times in a row; last: " + e.what();
-          error_stop.store(true);
-        }
+        FailRead(item, kStageNames[kRead], e.what(), &consecutive_failures);
       }
       item.ms[kRead] = MsBetween(t0, Clock::now());
       ++frames_read;
@@ -276,6 +334,7 @@ struct Pipeline::Impl {
         stats.mesh_triangles = item->update.mesh_triangles;
         stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
         stats.rss_mb = CurrentRssMb();
+        stats.cpu_s = ProcessCpuSeconds();
         ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
         continue;
       }
@@ -305,6 +364,7 @@ struct Pipeline::Impl {
       stats.map_rays = item->update.rays;
       stats.mesh_triangles = item->update.mesh_triangles;
       stats.rss_mb = CurrentRssMb();
+      stats.cpu_s = ProcessCpuSeconds();
       ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
     }
     summary->final_stats = stats;

@@ -28,6 +28,10 @@ struct PipelineOptions {
   int queue_capacity = 4;
   // What a stage exception does: skip the frame (count it) or stop the run (drain and finish).
   OnError on_error = OnError::kSkipFrame;
+  // A frame whose camera moved faster than this since the last accepted frame (a GPS/OXTS jump) is skipped
+  // and counted, like a frame with a non-finite or non-rigid pose; 0 = no speed check. The time between the
+  // frames is taken as at least 1 / realtime_rate_hz, so repeated timestamps do not reject every frame.
+  double max_speed_mps = 100.0;
   // CPUs the pipeline's threads may run on (e.g. {0, 1}); empty = no pinning.
   std::vector<int> cpu_affinity;
 
@@ -77,5 +81,7 @@ class Pipeline {
 
 // Resident set size of this process in MiB (Linux /proc/self/statm), 0 if unknown.
 double CurrentRssMb();
+// CPU time used so far by this process, all threads, in seconds.
+double ProcessCpuSeconds();
 
 }  // namespace semap

@@ -1,5 +1,8 @@
 #include "engine/pipeline/semap_stages.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace semap {
 
 StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map)
@@ -7,6 +10,11 @@ StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOpt
 
 LabelledCloud StereoLabelStage::Process(const Frame& frame) {
   LabelledCloud cloud = depth_.Process(frame);
+  if (cloud.size() == 0) {
+    // Nothing to map (uniform, black or unmatched images): the frame is skipped and counted, not mapped empty.
+    throw std::runtime_error("frame " + std::to_string(frame.id) + ": no valid disparity (no point in the depth "
+                             "range; uniform, dark or unmatched images?)");
+  }
   const cv::Mat labels = FrameLabels(frame, semantics_, segmenter_.get());
   ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), class_map_.unlabelled_id(),
                          semantics_.size_mismatch);

@@ -15,7 +15,8 @@
 namespace semap {
 
 // SGBM depth, then the paper's labelling rule: the frame's points are labelled from the frame's own label
-// image (its camera is their first camera). One instance per depth worker (owns its segmenter).
+// image (its camera is their first camera). One instance per depth worker (owns its segmenter). A frame that
+// gives no point at all (no valid disparity) throws: the pipeline skips and counts it.
 class StereoLabelStage : public DepthStage {
  public:
   StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map);

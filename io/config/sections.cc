@@ -24,6 +24,10 @@ void Bind(FieldBinder& b, FrameSourceOptions& o) {
          "KITTI odometry: stereo pair to read (gray image_0/1, colour image_2/3; auto = colour if present)");
   b.Field("default_frame_period_s", &o.default_frame_period_s,
           "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)");
+  b.Field("loops", &o.loops,
+          "read the frames this many times (soak runs); each pass is shifted past the previous one's track");
+  b.Field("loop_gap_m", &o.loop_gap_m,
+          "gap between the camera tracks of consecutive passes, m (keep above 2 x depth.max_depth_m)");
 }
 
 void Bind(FieldBinder& b, sim::SynthOptions& o) {
@@ -81,6 +85,9 @@ void Bind(FieldBinder& b, PipelineOptions& o) {
   b.Field("queue_capacity", &o.queue_capacity, "frames each queue between stages holds at most");
   b.Enum("on_error", &o.on_error, {{"skip", E::kSkipFrame}, {"stop", E::kStop}},
          "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
+  b.Field("max_speed_mps", &o.max_speed_mps,
+          "skip (and count) a frame whose camera moved faster than this since the last accepted frame, m/s "
+          "(a pose jump); 0 = no check");
   b.Field("cpu_affinity", &o.cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
 }
 
@@ -189,6 +196,10 @@ void Bind(FieldBinder& b, DepthAccuracyOptions& o) {
   b.Field("max_depth_m", &o.max_depth_m, "reference depths farther than this are ignored");
   b.Field("max_abs_error_m", &o.max_abs_error_m,
           "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all");
+  b.Field("surface_threshold_m", &o.surface_threshold_m,
+          "generated sequences: distance τ of accuracy / completeness against the exact scene mesh");
+  b.Field("surface_pixel_stride", &o.surface_pixel_stride,
+          "generated sequences: exact depth maps sampled every this many pixels give the observed true surface");
 }
 
 void Bind(FieldBinder& b, MapOptions& o) {
@@ -201,8 +212,16 @@ void Bind(FieldBinder& b, MapOptions& o) {
   b.Field("merge_distance_m", &o.merge_distance_m,
           "a new point this close to an existing one is merged into it (only its ray is added); 0 = exact "
           "duplicates only");
+  b.Enum("extraction", &o.extraction,
+         {{"carve_and_repair", SurfaceExtraction::kCarveAndRepair},
+          {"greedy_growth", SurfaceExtraction::kGreedyGrowth}},
+         "manifold surface extraction: carve_and_repair (carve every free cell, repair the manifold "
+         "locally, grow) | greedy_growth (the paper's region growing from the most free cell)");
   b.Field("grow_passes", &o.grow_passes,
           "region-growing passes retrying the cells the manifold test refused");
+  b.Field("repair_fill_cost", &o.repair_fill_cost,
+          "carve_and_repair: cost in ray weights of carving a non-free cell to make a vertex regular "
+          "(besides its matter excess), against the free votes given up by uncarving instead");
   b.Field("steiner_spacing_m", &o.steiner_spacing_m, "spacing of the bounding Steiner lattice, metres");
   b.Field("steiner_margin_cubes", &o.steiner_margin_cubes, "lattice cubes kept around each point and camera");
   b.Field("drop_steiner_triangles", &o.drop_steiner_triangles,

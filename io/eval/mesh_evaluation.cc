@@ -26,6 +26,7 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
   auto source = OpenFrameSource(dataset, input);
   DepthAccuracyAccumulator lidar(accuracy);
   DepthAccuracyAccumulator exact(accuracy);
+  std::vector<Eigen::Vector3d> truth_samples;  // the exact depth maps' points, in the world frame
   MeshEvaluation result;
   result.off_bytes = OffSizeBytes(mesh);
   result.vertices = mesh.num_vertices();
@@ -34,24 +35,50 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     std::optional<Frame> frame;
     try {
       frame = source->Next();
-    } catch (const FrameError&) {
+    } catch (const FrameError& e) {
+      if (result.frames_unreadable++ == 0) result.first_unreadable = e.what();
       continue;  // an unreadable frame is not evaluated
     }
     if (!frame) break;
     if (!frame->world_from_cam) continue;
     ++result.frames;
     const cv::Mat mesh_depth = RenderDepth(mesh, frame->calibration, *frame->world_from_cam);
+    FrameAccuracy frame_accuracy;
+    frame_accuracy.frame_id = frame->id;
     if (frame->velodyne) {
-      lidar.Add(LidarDepthImage(*frame->velodyne, frame->calibration, accuracy), mesh_depth);
+      DepthAccuracyAccumulator one(accuracy);
+      one.Add(LidarDepthImage(*frame->velodyne, frame->calibration, accuracy), mesh_depth);
+      frame_accuracy.lidar = one.Result();
+      lidar.Merge(one);
       ++result.frames_with_lidar;
     }
     if (const auto path = ExactDepthPath(info, frame->id)) {
-      exact.Add(ReadDepthPngMm(*path), mesh_depth);
+      DepthAccuracyAccumulator one(accuracy);
+      const cv::Mat exact_depth = ReadDepthPngMm(*path);
+      one.Add(exact_depth, mesh_depth);
+      const int stride = accuracy.surface_pixel_stride;
+      for (int v = stride / 2; v < exact_depth.rows; v += stride) {
+        for (int u = stride / 2; u < exact_depth.cols; u += stride) {
+          const float z = exact_depth.at<float>(v, u);
+          if (z < accuracy.min_depth_m || z > accuracy.max_depth_m) continue;
+          truth_samples.push_back(*frame->world_from_cam * frame->calibration.Unproject(u, v, z));
+        }
+      }
+      frame_accuracy.exact_depth = one.Result();
+      exact.Merge(one);
       ++result.frames_with_exact_depth;
     }
+    result.per_frame.push_back(frame_accuracy);
   }
   result.lidar = lidar.Result();
   if (result.frames_with_exact_depth > 0) result.exact_depth = exact.Result();
+  const auto scene_mesh = info.root / "scene_mesh.ply";
+  if (result.frames_with_exact_depth > 0 && std::filesystem::is_regular_file(scene_mesh)) {
+    SurfaceMetricsOptions surface;
+    surface.threshold_m = accuracy.surface_threshold_m;
+    result.scene = CompareSurfaces(mesh, ReadMeshPly(scene_mesh), truth_samples, surface);
+    result.scene_threshold_m = surface.threshold_m;
+  }
   return result;
 }
 

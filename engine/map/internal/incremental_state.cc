@@ -44,7 +44,7 @@ void SpatialSort(std::vector<PendingVertex>* pending) {
 IncrementalState::IncrementalState(const MapOptions& options)
     : options_(options),
       geometry_{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()},
-      carver_(&dt_, options.grow_passes),
+      carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
       lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
 
 AttributeLookup IncrementalState::Attributes() const {
@@ -323,7 +323,7 @@ std::size_t IncrementalState::ShrinkNonFree() {
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
   }
   std::vector<CellHandle> more;
-  carver_.Repair(vertices, &more);
+  carver_.Repair(vertices, /*allow_fill=*/false, &more);
   for (const CellHandle c : more) {
     if (c->info().stamp != touch_mark_) {
       c->info().stamp = touch_mark_;
@@ -334,6 +334,10 @@ std::size_t IncrementalState::ShrinkNonFree() {
 }
 
 std::size_t IncrementalState::Regrow() {
+  if (options_.extraction == SurfaceExtraction::kCarveAndRepair) {
+    std::vector<CellHandle> changed;
+    return carver_.CarveAndRepair(touched_, &changed);
+  }
   std::vector<CellHandle> seeds;
   CellHandle best;
   for (const CellHandle c : touched_) {

@@ -1,6 +1,9 @@
 #include "engine/map/internal/manifold_carver.h"
 
 #include <algorithm>
+#include <limits>
+
+#include "engine/core/check.h"
 #include <queue>
 #include <unordered_map>
 
@@ -166,38 +169,125 @@ std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
   return carved;
 }
 
-void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, std::vector<CellHandle>* uncarved) {
-  // A stack of vertices to test. An entry with a later push of the same vertex is skipped: that later entry
-  // was popped first, and every change of the vertex's link since then pushed it again above, so the earlier
-  // test would find it regular (its last test left it regular) and do nothing. Same result, far fewer tests.
-  struct Entry {
-    VertexHandle vertex;
-    std::uint64_t push_number;
-  };
-  std::vector<Entry> stack;
-  std::unordered_map<const void*, std::uint64_t> last_push;  // vertex → its latest push number
-  std::uint64_t pushes = 0;
-  auto push = [&](VertexHandle v) {
-    last_push[&*v] = pushes;
-    stack.push_back({v, pushes++});
-  };
-  for (const VertexHandle v : vertices) push(v);
-  std::vector<CellHandle> star;
+void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, bool allow_fill,
+                            std::vector<CellHandle>* changed) {
+  settled_.clear();
+  std::vector<VertexHandle> stack = std::move(vertices);
   while (!stack.empty()) {
-    const Entry entry = stack.back();
+    const VertexHandle v = stack.back();
     stack.pop_back();
-    const VertexHandle v = entry.vertex;
-    if (last_push.at(&*v) != entry.push_number) continue;
-    if (dt_->is_infinite(v) || IsRegular(v)) continue;
-    star.clear();
-    dt_->incident_cells(v, std::back_inserter(star));
-    for (const CellHandle c : star) {
-      if (!c->info().carved) continue;
-      c->info().carved = false;
-      uncarved->push_back(c);
-      for (int k = 0; k < 4; ++k) push(c->vertex(k));
+    if (dt_->is_infinite(v)) continue;
+    while (!IsRegular(v)) RepairStep(v, allow_fill && fill_cost_q_ >= 0, &stack, changed);
+  }
+  settled_.clear();
+}
+
+void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
+                                std::vector<CellHandle>* changed) {
+  auto set_carved = [&](CellHandle c, bool carved) {
+    c->info().carved = carved;
+    settled_.insert(&*c);
+    changed->push_back(c);
+    for (int k = 0; k < 4; ++k) stack->push_back(c->vertex(k));
+  };
+  auto excess = [](CellHandle c) { return c->info().free_q - c->info().matter_q; };
+  star_.clear();
+  dt_->incident_cells(v, std::back_inserter(star_));
+  // Facet-connected components of the carved cells around v (through facets incident to v).
+  const int n = int(star_.size());
+  component_.assign(n, -1);
+  auto index_of = [&](CellHandle c) {
+    return int(std::find(star_.begin(), star_.end(), c) - star_.begin());
+  };
+  std::vector<std::int64_t> component_excess;
+  for (int s = 0; s < n; ++s) {
+    if (!star_[s]->info().carved || component_[s] >= 0) continue;
+    const int id = int(component_excess.size());
+    component_excess.push_back(0);
+    std::vector<int> todo{s};
+    component_[s] = id;
+    while (!todo.empty()) {
+      const CellHandle c = star_[todo.back()];
+      todo.pop_back();
+      component_excess[id] += excess(c);
+      const int iv = c->index(v);
+      for (int i = 0; i < 4; ++i) {
+        if (i == iv || !c->neighbor(i)->info().carved) continue;
+        const int t = index_of(c->neighbor(i));
+        if (t < n && component_[t] < 0) {
+          component_[t] = id;
+          todo.push_back(t);
+        }
+      }
     }
   }
+  SEMAP_ASSERT(!component_excess.empty(), "a vertex without carved cells is regular");
+  const int best = int(std::max_element(component_excess.begin(), component_excess.end()) -
+                       component_excess.begin());
+  constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+  std::int64_t keep_cost = kNever;
+  if (component_excess.size() > 1) {
+    keep_cost = 0;
+    for (int s = 0; s < n; ++s) {
+      if (component_[s] >= 0 && component_[s] != best) keep_cost += std::max<std::int64_t>(excess(star_[s]), 0);
+    }
+  }
+  std::int64_t fill_cost = allow_fill ? 0 : kNever;
+  for (int s = 0; s < n && fill_cost != kNever; ++s) {
+    const CellHandle c = star_[s];
+    if (c->info().carved) continue;
+    if (dt_->is_infinite(c) || settled_.count(&*c)) {
+      fill_cost = kNever;
+    } else {
+      fill_cost += std::max<std::int64_t>(-excess(c), 0) + fill_cost_q_;
+    }
+  }
+  if (fill_cost < keep_cost) {
+    for (int s = 0; s < n; ++s) {
+      if (!star_[s]->info().carved) set_carved(star_[s], true);
+    }
+  } else if (keep_cost != kNever) {
+    for (int s = 0; s < n; ++s) {
+      if (component_[s] >= 0 && component_[s] != best) set_carved(star_[s], false);
+    }
+  } else {
+    // One component that pinches itself: give up its weakest cell with an uncarved neighbour around v.
+    int weakest = -1;
+    for (int s = 0; s < n; ++s) {
+      const CellHandle c = star_[s];
+      if (!c->info().carved) continue;
+      const int iv = c->index(v);
+      bool on_boundary = false;
+      for (int i = 0; i < 4; ++i) on_boundary |= i != iv && !c->neighbor(i)->info().carved;
+      if (on_boundary && (weakest < 0 || excess(c) < excess(star_[weakest]))) weakest = s;
+    }
+    SEMAP_ASSERT(weakest >= 0, "a non-regular vertex has a carved cell on the boundary");
+    set_carved(star_[weakest], false);
+  }
+}
+
+std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
+                                           std::vector<CellHandle>* changed) {
+  std::vector<VertexHandle> vertices;
+  std::size_t carved = 0;
+  for (const CellHandle c : cells) {
+    if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c)) continue;
+    c->info().carved = true;
+    ++carved;
+    for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
+  }
+  // A geometric order (not the handles' addresses), so that the same cells give the same repair in any
+  // triangulation holding them (the batch and the incremental map).
+  auto lex_less = [](VertexHandle a, VertexHandle b) {
+    const Point &p = a->point(), &q = b->point();
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    return p.z() < q.z();
+  };
+  std::sort(vertices.begin(), vertices.end(), lex_less);
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  Repair(std::move(vertices), /*allow_fill=*/true, changed);
+  return carved + Grow(cells);
 }
 
 void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices,
@@ -214,7 +304,7 @@ void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices,
       for (int k = 0; k < 4; ++k) to_check.push_back(c->vertex(k));
     }
   }
-  Repair(std::move(to_check), uncarved);
+  Repair(std::move(to_check), /*allow_fill=*/false, uncarved);
 }
 
 }  // namespace semap::map_internal

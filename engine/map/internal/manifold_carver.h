@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <utility>
+#include <unordered_set>
 #include <vector>
 
 #include "engine/map/internal/triangulation.h"
@@ -17,8 +18,10 @@ namespace semap::map_internal {
 class ManifoldCarver {
  public:
   // `max_passes`: Grow() retries the cells that failed, while a pass still carves something, at most this
-  // many passes.
-  ManifoldCarver(Delaunay* dt, int max_passes) : dt_(dt), max_passes_(max_passes) {}
+  // many passes. `fill_cost_q`: what Repair charges, in fixed-point vote units, for carving one cell that is
+  // not free (on top of its matter excess); negative: Repair never carves, it only uncarves.
+  ManifoldCarver(Delaunay* dt, int max_passes, std::int64_t fill_cost_q = -1)
+      : dt_(dt), max_passes_(max_passes), fill_cost_q_(fill_cost_q) {}
 
   // True when the boundary facets around `v` form zero or one cycle on its link.
   bool IsRegular(VertexHandle v);
@@ -32,13 +35,25 @@ class ManifoldCarver {
   // seed is). Returns the number of cells carved.
   std::size_t Grow(const std::vector<CellHandle>& candidates);
 
-  // Local shrink after the triangulation changed around `vertices`: uncarves the whole star of every
-  // non-regular vertex, repeating on the vertices of the uncarved cells, until all are regular. Appends the
-  // uncarved cells to `uncarved`.
-  void Repair(std::vector<VertexHandle> vertices, std::vector<CellHandle>* uncarved);
+  // Makes every vertex of `vertices` regular again (and the vertices of the cells it changes), after carving
+  // or uncarving cells without the manifold test. At a non-regular vertex v it applies the cheaper of
+  //  - fill: carve every uncarved cell around v (then v is inside the region), costing each cell's matter
+  //    excess plus fill_cost_q; only with `allow_fill`, and only once per cell;
+  //  - keep: uncarve the carved cells around v outside the facet-connected component with the largest free
+  //    excess (free − matter), costing the free excess given up;
+  // and, when v's carved cells are one component that still pinches, uncarves its weakest cell on the
+  // boundary, until v is regular. Each cell changes at most twice, so the repair ends. Appends the changed
+  // cells (carved or uncarved) to `changed`.
+  void Repair(std::vector<VertexHandle> vertices, bool allow_fill, std::vector<CellHandle>* changed);
 
-  // Uncarves every carved cell incident to `vertices`, then repairs around them (Repair). Appends the
-  // uncarved cells to `uncarved`.
+  // Carves every free cell of `cells` at once, restores the manifold with Repair (fill allowed), then grows
+  // from the free cells still uncarved (Grow). Far fewer free cells are left out than by growth alone, whose
+  // greedy order blocks itself (see MapOptions::extraction). Appends the cells Repair changed to `changed`.
+  // Returns the number of cells carved by the first step and by the growth.
+  std::size_t CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed);
+
+  // Uncarves every carved cell incident to `vertices`, then repairs around them (Repair, without fill).
+  // Appends the uncarved cells to `uncarved`.
   void UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved);
 
   std::uint64_t num_tests() const { return num_tests_; }
@@ -50,9 +65,16 @@ class ManifoldCarver {
   Verdict CarveVerdict(CellHandle cell, int iv) const;
   // True when a carved cell is incident to the edge (cell->vertex(i), cell->vertex(j)).
   bool EdgeTouchesCarved(CellHandle cell, int i, int j) const;
+  // One repair step at the non-regular vertex v (see Repair); pushes the vertices of changed cells.
+  void RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
+                  std::vector<CellHandle>* changed);
 
   Delaunay* dt_;
   int max_passes_;
+  std::int64_t fill_cost_q_;
+  std::unordered_set<const void*> settled_;                   // cells changed by the running Repair
+  std::vector<CellHandle> star_;                              // scratch: a vertex's cells
+  std::vector<int> component_;                                // scratch: component of each star cell
   std::vector<CellHandle> cells_;                             // scratch
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
   std::vector<VertexHandle> ends_;                            // scratch

@@ -97,12 +97,13 @@ void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options,
     differing += it->second != votes ? 1 : 0;
   }
   EXPECT_EQ(differing, 0u) << "cells whose votes differ from the batch map";
-  // Mesh difference (both grow greedily, from different states): symmetric difference of triangle sets.
+  // Mesh difference (the repairs and growth run from different states): symmetric difference of triangle
+  // sets.
   const auto a = TriangleSet(map.ExtractMesh()), b = TriangleSet(batch.mesh);
   std::vector<std::array<double, 9>> diff;
   std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(diff));
   *mesh_diff = int(diff.size());
-  // Measured: 0-23 % of the batch triangles on these streams (see the printed lines).
+  // Measured: 0-17 % of the batch triangles on these streams (see the printed lines).
   EXPECT_LE(double(diff.size()), 0.3 * double(b.size())) << "incremental mesh too far from the batch mesh";
   *mesh_size = int(b.size());
 }
@@ -184,6 +185,9 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
   MapOptions options;
   options.finalise_age_frames = 8;
   options.finalise_every_frames = 4;
+  // The whole surface (Steiner triangles kept) is a closed 2-manifold; dropping the Steiner triangles opens
+  // it, and a vertex can then keep several fans (see MapOptions::drop_steiner_triangles).
+  options.drop_steiner_triangles = false;
   IncrementalMap map(options);
   RandomStream stream(11);
   std::size_t max_early = 0, max_late = 0, finalised_triangles = 0;
@@ -200,7 +204,7 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
     finalised_triangles += m.num_triangles();
     for (const auto& key : TriangleSet(m)) EXPECT_TRUE(finalised.insert(key).second) << "finalised twice";
     if (f % 10 == 9) {
-      const auto report = test::CheckManifold(map.ExtractMesh(), /*allow_boundary=*/true);
+      const auto report = test::CheckManifold(map.ExtractMesh(), /*allow_boundary=*/false);
       ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
     }
   }

@@ -1,7 +1,8 @@
 #include "engine/pipeline/pipeline.h"
 
-
 #include <chrono>
+#include <limits>
+#include <map>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -145,6 +146,7 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   EXPECT_EQ(summary.frames_read, 40);
   EXPECT_FALSE(summary.stopped_early);
   EXPECT_GT(summary.final_stats.fps, 0.0);
+  EXPECT_GT(summary.final_stats.cpu_s, 0.0);
   // Accounting of the last frame (id 39: 49 points, every other kept → 25).
   EXPECT_EQ(sink.last.points_in, 49);
   EXPECT_EQ(sink.last.points_kept, 25);
@@ -247,6 +249,70 @@ TEST(Pipeline, AThrowingSinkDoesNotStopTheRun) {
   EXPECT_NE(summary.first_sink_error.find("/out/stats.csv"), std::string::npos);
 }
 
+// Frames 0.1 s apart whose camera moves 1 m per frame along x, except where `poses` says otherwise.
+class PoseReader : public FrameReader {
+ public:
+  PoseReader(int n, std::map<std::int64_t, Pose3d> poses) : n_(n), poses_(std::move(poses)) {}
+  std::optional<Frame> Next() override {
+    if (next_ >= n_) return std::nullopt;
+    Frame f;
+    f.id = next_++;
+    f.timestamp_s = 0.1 * static_cast<double>(f.id);
+    f.world_from_cam = Pose3d(Eigen::Translation3d(static_cast<double>(f.id), 0, 0));
+    if (auto it = poses_.find(f.id); it != poses_.end()) f.world_from_cam = it->second;
+    return f;
+  }
+
+ private:
+  int n_;
+  std::int64_t next_ = 0;
+  std::map<std::int64_t, Pose3d> poses_;
+};
+
+TEST(Pipeline, NonFiniteNonRigidAndJumpingPosesAreSkippedAndCounted) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Pose3d sheared = Pose3d(Eigen::Translation3d(4, 0, 0));
+  sheared.matrix()(0, 1) = 0.5;
+  const std::map<std::int64_t, Pose3d> poses = {
+      {2, Pose3d(Eigen::Translation3d(nan, 0, 0))},
+      {4, sheared},
+      {6, Pose3d(Eigen::Translation3d(1000, 0, 0))},  // 1 km in 0.1 s: a GPS jump
+  };
+  RecordingSink sink;
+  const auto summary = RunPipeline({}, std::make_unique<PoseReader>(10, poses), &sink);
+  EXPECT_EQ(sink.frames, (std::vector<std::int64_t>{0, 1, 3, 5, 7, 8, 9}));
+  EXPECT_EQ(summary.final_stats.frames_failed, 3);
+  ASSERT_EQ(sink.errors.size(), 3u);
+  EXPECT_EQ(sink.errors[0].first, 2);
+  EXPECT_NE(sink.errors[0].second.find("pose: frame 2: pose is not finite"), std::string::npos) << sink.errors[0].second;
+  EXPECT_NE(sink.errors[1].second.find("not a rotation"), std::string::npos) << sink.errors[1].second;
+  EXPECT_EQ(sink.errors[2].first, 6);
+  // Frame 7 is compared with frame 5, the last accepted one (2 m in 0.2 s).
+  EXPECT_NE(sink.errors[2].second.find("pose jumps 995.0 m in 0.10 s since frame 5"), std::string::npos)
+      << sink.errors[2].second;
+  EXPECT_FALSE(summary.stopped_early);
+}
+
+TEST(Pipeline, SpeedCheckCanBeTurnedOffAndAPermanentJumpEndsTheRun) {
+  // From frame 3 on the track is 5 km away for good.
+  std::map<std::int64_t, Pose3d> poses;
+  for (int i = 3; i < 400; ++i) poses[i] = Pose3d(Eigen::Translation3d(5000.0 + i, 0, 0));
+  {
+    PipelineOptions options;
+    options.max_speed_mps = 0.0;
+    RecordingSink sink;
+    const auto summary = RunPipeline(options, std::make_unique<PoseReader>(400, poses), &sink);
+    EXPECT_EQ(summary.final_stats.frames_processed, 400);
+  }
+  RecordingSink sink;
+  const auto summary = RunPipeline({}, std::make_unique<PoseReader>(400, poses), &sink);
+  EXPECT_TRUE(summary.stopped_early);
+  EXPECT_NE(summary.fatal_error.find("100 frames in a row"), std::string::npos) << summary.fatal_error;
+  EXPECT_EQ(summary.final_stats.frames_processed, 3);
+  EXPECT_EQ(summary.final_stats.frames_processed + summary.final_stats.frames_failed, summary.frames_read);
+  EXPECT_EQ(sink.finishes, 1);
+}
+
 TEST(PipelineOptions, CheckNamesTheField) {
   PipelineOptions o;
   o.depth_workers = 0;
@@ -258,7 +324,13 @@ TEST(PipelineOptions, CheckNamesTheField) {
   }
 }
 
-TEST(Pipeline, RssIsMeasured) { EXPECT_GT(CurrentRssMb(), 1.0); }
+TEST(Pipeline, RssAndCpuTimeAreMeasured) {
+  EXPECT_GT(CurrentRssMb(), 1.0);
+  const double before = ProcessCpuSeconds();
+  volatile double x = 0.0;
+  for (int i = 0; i < 20000000; ++i) x = x + 1.0;
+  EXPECT_GT(ProcessCpuSeconds(), before);
+}
 
 }  // namespace
 }  // namespace semap

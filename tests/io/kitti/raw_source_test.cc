@@ -5,6 +5,7 @@
 #include <functional>
 #include <opencv2/imgcodecs.hpp>
 
+#include "engine/core/check.h"
 #include "io/frame_source.h"
 #include "tests/common/test_data.h"
 #include "tests/io/kitti/tiny_kitti.h"
@@ -70,6 +71,54 @@ TEST(KittiRawSource, ReadsTinySequenceBack) {
   }
   EXPECT_FALSE(source->Next().has_value());
   EXPECT_FALSE(source->Next().has_value());
+}
+
+TEST(KittiRawSource, LoopsShiftEachPassPastThePreviousTrack) {
+  const TinyRaw t = WriteTinyRaw(test::TempDir() / "raw");
+  const double period_s = t.truth.frame_period_s;
+  FrameSourceOptions options;
+  options.loops = 3;
+  options.loop_gap_m = 10.0;
+  auto source = OpenFrameSource(t.root, options);
+  ASSERT_EQ(source->size(), 12);
+  // The track runs 3 m along world x: each pass is moved 3 + 10 m further along x, and the 10 m jump between
+  // passes takes as long as the first pass's mean speed (1 m per period) needs for it.
+  const double pass_s = 3 * period_s + 10 * period_s;
+  for (int k = 0; k < 3; ++k) {
+    for (int i = 0; i < 4; ++i) {
+      const auto f = source->Next();
+      ASSERT_TRUE(f.has_value());
+      EXPECT_EQ(f->id, 4 * k + i);
+      // The track's length is 3 m up to the Mercator approximation (< 0.1 mm): the jump time to 1e-4 s.
+      EXPECT_NEAR(f->timestamp_s, i * period_s + k * pass_s, 1e-4) << "pass " << k << " frame " << i;
+      const Pose3d want = ExpectedPose(t, i);
+      const Eigen::Vector3d shift(13.0 * k, 0, 0);
+      EXPECT_LT((f->world_from_cam->translation() - want.translation() - shift).norm(), 1e-4);
+      EXPECT_LT((f->world_from_cam->linear() - want.linear()).cwiseAbs().maxCoeff(), 1e-9);
+      EXPECT_TRUE(SameImage(f->left, test::TinyImage(i, 32, 16, false)));
+    }
+  }
+  EXPECT_FALSE(source->Next().has_value());
+  // A frame that fails in a later pass is reported with its id in the looped stream and the pass.
+  fs::remove(t.drive / "image_03/data/0000000001.png");
+  source = OpenFrameSource(t.root, options);
+  std::vector<std::string> errors;
+  std::vector<std::int64_t> ids;
+  for (int n = 0; n < 20; ++n) {
+    try {
+      auto f = source->Next();
+      if (!f) break;
+      ids.push_back(f->id);
+    } catch (const FrameError& e) {
+      errors.push_back(std::to_string(e.frame_id()) + "|" + e.what());
+    }
+  }
+  EXPECT_EQ(ids, (std::vector<std::int64_t>{0, 2, 3, 4, 6, 7, 8, 10, 11}));
+  ASSERT_EQ(errors.size(), 3u);
+  EXPECT_EQ(errors[2].substr(0, errors[2].find('|')), "9");
+  EXPECT_NE(errors[2].find("pass 3: frame 1:"), std::string::npos) << errors[2];
+  options.loops = 0;
+  EXPECT_THROW(OpenFrameSource(t.root, options), InvalidOption);
 }
 
 TEST(KittiRawSource, VelodyneCalibrationChain) {

@@ -1,0 +1,89 @@
+// `semap compare` run as a user would, on a tiny generated sequence: both modes, the plot, bad methods.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "tests/common/test_data.h"
+#include "tests/tools/cli_run.h"
+#include "tests/tools/small_sequence.h"
+
+namespace semap::tools {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CliRun;
+using test::RunSemap;
+
+// compare.csv as method → column → value.
+std::map<std::string, std::map<std::string, double>> ReadCsv(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string h; std::getline(hs, h, ',');) header.push_back(h);
+  std::map<std::string, std::map<std::string, double>> rows;
+  while (std::getline(in, line)) {
+    const auto close = line.find('"', 1);
+    const std::string method = line.substr(1, close - 1);
+    std::stringstream vs(line.substr(close + 2));
+    std::size_t column = 1;
+    for (std::string v; std::getline(vs, v, ','); ++column) rows[method][header.at(column)] = std::stod(v);
+  }
+  return rows;
+}
+
+bool IsPng(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  return in && std::string(magic + 1, 3) == "PNG" && fs::file_size(path) > 1000;
+}
+
+void ExpectComparison(const fs::path& out) {
+  const auto rows = ReadCsv(out / "compare.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  for (const char* m : {"O", "PS", "voxel", "no ground/wall"}) ASSERT_TRUE(rows.count(m)) << m;
+  EXPECT_EQ(rows.at("O").at("kept_ground"), 1.0);
+  EXPECT_LT(rows.at("PS").at("kept_ground"), 1.0);
+  EXPECT_EQ(rows.at("no ground/wall").at("kept_ground"), 0.0);
+  EXPECT_EQ(rows.at("no ground/wall").at("kept_wall"), 0.0);
+  EXPECT_LT(rows.at("PS").at("mesh_mb"), rows.at("O").at("mesh_mb"));
+  EXPECT_LT(rows.at("no ground/wall").at("mesh_mb"), rows.at("PS").at("mesh_mb"));
+  EXPECT_GT(rows.at("O").at("completeness"), 0.5);
+  EXPECT_TRUE(IsPng(out / "compare.png"));
+  EXPECT_TRUE(fs::exists(out / "compare.md"));
+}
+
+TEST(SemapCompare, IncrementalModeWritesTableCsvAndPlot) {
+  const fs::path seq = test::SmallGeneratedSequence(3);
+  const fs::path out = test::TempDir() / "cmp";
+  const CliRun r = RunSemap("compare " + seq.string() + " --methods O PS voxel --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ExpectComparison(out);
+}
+
+TEST(SemapCompare, SingleFrameModeBuildsOneMapPerFrame) {
+  const fs::path seq = test::SmallGeneratedSequence(3);
+  const fs::path out = test::TempDir() / "cmp1";
+  const CliRun r = RunSemap("compare " + seq.string() + " --mode single-frame --frames 2 --methods O PS voxel --out " +
+                            out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.Has("compare: frame 1")) << r.output;
+  ExpectComparison(out);
+}
+
+TEST(SemapCompare, UnknownMethodOrModeIsAUsageError) {
+  const fs::path seq = test::SmallGeneratedSequence(3);
+  const CliRun bad_method = RunSemap("compare " + seq.string() + " --methods O XYZ --out " +
+                                     (test::TempDir() / "b").string());
+  EXPECT_EQ(bad_method.exit_code, 2) << bad_method.output;
+  EXPECT_TRUE(bad_method.Has("XYZ")) << bad_method.output;
+  EXPECT_EQ(RunSemap("compare " + seq.string() + " --mode batch").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace semap::tools

@@ -1,0 +1,57 @@
+// `semap table` run as a user would, on a tiny generated sequence.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/common/test_data.h"
+#include "tests/tools/cli_run.h"
+#include "tests/tools/small_sequence.h"
+
+namespace semap::tools {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CliRun;
+using test::RunSemap;
+
+TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
+  const fs::path seq = test::SmallGeneratedSequence(3);
+  const fs::path out = test::TempDir() / "table";
+  const CliRun r = RunSemap("table small=" + seq.string() + " --progress-interval 0 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream md(out / "table.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("| small | O |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| small | PS |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| 95 | PS | 0.7173 | 1.5434 |"), std::string::npos) << text;
+  EXPECT_TRUE(fs::exists(out / "small" / "O" / "mesh.ply"));
+  EXPECT_TRUE(fs::exists(out / "small" / "PS" / "mesh.ply"));
+
+  const nlohmann::json rows = nlohmann::json::parse(std::ifstream(out / "table.json"));
+  ASSERT_EQ(rows.size(), 2u);
+  const auto& o = rows[0];
+  const auto& ps = rows[1];
+  EXPECT_EQ(o["method"], "O");
+  EXPECT_EQ(ps["method"], "PS");
+  for (const auto& row : rows) {
+    EXPECT_EQ(row["frames"], 3);
+    EXPECT_GT(row["fps"].get<double>(), 0.0);
+    EXPECT_GT(row["completeness"].get<double>(), 0.5);
+    EXPECT_TRUE(std::isfinite(row["rmse_m"].get<double>()));
+    EXPECT_GT(row["exact_depth_rmse_m"].get<double>(), 0.0);  // a generated sequence has exact depth
+  }
+  // PS keeps fewer points, so its mesh is smaller.
+  EXPECT_LT(ps["mesh_mb"].get<double>(), o["mesh_mb"].get<double>());
+}
+
+TEST(SemapTable, MissingSequenceIsAClearFailure) {
+  const CliRun r = RunSemap("table /nonexistent/sequence --out " + (test::TempDir() / "t").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_TRUE(r.Has("/nonexistent/sequence")) << r.output;
+}
+
+}  // namespace
+}  // namespace semap::tools

@@ -1,0 +1,265 @@
+// `semap compare PATH`: every simplification method on the same input, the paper's method plot.
+// Mode `incremental` streams a sequence once per method through the engine; mode `single-frame` builds
+// one batch map per frame (for the stereo-2015 frames, which have no poses), with depth and labels
+// computed once per frame and shared by the methods. Writes compare.md, compare.csv and compare.png
+// (mesh size vs RMSE, drawn by gnuplot, with the size of the mesh without ground and wall points as a
+// vertical line).
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <spdlog/spdlog.h>
+
+#include "engine/eval/depth_accuracy.h"
+#include "engine/eval/depth_render.h"
+#include "engine/map/batch_map.h"
+#include "engine/pipeline/semap_stages.h"
+#include "engine/simplify/simplify.h"
+#include "io/frame_source.h"
+#include "io/mesh/ply_off.h"
+#include "tools/cli_common.h"
+#include "tools/engine_run.h"
+
+namespace semap::tools {
+namespace {
+
+constexpr const char* kNoGroundWall = "no ground/wall";
+
+struct CompareArgs {
+  CommonArgs common;
+  std::string path;
+  std::string out = "semap_compare";
+  std::string mode = "incremental";
+  std::vector<std::string> methods;  // empty = all
+  int frames = 0;
+};
+
+struct Row {
+  std::string method;
+  double mesh_mb = 0.0;
+  std::size_t triangles = 0;
+  DepthAccuracy lidar;
+  double seconds = 0.0;
+  // Points in / kept per class role (ground, wall, other).
+  std::map<ClassRole, std::pair<std::int64_t, std::int64_t>> roles;
+};
+
+// Keeps every point whose class is neither ground nor wall: the size of the mesh without them is the
+// paper's vertical line (what removing the simplifiable classes entirely would give).
+LabelledCloud DropGroundAndWall(const LabelledCloud& cloud, const ClassMap& class_map) {
+  std::vector<std::uint32_t> keep;
+  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.labels.empty() || !class_map.IsTarget(cloud.labels[i])) keep.push_back(i);
+  }
+  return cloud.Subset(keep);
+}
+
+class DropGroundAndWallStage : public SimplifyStage {
+ public:
+  explicit DropGroundAndWallStage(ClassMap class_map) : class_map_(std::move(class_map)) {}
+  LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>* counts) override {
+    LabelledCloud kept = DropGroundAndWall(cloud, class_map_);
+    std::map<Label, ClassPointCount> by_label;
+    for (Label l : cloud.labels) ++by_label[l].in;
+    for (Label l : kept.labels) ++by_label[l].kept;
+    counts->clear();
+    for (auto& [label, c] : by_label) {
+      c.label = label;
+      counts->push_back(c);
+    }
+    return kept;
+  }
+
+ private:
+  ClassMap class_map_;
+};
+
+// Sums the per-frame class counts of a run by role.
+class RoleCountSink : public PipelineSink {
+ public:
+  RoleCountSink(const ClassMap& class_map, Row* row) : class_map_(class_map), row_(row) {}
+  void OnFrame(const FrameStats& stats, const MeshDelta&, const std::optional<Pose3d>&) override {
+    for (const ClassPointCount& c : stats.class_counts) {
+      auto& [in, kept] = row_->roles[class_map_.Role(c.label)];
+      in += c.in;
+      kept += c.kept;
+    }
+  }
+
+ private:
+  const ClassMap& class_map_;
+  Row* row_;
+};
+
+std::vector<std::string> MethodNames(const CompareArgs& args) {
+  if (!args.methods.empty()) return args.methods;
+  std::vector<std::string> names;
+  for (SimplifyMethod m : AllSimplifyMethods()) names.push_back(SimplifyMethodName(m));
+  return names;
+}
+
+std::vector<Row> CompareIncremental(const CompareArgs& args, const ClassMap& class_map) {
+  std::vector<Row> rows;
+  std::vector<std::string> names = MethodNames(args);
+  names.push_back(kNoGroundWall);
+  for (const std::string& name : names) {
+    const bool drop = name == kNoGroundWall;
+    std::vector<std::string> overrides = args.common.overrides;
+    if (!drop) overrides.push_back("simplify.method=" + name);
+    overrides.push_back("pipeline.mode=exhaustive");
+    overrides.push_back("output.dir=" + (std::filesystem::path(args.out) / (drop ? "no_ground_wall" : name)).string());
+    if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
+    const io::Config config = io::LoadConfig(args.common.config_path, overrides);
+    spdlog::info("compare: {}", name);
+    Row row;
+    row.method = name;
+    RoleCountSink counts(class_map, &row);
+    const EngineRun run = RunAndEvaluate(config, args.path, 0.0,
+                                         drop ? std::make_unique<DropGroundAndWallStage>(class_map) : nullptr,
+                                         {&counts});
+    row.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
+    row.triangles = run.evaluation.triangles;
+    row.lidar = run.evaluation.lidar;
+    row.seconds = run.summary.final_stats.elapsed_s;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<Row> CompareSingleFrame(const CompareArgs& args, const ClassMap& class_map) {
+  io::Config config = io::LoadConfig(args.common.config_path, args.common.overrides);
+  config.input.load_velodyne = true;
+  if (args.frames > 0) config.input.max_frames = args.frames;
+  auto source = io::OpenFrameSource(args.path, config.input);
+  StereoLabelStage depth(config.depth, config.semantics, class_map);
+  std::vector<std::string> names = MethodNames(args);
+  names.push_back(kNoGroundWall);
+  std::vector<Row> rows(names.size());
+  std::vector<DepthAccuracyAccumulator> accuracy(names.size(), DepthAccuracyAccumulator(config.eval));
+  for (std::size_t m = 0; m < names.size(); ++m) rows[m].method = names[m];
+  while (auto frame = source->Next()) {
+    if (!frame->velodyne) {
+      spdlog::warn("compare: frame {} has no Velodyne scan, skipped", frame->id);
+      continue;
+    }
+    spdlog::info("compare: frame {}", frame->id);
+    // One camera at the frame's own pose (identity when the dataset has none): a one-frame map.
+    const Pose3d world_from_cam = frame->world_from_cam.value_or(Pose3d::Identity());
+    Frame posed = *frame;
+    posed.world_from_cam = world_from_cam;
+    const LabelledCloud cloud = depth.Process(posed);
+    const cv::Mat lidar = LidarDepthImage(*frame->velodyne, frame->calibration, config.eval);
+    for (std::size_t m = 0; m < names.size(); ++m) {
+      const auto start = std::chrono::steady_clock::now();
+      LabelledCloud kept;
+      if (names[m] == kNoGroundWall) {
+        kept = DropGroundAndWall(cloud, class_map);
+      } else {
+        SimplifyOptions options = config.simplify;
+        options.method = SimplifyMethodFromName(names[m]);
+        WindowedSimplifyStage simplify(options, class_map);
+        std::vector<ClassPointCount> counts;
+        kept = simplify.Process(cloud, &counts);
+      }
+      for (Label l : cloud.labels) ++rows[m].roles[class_map.Role(l)].first;
+      for (Label l : kept.labels) ++rows[m].roles[class_map.Role(l)].second;
+      const Mesh mesh = BuildBatchMap(config.map, kept, {}).mesh;
+      rows[m].seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      rows[m].mesh_mb += static_cast<double>(io::OffSizeBytes(mesh)) / 1e6;
+      rows[m].triangles += mesh.num_triangles();
+      accuracy[m].Add(lidar, RenderDepth(mesh, frame->calibration, world_from_cam));
+    }
+  }
+  for (std::size_t m = 0; m < names.size(); ++m) rows[m].lidar = accuracy[m].Result();
+  return rows;
+}
+
+double KeptShare(const Row& r, ClassRole role) {
+  const auto it = r.roles.find(role);
+  if (it == r.roles.end() || it->second.first == 0) return 1.0;
+  return double(it->second.second) / double(it->second.first);
+}
+
+void WriteOutputs(const CompareArgs& args, const std::vector<Row>& rows) {
+  const std::filesystem::path out(args.out);
+  std::filesystem::create_directories(out);
+  std::string md =
+      "| method | mesh (MB, OFF) | triangles | RMSE (m) | MAE (m) | completeness | kept ground | kept wall | "
+      "kept other | time (s) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  std::ofstream csv(out / "compare.csv");
+  csv << "method,mesh_mb,triangles,rmse_m,mae_m,completeness,kept_ground,kept_wall,kept_other,seconds\n";
+  char line[512];
+  for (const Row& r : rows) {
+    std::snprintf(line, sizeof(line), "| %s | %.2f | %zu | %.4f | %.4f | %.1f %% | %.0f %% | %.0f %% | %.0f %% | %.1f |\n",
+                  r.method.c_str(), r.mesh_mb, r.triangles, r.lidar.rmse_m, r.lidar.mae_m,
+                  100.0 * r.lidar.completeness, 100.0 * KeptShare(r, ClassRole::kGround),
+                  100.0 * KeptShare(r, ClassRole::kWall), 100.0 * KeptShare(r, ClassRole::kKeep), r.seconds);
+    md += line;
+    csv << '"' << r.method << '"' << ',' << r.mesh_mb << ',' << r.triangles << ',' << r.lidar.rmse_m << ','
+        << r.lidar.mae_m << ',' << r.lidar.completeness << ',' << KeptShare(r, ClassRole::kGround) << ','
+        << KeptShare(r, ClassRole::kWall) << ',' << KeptShare(r, ClassRole::kKeep) << ',' << r.seconds << '\n';
+  }
+  csv.close();
+  std::printf("%s", md.c_str());
+  std::ofstream(out / "compare.md") << md;
+
+  // The plot: gnuplot from Debian (gnuplot-nox), called on a script written beside the data.
+  double line_mb = 0.0;
+  for (const Row& r : rows) {
+    if (r.method == kNoGroundWall) line_mb = r.mesh_mb;
+  }
+  std::ofstream dat(out / "compare_plot.dat");
+  for (const Row& r : rows) {
+    if (r.method != kNoGroundWall) dat << '"' << r.method << "\" " << r.mesh_mb << ' ' << r.lidar.rmse_m << '\n';
+  }
+  dat.close();
+  std::ofstream gp(out / "compare.gp");
+  gp << "set terminal pngcairo size 900,600 noenhanced\nset output 'compare.png'\n"
+     << "set title 'Mesh size vs accuracy (" << args.mode << ": " << std::filesystem::path(args.path).filename().string()
+     << ")'\nset xlabel 'mesh size (MB, OFF)'\nset ylabel 'RMSE vs Velodyne (m)'\nset grid\n"
+     << "set xrange [0:*]\nset yrange [0:*]\n"
+     << "set arrow from " << line_mb << ", graph 0 to " << line_mb << ", graph 1 nohead lc rgb 'red' dt 2\n"
+     << "set label 'without ground and wall' at " << line_mb << ", graph 0.95 offset 0.5,0 tc rgb 'red'\n"
+     << "plot 'compare_plot.dat' using 2:3 with points pt 7 ps 1.5 notitle, "
+     << "'' using 2:3:1 with labels offset 0,1 notitle\n";
+  gp.close();
+  const std::string cmd = "cd '" + out.string() + "' && gnuplot compare.gp";
+  if (std::system(cmd.c_str()) != 0) {
+    spdlog::warn("gnuplot failed (is gnuplot-nox installed?): no compare.png; the data is in compare.csv");
+  } else {
+    spdlog::info("wrote {}", (out / "compare.png").string());
+  }
+  spdlog::info("wrote {} and {}", (out / "compare.md").string(), (out / "compare.csv").string());
+}
+
+int Compare(const CompareArgs& args) {
+  for (const std::string& m : args.methods) SimplifyMethodFromName(m);  // unknown names fail before any work
+  const ClassMap class_map = io::OpenFrameSource(args.path, LoadConfigFrom(args.common).input)->class_map();
+  const std::vector<Row> rows =
+      args.mode == "incremental" ? CompareIncremental(args, class_map) : CompareSingleFrame(args, class_map);
+  WriteOutputs(args, rows);
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterCompareCommand(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<CompareArgs>();
+  auto* cmd = app.add_subcommand(
+      "compare", "Every simplification method on the same input: markdown table (mesh size, RMSE, completeness, "
+                 "points kept per class, time) and a PNG plot of mesh size vs RMSE");
+  AddCommonOptions(cmd, &args->common);
+  cmd->add_option("PATH", args->path, "dataset folder")->required();
+  cmd->add_option("--out", args->out, "output folder (compare.md, compare.csv, compare.png)")->capture_default_str();
+  cmd->add_option("--mode", args->mode,
+                  "incremental (stream the sequence per method) | single-frame (one batch map per frame)")
+      ->check(CLI::IsMember({"incremental", "single-frame"}))
+      ->capture_default_str();
+  cmd->add_option("--methods", args->methods, "methods to run (default: all), e.g. O PS voxel");
+  cmd->add_option("--frames", args->frames, "frames to use, 0 = all")->capture_default_str();
+  cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Compare(*args); }); });
+}
+
+}  // namespace semap::tools

@@ -1,0 +1,164 @@
+// `semap table PATH...`: the paper's incremental table. Each sequence is streamed twice through the
+// engine (exhaustive mode), Original (O) and Incremental Simplification (PS); the table gives accuracy
+// against Velodyne (RMSE, the paper's figure), frame rate, completeness, mesh size and the speed-up, with
+// the paper's own figures beside them.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "tools/cli_common.h"
+#include "tools/engine_run.h"
+
+namespace semap::tools {
+namespace {
+
+struct TableArgs {
+  CommonArgs common;
+  std::vector<std::string> datasets;  // PATH or NAME=PATH
+  std::string out = "semap_table";
+  int frames = 0;
+  double progress_s = 10.0;
+};
+
+struct Row {
+  std::string sequence;
+  std::string method;
+  double rmse_m = 0.0;
+  double fps = 0.0;
+  double completeness = 0.0;
+  double mesh_mb = 0.0;
+  std::size_t triangles = 0;
+  std::int64_t frames = 0;
+  double exact_rmse_m = -1.0;  // against exact depth maps (generated sequences), < 0 = none
+  bool has_lidar = false;      // false: the sequence has no Velodyne, RMSE and completeness are not defined
+};
+
+std::string Figure(bool defined, const char* format, double value) {
+  if (!defined) return "–";
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+// The paper's incremental table (ICRA 2019, Table III): KITTI sequences 95 and 104.
+struct PaperRow {
+  const char* sequence;
+  const char* method;
+  double rmse_m;
+  double fps;
+};
+constexpr PaperRow kPaper[] = {{"95", "O", 0.7135, 1.0082},
+                               {"95", "PS", 0.7173, 1.5434},
+                               {"104", "O", 0.7775, 0.4708},
+                               {"104", "PS", 0.7846, 0.6397}};
+
+std::pair<std::string, std::string> NameAndPath(const std::string& arg) {
+  const auto eq = arg.find('=');
+  if (eq != std::string::npos && eq > 0) return {arg.substr(0, eq), arg.substr(eq + 1)};
+  std::filesystem::path p(arg);
+  const std::string name = p.filename().empty() ? p.parent_path().filename().string() : p.filename().string();
+  return {name, arg};
+}
+
+std::string Markdown(const std::vector<Row>& rows) {
+  std::string md =
+      "| sequence | method | RMSE (m) | f/s | speed-up | completeness | mesh (MB, OFF) | triangles | frames | "
+      "RMSE vs exact depth (m) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  char line[512];
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    double speedup = 1.0;
+    for (const Row& o : rows) {
+      if (o.sequence == r.sequence && o.method == "O" && o.fps > 0.0) speedup = r.fps / o.fps;
+    }
+    std::snprintf(line, sizeof(line), "| %s | %s | %s | %.3f | %.2f× | %s | %.2f | %zu | %lld | %s |\n",
+                  r.sequence.c_str(), r.method.c_str(), Figure(r.has_lidar, "%.4f", r.rmse_m).c_str(), r.fps,
+                  speedup, Figure(r.has_lidar, "%.1f %%", 100.0 * r.completeness).c_str(), r.mesh_mb, r.triangles,
+                  static_cast<long long>(r.frames), Figure(r.exact_rmse_m >= 0.0, "%.4f", r.exact_rmse_m).c_str());
+    md += line;
+  }
+  md += "\nThe paper (KITTI, its Table III):\n\n| sequence | method | RMSE (m) | f/s | speed-up |\n|---|---|---|---|---|\n";
+  for (const PaperRow& p : kPaper) {
+    double o_fps = p.fps;
+    for (const PaperRow& q : kPaper) {
+      if (std::string(q.sequence) == p.sequence && std::string(q.method) == "O") o_fps = q.fps;
+    }
+    std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.2f× |\n", p.sequence, p.method, p.rmse_m, p.fps,
+                  p.fps / o_fps);
+    md += line;
+  }
+  return md;
+}
+
+int Table(const TableArgs& args) {
+  std::vector<Row> rows;
+  for (const std::string& arg : args.datasets) {
+    const auto [name, path] = NameAndPath(arg);
+    for (const char* method : {"O", "PS"}) {
+      std::vector<std::string> overrides = args.common.overrides;
+      overrides.push_back(std::string("simplify.method=") + method);
+      overrides.push_back("pipeline.mode=exhaustive");
+      overrides.push_back("output.dir=" + (std::filesystem::path(args.out) / name / method).string());
+      if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
+      const io::Config config = io::LoadConfig(args.common.config_path, overrides);
+      spdlog::info("table: {} ({}) with {}", name, path, method);
+      const EngineRun run = RunAndEvaluate(config, path, args.progress_s);
+      Row r;
+      r.sequence = name;
+      r.method = method;
+      r.has_lidar = run.evaluation.frames_with_lidar > 0;
+      r.rmse_m = run.evaluation.lidar.rmse_m;
+      r.completeness = run.evaluation.lidar.completeness;
+      r.fps = run.summary.final_stats.fps;
+      r.frames = run.summary.final_stats.frames_processed;
+      r.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
+      r.triangles = run.evaluation.triangles;
+      if (run.evaluation.exact_depth) r.exact_rmse_m = run.evaluation.exact_depth->rmse_m;
+      spdlog::info("table: {} {}: RMSE {:.4f} m, {:.3f} f/s, completeness {:.1f} %, {:.2f} MB", name, method,
+                   r.rmse_m, r.fps, 100.0 * r.completeness, r.mesh_mb);
+      rows.push_back(r);
+    }
+  }
+  const std::string md = Markdown(rows);
+  std::printf("%s", md.c_str());
+  std::filesystem::create_directories(args.out);
+  const auto md_path = std::filesystem::path(args.out) / "table.md";
+  const auto json_path = std::filesystem::path(args.out) / "table.json";
+  std::ofstream(md_path) << md;
+  nlohmann::json j = nlohmann::json::array();
+  for (const Row& r : rows) {
+    j.push_back({{"sequence", r.sequence}, {"method", r.method}, {"rmse_m", r.rmse_m}, {"fps", r.fps},
+                 {"completeness", r.completeness}, {"mesh_mb", r.mesh_mb}, {"triangles", r.triangles},
+                 {"frames", r.frames}, {"exact_depth_rmse_m", r.exact_rmse_m},
+                 {"has_lidar", r.has_lidar}});
+  }
+  std::ofstream(json_path) << j.dump(2) << "\n";
+  if (!std::filesystem::is_regular_file(md_path) || !std::filesystem::is_regular_file(json_path)) {
+    spdlog::error("could not write {} / {}", md_path.string(), json_path.string());
+    return kExitFailure;
+  }
+  spdlog::info("wrote {} and {}", md_path.string(), json_path.string());
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterTableCommand(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<TableArgs>();
+  auto* cmd = app.add_subcommand(
+      "table", "The paper's incremental table: stream each sequence with O and with PS, report RMSE vs Velodyne, "
+               "f/s, completeness, mesh size and speed-up beside the paper's figures");
+  AddCommonOptions(cmd, &args->common);
+  cmd->add_option("PATH", args->datasets, "sequences (KITTI raw or odometry layout), each PATH or NAME=PATH")
+      ->required();
+  cmd->add_option("--out", args->out, "folder for the runs, table.md and table.json")->capture_default_str();
+  cmd->add_option("--frames", args->frames, "frames per sequence, 0 = all")->capture_default_str();
+  cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines, 0 = none")
+      ->capture_default_str();
+  cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Table(*args); }); });
+}
+
+}  // namespace semap::tools

@@ -1,0 +1,33 @@
+// One in-process run of the streaming engine, shared by the subcommands that run it several times
+// (`semap table`, `semap compare`): the same stages, sinks and summary as `semap run`, without LCM.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/core/mesh.h"
+#include "engine/pipeline/pipeline.h"
+#include "engine/pipeline/stages.h"
+#include "io/config/config.h"
+#include "io/eval/mesh_evaluation.h"
+
+namespace semap::tools {
+
+struct EngineRun {
+  PipelineSummary summary;  // fps (frames / seconds of the whole incremental build), stage times
+  Mesh mesh;                // the final mesh (also written to config.output.dir)
+  io::MeshEvaluation evaluation;  // against Velodyne (and exact depth for generated sequences)
+};
+
+// Streams `dataset` through the engine as `config` says (writing the mesh and the per-frame stats to
+// config.output.dir), then evaluates the mesh on the same frames. Progress lines every `progress_s`
+// seconds (0 = none). Throws what the run or the evaluation throws; a stage error that stopped the run
+// is a std::runtime_error naming it.
+// `simplify` replaces the configured simplification stage when given; `extra_sinks` also receive the
+// frames (not owned).
+EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, double progress_s,
+                         std::unique_ptr<SimplifyStage> simplify = nullptr,
+                         const std::vector<PipelineSink*>& extra_sinks = {});
+
+}  // namespace semap::tools
