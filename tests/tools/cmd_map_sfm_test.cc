@@ -107,18 +107,19 @@ std::size_t CountLines(const std::filesystem::path& path) {
   return n;
 }
 
-// Measured on the batch map (25 keyframes, 7 500 points with 1 cm noise, about 3 observations per point):
-// surface distance median 5 mm, mean 0.07 m; every ray hits the mesh, depth error median 2 cm, 19 % of the
-// rays more than 0.5 m in front (unobserved space the greedy manifold growth does not carve, as in the map's
-// own street test). The bounds are these measurements with a margin, not targets.
+// Measured (25 keyframes, 7 500 points with 1 cm noise, about 3 observations per point; map with the
+// carve-and-repair extraction), batch and incremental alike: surface distance median 5 mm, mean 0.04 m; 99.7
+// % of the rays hit the mesh, depth error median 1.4 cm, p90 5 cm, 2 % of the rays more than 0.5 m in front
+// (PS-simplified input: mean 0.05 m, 2.4 %). The bounds are these measurements with a margin, not targets.
 void ExpectAccurate(const Accuracy& a, const std::string& what) {
   SCOPED_TRACE(what);
   EXPECT_LT(a.surface.median_m, 0.02);
-  EXPECT_LT(a.surface.mean_m, 0.15);
+  EXPECT_LT(a.surface.mean_m, 0.08);
   EXPECT_GT(a.rays, 1000u);
-  EXPECT_GT(a.hits, a.rays * 95 / 100);
-  EXPECT_LT(a.depth_median_m, 0.1);
-  EXPECT_LT(a.in_front_share, 0.3);
+  EXPECT_GT(a.hits, a.rays * 98 / 100);
+  EXPECT_LT(a.depth_median_m, 0.05);
+  EXPECT_LT(a.depth_p90_m, 0.2);
+  EXPECT_LT(a.in_front_share, 0.05);
 }
 
 TEST(SemapMapSfm, EveryFormatGivesAManifoldMeshOnTheTrueSurfaces) {
@@ -148,11 +149,11 @@ TEST(SemapMapSfm, EveryFormatGivesAManifoldMeshOnTheTrueSurfaces) {
   }
   // The same reconstruction whatever the format. The JSON formats store the rotation and centre as they
   // are: the same mesh; COLMAP's quaternion and translation move the centres by ~1e-15 m, which changes a
-  // few triangles (3 of 14 618 measured).
+  // few triangles (9 of 14 740 measured).
   ASSERT_EQ(triangles.size(), 4u);
   EXPECT_EQ(triangles[0], triangles[1]);  // COLMAP text and binary
   EXPECT_EQ(triangles[2], triangles[3]);  // OpenMVG and SLAM JSON
-  EXPECT_NEAR(double(triangles[0]), double(triangles[2]), 0.001 * double(triangles[2]));
+  EXPECT_NEAR(double(triangles[0]), double(triangles[2]), 0.005 * double(triangles[2]));
 }
 
 // Runs the incremental map on the street (SLAM JSON input), publishing over LCM into a log file.
@@ -173,7 +174,7 @@ struct IncrementalRun {
   }
 };
 
-TEST(SemapMapSfm, IncrementalKeyframesGiveAManifoldMeshThroughTheData) {
+TEST(SemapMapSfm, IncrementalKeyframesGiveAManifoldMeshOnTheTrueSurfaces) {
   const IncrementalRun inc;
   ASSERT_EQ(inc.run.exit_code, 0) << inc.run.output;
   EXPECT_TRUE(inc.run.Has("25 keyframes")) << inc.run.output;
@@ -182,27 +183,15 @@ TEST(SemapMapSfm, IncrementalKeyframesGiveAManifoldMeshThroughTheData) {
   EXPECT_TRUE(report.ok()) << report.Summary();
   const Accuracy a = Measure(inc.mesh, inc.scene, inc.reconstruction, inc.options.max_range_m);
   std::cout << "slam-json incremental: " << inc.mesh.num_triangles() << " triangles; " << a << "\n";
-  // Through the data: the triangles join the observed points (median distance to the surfaces 6 mm
-  // measured) and the pixel rays hit the mesh. Where they hit it: see the test below.
-  EXPECT_LT(a.surface.median_m, 0.02);
-  EXPECT_GT(a.rays, 1000u);
-  EXPECT_GT(a.hits, a.rays * 95 / 100);
+  // Before the carve-and-repair extraction the incremental mesh lay in front of the surfaces here (depth
+  // error median 7.6 m, 96 % of the rays more than 0.5 m short) while the batch map was right.
+  ExpectAccurate(a, "incremental");
 
   // What went over LCM rebuilds the same mesh.
   const auto rebuilt = test::RunSemap("lcm-mesh " + (inc.dir / "run.lcmlog").string() + " --out " +
                                       (inc.dir / "lcm.ply").string());
   ASSERT_EQ(rebuilt.exit_code, 0) << rebuilt.output;
   EXPECT_EQ(io::ReadMeshPly(inc.dir / "lcm.ply").num_triangles(), inc.mesh.num_triangles());
-}
-
-// The incremental mesh held to the batch map's bounds. (With the paper's greedy growth it lay in front of
-// the surfaces: depth error median 7.6 m; carve-and-repair, the default since, gives 1.4 cm.)
-TEST(SemapMapSfm, IncrementalMeshLiesOnTheTrueSurfaces) {
-  const IncrementalRun inc;
-  ASSERT_EQ(inc.run.exit_code, 0) << inc.run.output;
-  const Accuracy a = Measure(inc.mesh, inc.scene, inc.reconstruction, inc.options.max_range_m);
-  std::cout << "slam-json incremental: " << inc.mesh.num_triangles() << " triangles; " << a << "\n";
-  ExpectAccurate(a, "incremental");
 }
 
 TEST(SemapMapSfm, LabelledPointsAreSimplified) {
@@ -223,9 +212,7 @@ TEST(SemapMapSfm, LabelledPointsAreSimplified) {
   const Accuracy a = Measure(mesh, scene, r, o.max_range_m);
   std::cout << "openmvg incremental PS: " << mesh.num_vertices() << " vertices, " << mesh.num_triangles()
             << " triangles; " << a << "\n";
-  // As the unsimplified incremental run (depth accuracy: the known defect above).
-  EXPECT_LT(a.surface.median_m, 0.02);
-  EXPECT_GT(a.hits, a.rays * 95 / 100);
+  ExpectAccurate(a, "incremental PS");
 }
 
 TEST(SemapMapSfm, BadInputAndUsageAreClearErrors) {
