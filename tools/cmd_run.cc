@@ -11,6 +11,7 @@
 #include "io/mesh/ply_off.h"
 #include "io/output/output_sinks.h"
 #include "tools/cli_common.h"
+#include "tools/engine_run.h"
 #include "tools/eval_report.h"
 #include "tools/progress_sink.h"
 
@@ -55,11 +56,8 @@ std::vector<std::string> Overrides(const RunArgs& a) {
 
 int Run(const RunArgs& args) {
   const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
-  io::FrameSourceOptions input = config.input;
-  input.load_velodyne = false;  // the scans serve evaluation only: a missing one must not cost a frame here
-  auto source = io::OpenFrameSource(args.path, input);
+  auto source = OpenStreamingSource(config, args.path);
   const std::int64_t total = source->size();
-  const ClassMap class_map = source->class_map();
   spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers", args.path, total,
                io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
                config.pipeline.mode == PipelineOptions::Mode::kRealtime ? "realtime" : "exhaustive",
@@ -73,11 +71,8 @@ int Run(const RunArgs& args) {
   if (config.lcm.enabled) lcm_sink = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
   ProgressSink progress(total, args.progress_s);
 
-  Pipeline pipeline(
-      config.pipeline, std::move(source),
-      [&] { return std::make_unique<StereoLabelStage>(config.depth, config.semantics, class_map); },
-      std::make_unique<WindowedSimplifyStage>(config.simplify, class_map),
-      std::make_unique<IncrementalMapStage>(config.map));
+  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source));
+  Pipeline& pipeline = *engine;
   pipeline.AddSink(&mesh_sink);
   if (stats_sink) pipeline.AddSink(stats_sink.get());
   if (lcm_sink) pipeline.AddSink(lcm_sink.get());

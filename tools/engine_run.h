@@ -11,8 +11,18 @@
 #include "engine/pipeline/stages.h"
 #include "io/config/config.h"
 #include "io/eval/mesh_evaluation.h"
+#include "io/frame_source.h"
 
 namespace semap::tools {
+
+// The frame source of a streaming run: the dataset with config.input, except that Velodyne scans are not
+// loaded (they serve evaluation only, so a missing one must not cost a frame).
+std::unique_ptr<io::FrameSource> OpenStreamingSource(const io::Config& config, const std::string& dataset);
+
+// The engine's stages on `source` as `config` says: SGBM + labels, `simplify` (or the configured windowed
+// simplification when null), the incremental map. Sinks are the caller's to add.
+std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::unique_ptr<io::FrameSource> source,
+                                             std::unique_ptr<SimplifyStage> simplify = nullptr);
 
 struct EngineRun {
   PipelineSummary summary;  // fps (frames / seconds of the whole incremental build), stage times
