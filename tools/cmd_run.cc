@@ -88,7 +88,7 @@ int Run(const RunArgs& args) {
   spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
                s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps, summary.stopped_early ? " (stopped early)" : "");
   for (const auto& st : s.stages) {
-    spdlog::info("  {:<9} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
+    spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
                  st.p95_ms, st.max_ms);
   }
   const Mesh mesh = mesh_sink.mesh();

@@ -31,6 +31,12 @@ struct MapUpdateResult {
   std::size_t cells_carved = 0;     // local growth
   std::size_t points_finalised = 0;
   std::size_t vertices_removed = 0;  // finalised points and released Steiner vertices
+  // Wall time of the update's steps.
+  double locate_ms = 0.0;    // merging, conflict regions and the rays through them
+  double insert_ms = 0.0;    // vertex insertion into the triangulation
+  double trace_ms = 0.0;     // retracing the affected rays and tracing the new ones
+  double carve_ms = 0.0;     // shrinking and regrowing the manifold free space
+  double finalise_ms = 0.0;  // finalising and releasing old parts (every finalise_every_frames frames)
 };
 
 // The live map as batch-map input: cloud point i is live point `point_ids[i]`; its first camera is the camera

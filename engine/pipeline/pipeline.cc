@@ -319,6 +319,7 @@ struct Pipeline::Impl {
 
   void OutputLoop(PipelineSummary* summary) {
     std::array<TimingStats, kNumStages> timing;
+    std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
     while (auto item = to_output.Pop()) {
       const auto now = Clock::now();
@@ -353,6 +354,12 @@ struct Pipeline::Impl {
         timing[s].Add(item->ms[s]);
         stats.stages.push_back({kStageNames[s], item->ms[s], timing[s].mean(), timing[s].Percentile(0.5),
                                 timing[s].Percentile(0.95), timing[s].max(), occupancy[s]});
+      }
+      for (const StepTime& step : item->update.steps) {
+        const std::string name = std::string(kStageNames[kMap]) + "." + step.name;
+        TimingStats& t = step_timing[name];
+        t.Add(step.ms);
+        stats.stages.push_back({name, step.ms, t.mean(), t.Percentile(0.5), t.Percentile(0.95), t.max(), 0});
       }
       stats.points_in = item->points_in;
       stats.points_kept = 0;

@@ -1,5 +1,6 @@
 #include "engine/pipeline/semap_stages.h"
 
+#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -34,9 +35,14 @@ LabelledCloud WindowedSimplifyStage::Process(LabelledCloud cloud, std::vector<Cl
 
 MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&) {
   // The cloud's camera (its frame's left camera) is where every ray of this frame starts.
-  map_.Update(cloud);
+  const MapUpdateResult r = map_.Update(cloud);
   last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
-  return Report();
+  const auto t0 = std::chrono::steady_clock::now();
+  MapUpdate u = Report();
+  const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"trace", r.trace_ms},
+             {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"mesh", mesh_ms}};
+  return u;
 }
 
 MapUpdate IncrementalMapStage::Finish() { return Report(); }

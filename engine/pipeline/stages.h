@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "engine/core/frame.h"
 #include "engine/core/labelled_cloud.h"
@@ -39,6 +40,12 @@ class SimplifyStage {
   virtual LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>* counts) = 0;
 };
 
+// The time of one step inside a stage (reported as stage "<stage>.<name>", e.g. "map.trace").
+struct StepTime {
+  std::string name;
+  double ms = 0.0;
+};
+
 // What the map reports after each update.
 struct MapUpdate {
   MeshDelta delta;  // change of the published mesh (finalised parts are added once, never removed)
@@ -46,6 +53,8 @@ struct MapUpdate {
   std::int64_t cells = 0;
   std::int64_t rays = 0;
   std::int64_t mesh_triangles = 0;  // triangles of the mesh as published so far
+  // Where the map stage's time went, the same steps in the same order every frame.
+  std::vector<StepTime> steps;
 };
 
 // The incremental map: called once per frame, in frame order, from one thread.

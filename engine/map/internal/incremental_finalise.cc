@@ -91,7 +91,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   touched_.clear();
   touch_mark_ = NewMark();
   std::vector<CellHandle> uncarved;
-  carver_.UncarveStars(boundary_, &uncarved);
+  UncarveBoundaryStars(&uncarved);
   uncarved.insert(uncarved.end(), lost.begin(), lost.end());
   for (const CellHandle c : uncarved) {
     if (c->info().stamp == touch_mark_) continue;

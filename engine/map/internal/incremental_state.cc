@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
 #include <numeric>
 #include <stdexcept>
 
@@ -39,6 +40,14 @@ void SpatialSort(std::vector<PendingVertex>* pending) {
   *pending = std::move(sorted);
 }
 
+// Milliseconds since `*since`, which is moved to now.
+double Lap(std::chrono::steady_clock::time_point* since) {
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - *since).count();
+  *since = now;
+  return ms;
+}
+
 }  // namespace
 
 IncrementalState::IncrementalState(const MapOptions& options)
@@ -56,6 +65,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   SEMAP_ASSERT(frame.empty() || frame.camera_index.size() == frame.size(), "every point needs its camera");
   ++frame_;
   MapUpdateResult result;
+  auto lap = std::chrono::steady_clock::now();
   for (const Observation& o : extra) {
     if (!points_.count(o.point)) {
       throw std::invalid_argument("map update: observation of unknown point id " + std::to_string(o.point));
@@ -88,14 +98,16 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   std::vector<std::uint32_t> affected;
   CollectAffectedRays(&affected);
   result.rays_retraced = affected.size();
+  result.locate_ms = Lap(&lap);
 
   InsertVertices(&pending, &result);
   created_mark_ = NewMark();
   MarkCreatedCells(inserted_, kNoMark);
   touched_.clear();
   std::vector<CellHandle> uncarved;
-  carver_.UncarveStars(boundary_, &uncarved);
+  UncarveBoundaryStars(&uncarved);
   result.cells_uncarved = uncarved.size();
+  result.insert_ms = Lap(&lap);
 
   // Votes: retrace the affected rays, trace the new ones.
   const std::uint32_t touch_mark = NewMark();
@@ -116,9 +128,12 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   }
   TraceRays(created);
   result.rays_traced = created.size();
+  result.trace_ms = Lap(&lap);
   result.cells_uncarved += ShrinkNonFree();
   result.cells_carved = Regrow();
+  result.carve_ms = Lap(&lap);
   Finalise(&result);
+  result.finalise_ms = Lap(&lap);
   return result;
 }
 
@@ -322,6 +337,12 @@ std::size_t IncrementalState::ShrinkNonFree() {
     ++uncarved;
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
   }
+  if (options_.extraction == SurfaceExtraction::kCarveAndRepair) {
+    // Repaired in Regrow, once, with the cells it carves: repairing now, beside the uncarved new cells of
+    // the re-triangulated region, would uncarve far around them, only to carve it all again.
+    repair_later_ = std::move(vertices);
+    return uncarved;
+  }
   std::vector<CellHandle> more;
   carver_.Repair(vertices, /*allow_fill=*/false, &more);
   for (const CellHandle c : more) {
@@ -333,10 +354,20 @@ std::size_t IncrementalState::ShrinkNonFree() {
   return uncarved + more.size();
 }
 
+void IncrementalState::UncarveBoundaryStars(std::vector<CellHandle>* uncarved) {
+  // Carve-and-repair keeps the old carved cells and repairs the boundary vertices in Regrow instead: the
+  // stars hold several times more cells than the re-triangulated region, and re-carving them was the
+  // largest part of an update.
+  if (options_.extraction == SurfaceExtraction::kGreedyGrowth) carver_.UncarveStars(boundary_, uncarved);
+}
+
 std::size_t IncrementalState::Regrow() {
   if (options_.extraction == SurfaceExtraction::kCarveAndRepair) {
     std::vector<CellHandle> changed;
-    return carver_.CarveAndRepair(touched_, &changed);
+    repair_later_.insert(repair_later_.end(), boundary_.begin(), boundary_.end());
+    const std::size_t carved = carver_.CarveAndRepair(touched_, &changed, repair_later_);
+    repair_later_.clear();
+    return carved;
   }
   std::vector<CellHandle> seeds;
   CellHandle best;

@@ -52,7 +52,8 @@ class IncrementalState {
   void CollectConflicts(const std::vector<PendingVertex>& pending);
   // boundary_ = the finite vertices of destroyed_, except those stamped `excluded_vertex_mark`.
   void CollectBoundary(std::uint32_t excluded_vertex_mark);
-  // Uncarves the touched cells that are no longer free, then repairs the manifold around them.
+  // Uncarves the touched cells that are no longer free, then repairs the manifold around them (greedy
+  // growth; carve-and-repair leaves their vertices in repair_later_ for Regrow).
   std::size_t ShrinkNonFree();
   // The live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
   std::uint32_t CollectAffectedRays(std::vector<std::uint32_t>* affected);
@@ -62,6 +63,10 @@ class IncrementalState {
   // Traces `rays` (+1) like ApplyRay, with the walks run in parallel (they only read the triangulation) and
   // their votes applied in the order of `rays`, so the result does not depend on the thread count.
   void TraceRays(const std::vector<std::uint32_t>& rays, bool only_created = false);
+  // The greedy growth restarts around the re-triangulated region: uncarves the stars of boundary_ (appended
+  // to `uncarved`). Carve-and-repair does not need it.
+  void UncarveBoundaryStars(std::vector<CellHandle>* uncarved);
+  // Carves the free cells of touched_ and makes the manifold whole again around them and boundary_.
   std::size_t Regrow();
   void Finalise(MapUpdateResult* result);
   void EmitFinalisedFacets(const std::vector<VertexHandle>& vertices);
@@ -102,6 +107,7 @@ class IncrementalState {
   std::vector<CellHandle> decreased_;   // cells that lost votes (untraced rays)
   std::vector<VertexHandle> inserted_;  // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
+  std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
   RayVotes votes_;
 
   // Outputs.

@@ -266,9 +266,9 @@ void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
   }
 }
 
-std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
-                                           std::vector<CellHandle>* changed) {
-  std::vector<VertexHandle> vertices;
+std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed,
+                                           const std::vector<VertexHandle>& also_repair) {
+  std::vector<VertexHandle> vertices = also_repair;
   std::size_t carved = 0;
   for (const CellHandle c : cells) {
     if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c)) continue;

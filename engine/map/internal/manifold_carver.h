@@ -50,7 +50,10 @@ class ManifoldCarver {
   // from the free cells still uncarved (Grow). Far fewer free cells are left out than by growth alone, whose
   // greedy order blocks itself (see MapOptions::extraction). Appends the cells Repair changed to `changed`.
   // Returns the number of cells carved by the first step and by the growth.
-  std::size_t CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed);
+  // `also_repair`: more vertices to make regular in the same repair (e.g. the boundary of a re-triangulated
+  // region, whose new cells sit beside carved old ones).
+  std::size_t CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed,
+                             const std::vector<VertexHandle>& also_repair = {});
 
   // Uncarves every carved cell incident to `vertices`, then repairs around them (Repair, without fill).
   // Appends the uncarved cells to `uncarved`.

@@ -103,7 +103,8 @@ void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options,
   std::vector<std::array<double, 9>> diff;
   std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(diff));
   *mesh_diff = int(diff.size());
-  // Measured: 0-17 % of the batch triangles on these streams (see the printed lines).
+  // Measured: 0-24 % of the batch triangles on these streams (see the printed lines); the incremental map
+  // keeps its carved cells outside the changed region where the batch map carves and repairs everything.
   EXPECT_LE(double(diff.size()), 0.3 * double(b.size())) << "incremental mesh too far from the batch mesh";
   *mesh_size = int(b.size());
 }
