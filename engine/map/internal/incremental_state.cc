@@ -40,6 +40,11 @@ void SpatialSort(std::vector<PendingVertex>* pending) {
   *pending = std::move(sorted);
 }
 
+// Margin added on both sides of a retraced ray's span (see CollectAffectedRays): relative to the distances
+// (double rounding) and absolute.
+constexpr double kSpanMarginFraction = 1e-9;
+constexpr double kSpanMarginM = 1e-9;
+
 // Milliseconds since `*since`, which is moved to now.
 double Lap(std::chrono::steady_clock::time_point* since) {
   const auto now = std::chrono::steady_clock::now();
@@ -244,12 +249,41 @@ void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertice
 
 std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* affected) {
   const std::uint32_t mark = NewMark();
+  // The new cells fill the destroyed ones exactly, so along each ray they lie within the projections of the
+  // destroyed cells it crossed (each of those holds an entry of the ray): that span bounds its retrace.
+  struct Line {
+    Eigen::Vector3d camera, direction;
+  };
+  std::vector<Line> lines;
+  std::vector<std::uint32_t> line_of;  // per affected ray
+  const std::size_t first = affected->size();
   for (const CellHandle c : destroyed_) {
     for (const RayRef& ref : c->info().rays) {
-      if (!rays_.IsLive(ref) || rays_[ref.ray].mark == mark) continue;
-      rays_[ref.ray].mark = mark;
-      affected->push_back(ref.ray);
+      if (!rays_.IsLive(ref)) continue;
+      RayRecord& r = rays_[ref.ray];
+      if (r.mark != mark) {
+        r.mark = mark;
+        r.span_from_m = std::numeric_limits<double>::infinity();
+        r.span_to_m = -std::numeric_limits<double>::infinity();
+        r.slot = std::uint32_t(affected->size() - first);
+        affected->push_back(ref.ray);
+        const Eigen::Vector3d camera = cameras_.at(r.camera).center;
+        lines.push_back({camera, (points_.at(r.point).position - camera).normalized()});
+      }
+      const Line& line = lines[r.slot];
+      for (int k = 0; k < 4; ++k) {
+        const double s = (ToEigen(c->vertex(k)->point()) - line.camera).dot(line.direction);
+        r.span_from_m = std::min(r.span_from_m, s);
+        r.span_to_m = std::max(r.span_to_m, s);
+      }
     }
+  }
+  // A margin against rounding (the walk's own test projects the same vertices the same way).
+  for (std::size_t i = first; i < affected->size(); ++i) {
+    RayRecord& r = rays_[(*affected)[i]];
+    const double margin = kSpanMarginFraction * (std::abs(r.span_to_m) + std::abs(r.span_from_m)) + kSpanMarginM;
+    r.span_from_m -= margin;
+    r.span_to_m += margin;
   }
   return mark;
 }
@@ -285,8 +319,9 @@ void IncrementalState::ApplyRay(std::uint32_t ray, int sign, bool only_created) 
 
 bool IncrementalState::ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const {
   const RayRecord& r = rays_[ray];
+  const RaySpan span{r.span_from_m, r.span_to_m};
   return ComputeRayVotes(dt_, points_.at(r.point).vertex, cameras_.at(r.camera).center, geometry_, votes,
-                         only_created ? created_mark_ : 0);
+                         only_created ? created_mark_ : 0, only_created ? &span : nullptr);
 }
 
 void IncrementalState::ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes) {

@@ -31,6 +31,11 @@ struct RayRecord {
   std::uint32_t epoch = 0;  // bumped at each untrace and release: older cell entries become stale
   std::uint32_t mark = 0;   // scratch set membership
   bool live = false;
+  // Scratch of one update, for a ray that crosses the re-triangulated region: where along the ray (from the
+  // camera) that region lies, so that its retrace stops past it; `slot` indexes the update's affected rays.
+  std::uint32_t slot = 0;
+  double span_from_m = 0.0;
+  double span_to_m = 0.0;
 };
 
 // Rays in a slot vector with a free list (slot ids are reused; the epoch keeps old cell entries stale).

@@ -25,6 +25,12 @@ struct RayGeometry {
   double extension_m = 0.1;
 };
 
+// Where along a ray the cells it must vote on lie: distances from the camera, projected on the ray.
+struct RaySpan {
+  double from_m = 0.0;
+  double to_m = 0.0;
+};
+
 // Fills `votes` with the finite cells whose interior the segment target → camera crosses (free votes) and
 // those crossed by the extension of camera → target behind the target by `extension_m` (matter votes).
 // The walk uses CGAL's segment traverser: exact orientation predicates, facet by facet; when the segment goes
@@ -32,8 +38,11 @@ struct RayGeometry {
 // finite and each step advances along it). Returns false (and no votes) for a degenerate ray (camera at the
 // point). Requires dimension 3 and the camera and the extension end inside the convex hull.
 // With `only_created` ≠ 0, only the cells whose info().created equals it get an entry (the others are walked
-// through without computing their weight).
+// through without computing their weight). With `span` as well, every such cell must lie within it along
+// the ray; each walk stops at the first cell wholly past it (all four vertices), so a retraced ray walks the
+// changed region and what lies between it and the point, not all the way to the camera.
 bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vector3d& camera,
-                     const RayGeometry& geometry, RayVotes* votes, std::uint32_t only_created = 0);
+                     const RayGeometry& geometry, RayVotes* votes, std::uint32_t only_created = 0,
+                     const RaySpan* span = nullptr);
 
 }  // namespace semap::map_internal
