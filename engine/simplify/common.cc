@@ -1,8 +1,6 @@
 // Machinery shared by the region methods: inputs, class planes, ranking scores, parallel loops.
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "engine/core/check.h"
+#include "engine/core/parallel.h"
 #include "engine/simplify/internal/methods.h"
 
 namespace semap::simplify {
@@ -13,8 +11,7 @@ constexpr std::size_t kBlockSize = 2048;
 }  // namespace
 
 void ParallelBlocks(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlockSize),
-                    [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  ParallelFor(std::size_t(0), n, kBlockSize, body);
 }
 
 MethodInput MakeMethodInput(const LabelledCloud& cloud, const ClassMap& class_map, bool semantic,

@@ -1,8 +1,5 @@
 #include "io/synth/kitti_raw_writer.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <atomic>
 #include <cinttypes>
 #include <cmath>
@@ -12,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "engine/core/parallel.h"
 #include "io/mesh/ply_off.h"
 
 namespace semap::io {
@@ -258,8 +256,8 @@ SynthWriteSummary WriteSyntheticKittiRaw(const sim::SyntheticSequence& seq, cons
   std::vector<std::uint64_t> points(n, 0);
   std::atomic<int> done{0};
   std::mutex progress_mutex;
-  tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& range) {
-    for (int i = range.begin(); i != range.end(); ++i) {
+  ParallelFor(0, n, 1, [&](int first, int last) {
+    for (int i = first; i != last; ++i) {
       const sim::SyntheticFrame f = seq.RenderFrame(i);
       WriteImage(drive / "image_02" / "data" / FrameName(i, "png"), f.left.color);
       WriteImage(drive / "image_03" / "data" / FrameName(i, "png"), f.right.color);

@@ -4,15 +4,13 @@
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <chrono>
 #include <numeric>
 #include <stdexcept>
 
 #include "engine/core/check.h"
+#include "engine/core/parallel.h"
 
 namespace semap::map_internal {
 namespace {
@@ -123,7 +121,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
     }
   }
   touch_mark_ = touch_mark;
-  TraceRays(affected, /*only_created=*/true);
+  TraceRays(affected, +1, /*only_created=*/true);
   std::vector<std::uint32_t> created;
   for (const auto& [point, camera] : new_rays) {
     const std::uint32_t ray = rays_.Add(point, camera);
@@ -131,7 +129,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
     ++cameras_.at(camera).live_rays;
     created.push_back(ray);
   }
-  TraceRays(created);
+  TraceRays(created, +1);
   result.rays_traced = created.size();
   result.trace_ms = Lap(&lap);
   result.cells_uncarved += ShrinkNonFree();
@@ -312,11 +310,6 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
   }
 }
 
-void IncrementalState::ApplyRay(std::uint32_t ray, int sign, bool only_created) {
-  if (ComputeVotes(ray, only_created, &votes_)) ApplyVotes(ray, sign, votes_);
-  if (sign < 0) ++rays_[ray].epoch;
-}
-
 bool IncrementalState::ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const {
   const RayRecord& r = rays_[ray];
   const RaySpan span{r.span_from_m, r.span_to_m};
@@ -342,7 +335,7 @@ void IncrementalState::ApplyVotes(std::uint32_t ray, int sign, const RayVotes& v
   }
 }
 
-void IncrementalState::TraceRays(const std::vector<std::uint32_t>& rays, bool only_created) {
+void IncrementalState::TraceRays(const std::vector<std::uint32_t>& rays, int sign, bool only_created) {
   // Rays per parallel batch: enough work per batch for the threads, bounded memory for the buffered votes.
   constexpr std::size_t kBatchRays = 2048;
   constexpr std::size_t kGrainRays = 16;
@@ -351,14 +344,14 @@ void IncrementalState::TraceRays(const std::vector<std::uint32_t>& rays, bool on
   for (std::size_t begin = 0; begin < rays.size(); begin += kBatchRays) {
     const std::size_t count = std::min(kBatchRays, rays.size() - begin);
     // Walks only: nothing below writes to the triangulation, the rays or the point and camera records.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrainRays),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                          valid[i] = ComputeVotes(rays[begin + i], only_created, &votes[i]) ? 1 : 0;
-                        }
-                      });
+    ParallelFor(std::size_t(0), count, kGrainRays, [&](std::size_t first, std::size_t last) {
+      for (std::size_t i = first; i != last; ++i) {
+        valid[i] = ComputeVotes(rays[begin + i], only_created, &votes[i]) ? 1 : 0;
+      }
+    });
     for (std::size_t i = 0; i < count; ++i) {
-      if (valid[i]) ApplyVotes(rays[begin + i], +1, votes[i]);
+      if (valid[i]) ApplyVotes(rays[begin + i], sign, votes[i]);
+      if (sign < 0) ++rays_[rays[begin + i]].epoch;
     }
   }
 }

@@ -60,9 +60,13 @@ class IncrementalState {
   // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
   void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
-  // Traces `rays` (+1) like ApplyRay, with the walks run in parallel (they only read the triangulation) and
-  // their votes applied in the order of `rays`, so the result does not depend on the thread count.
-  void TraceRays(const std::vector<std::uint32_t>& rays, bool only_created = false);
+  // Ray votes: sign +1 traces `rays` (adds votes and cell entries), -1 untraces them (and lists the cells in
+  // decreased_; the rays' epochs move on, so their cell entries become stale). The walks run in parallel
+  // (they only read the triangulation) and the votes are applied in the order of `rays`, so the result does
+  // not depend on the thread count. With `only_created`, the votes go to the cells created in this update
+  // only (and the walks stop past the ray's span): the ray's votes in the cells that survived the change
+  // are still there (same cell, same point, same weight).
+  void TraceRays(const std::vector<std::uint32_t>& rays, int sign, bool only_created = false);
   // The greedy growth restarts around the re-triangulated region: uncarves the stars of boundary_ (appended
   // to `uncarved`). Carve-and-repair does not need it.
   void UncarveBoundaryStars(std::vector<CellHandle>* uncarved);
@@ -71,11 +75,7 @@ class IncrementalState {
   void Finalise(MapUpdateResult* result);
   void EmitFinalisedFacets(const std::vector<VertexHandle>& vertices);
 
-  // Ray votes: sign +1 traces (adds votes and cell entries), -1 untraces (and lists the cells in decreased_).
-  // With `only_created`, the votes go to the cells created in this update only: the ray's votes in the cells
-  // that survived the change are still there (same cell, same point, same weight).
-  void ApplyRay(std::uint32_t ray, int sign, bool only_created = false);
-  // The two halves of ApplyRay: the walk (const, safe to run concurrently) and the bookkeeping.
+  // The two halves of a trace: the walk (const, safe to run concurrently) and the bookkeeping.
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
   void ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes);
   std::uint32_t NewMark() { return ++mark_; }
@@ -108,7 +108,6 @@ class IncrementalState {
   std::vector<VertexHandle> inserted_;  // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
-  RayVotes votes_;
 
   // Outputs.
   IdentifiedMesh finalised_;
