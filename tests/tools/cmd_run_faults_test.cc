@@ -292,5 +292,32 @@ TEST_F(RunFaults, SigintStopsCleanlyWithTheMeshSoFar) {
   EXPECT_GT(io::ReadMeshOff(out_ / "mesh.off").num_triangles(), 0u);
 }
 
+// Whether the process `pid` has a handler installed for SIGINT (the SigCgt mask of /proc/PID/status).
+bool CatchesSigint(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1u;
+  }
+  return false;
+}
+
+TEST_F(RunFaults, SecondSigintEndsTheProcessAtOnce) {
+  const pid_t pid = Start(" --set input.loops=100");
+  ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", 3, kRunTimeoutS)) << Log();
+  ASSERT_TRUE(CatchesSigint(pid)) << "semap run should catch SIGINT while it runs";
+  ASSERT_EQ(kill(pid, SIGINT), 0);
+  // The first signal's handler asks the pipeline to stop and puts the default action back: once it has run,
+  // a second Ctrl-C must end the process at once instead of waiting for the frames in flight.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kRunTimeoutS);
+  while (CatchesSigint(pid) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_EQ(kill(pid, SIGINT), 0);
+  const int code = Wait(pid, kRunTimeoutS);
+  ASSERT_NE(code, -1) << "hang\n" << Log();
+  EXPECT_EQ(code, -1000 - SIGINT) << "the second SIGINT should end the process\n" << Log();
+}
+
 }  // namespace
 }  // namespace semap::tools
