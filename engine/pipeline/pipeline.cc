@@ -321,18 +321,6 @@ struct Pipeline::Impl {
     std::array<TimingStats, kNumStages> timing;
     std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
-    TimingStats publish_timing;
-    MeshDiffer differ;  // the map's surfaces → deltas with stable triangle ids
-    std::int64_t last_frame_id = -1;
-    // The delta of the published mesh for `update` (of frame `frame_id`), with its time in `*ms`.
-    auto publish = [&](std::int64_t frame_id, const MapUpdate& update, double* ms) {
-      const auto t0 = Clock::now();
-      MeshDelta delta = differ.Update(frame_id, update.live, update.finalised);
-      stats.mesh_triangles += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
-                              static_cast<std::int64_t>(delta.removed_triangle_ids.size());
-      *ms = MsBetween(t0, Clock::now());
-      return delta;
-    };
     while (auto item = to_output.Pop()) {
       const auto now = Clock::now();
       stats.elapsed_s = MsBetween(start, now) / 1000.0;
@@ -341,15 +329,14 @@ struct Pipeline::Impl {
         if (item->failed()) {
           ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
         }
-        double ms = 0.0;
-        const MeshDelta delta = item->failed() ? MeshDelta{} : publish(last_frame_id, item->update, &ms);
         stats.map_vertices = item->update.vertices;
         stats.map_cells = item->update.cells;
         stats.map_rays = item->update.rays;
+        stats.mesh_triangles = item->update.mesh_triangles;
         stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
         stats.rss_mb = CurrentRssMb();
         stats.cpu_s = ProcessCpuSeconds();
-        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, delta); });
+        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
         continue;
       }
       if (item->failed()) {
@@ -357,9 +344,6 @@ struct Pipeline::Impl {
         ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(item->frame_id, item->error_stage, item->error); });
         continue;
       }
-      double publish_ms = 0.0;
-      const MeshDelta delta = publish(item->frame_id, item->update, &publish_ms);
-      last_frame_id = item->frame_id;
       ++stats.frames_processed;
       stats.frame_id = item->frame_id;
       stats.timestamp_s = item->timestamp_s;
@@ -377,9 +361,6 @@ struct Pipeline::Impl {
         t.Add(step.ms);
         stats.stages.push_back({name, step.ms, t.mean(), t.Percentile(0.5), t.Percentile(0.95), t.max(), 0});
       }
-      publish_timing.Add(publish_ms);
-      stats.stages.push_back({"publish", publish_ms, publish_timing.mean(), publish_timing.Percentile(0.5),
-                              publish_timing.Percentile(0.95), publish_timing.max(), to_output.size()});
       stats.points_in = item->points_in;
       stats.points_kept = 0;
       for (const auto& c : item->counts) stats.points_kept += c.kept;
@@ -388,9 +369,10 @@ struct Pipeline::Impl {
       stats.map_vertices = item->update.vertices;
       stats.map_cells = item->update.cells;
       stats.map_rays = item->update.rays;
+      stats.mesh_triangles = item->update.mesh_triangles;
       stats.rss_mb = CurrentRssMb();
       stats.cpu_s = ProcessCpuSeconds();
-      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, delta, item->world_from_cam); });
+      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
     }
     summary->final_stats = stats;
   }

@@ -36,6 +36,7 @@ LabelledCloud WindowedSimplifyStage::Process(LabelledCloud cloud, std::vector<Cl
 MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&) {
   // The cloud's camera (its frame's left camera) is where every ray of this frame starts.
   const MapUpdateResult r = map_.Update(cloud);
+  last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
   const auto t0 = std::chrono::steady_clock::now();
   MapUpdate u = Report();
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -47,13 +48,17 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
 MapUpdate IncrementalMapStage::Finish() { return Report(); }
 
 MapUpdate IncrementalMapStage::Report() {
-  MapUpdate u;
-  u.finalised = map_.TakeFinalisedMesh();
-  u.live = map_.ExtractIdentifiedMesh();
+  const IdentifiedMesh finalised = map_.TakeFinalisedMesh();
+  MeshDelta delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
+  published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
+                          static_cast<std::int64_t>(delta.removed_triangle_ids.size());
   const MapStatistics s = map_.Statistics();
+  MapUpdate u;
+  u.delta = std::move(delta);
   u.vertices = static_cast<std::int64_t>(s.num_points + s.num_steiner_vertices);
   u.cells = static_cast<std::int64_t>(s.num_cells);
   u.rays = static_cast<std::int64_t>(s.num_rays);
+  u.mesh_triangles = published_triangles_;
   return u;
 }
 

@@ -39,8 +39,8 @@ class WindowedSimplifyStage : public SimplifyStage {
   WindowedSimplifier simplifier_;
 };
 
-// The incremental Delaunay map: each frame's kept points with their camera update the map; its live surface
-// and the newly finalised regions go out with stable vertex ids (the pipeline makes the deltas).
+// The incremental Delaunay map: each frame's kept points with their camera update the map, and the change of
+// the published mesh (live surface + finalised regions) goes out as a delta.
 class IncrementalMapStage : public MapStage {
  public:
   explicit IncrementalMapStage(const MapOptions& options) : map_(options) {}
@@ -50,6 +50,9 @@ class IncrementalMapStage : public MapStage {
  private:
   MapUpdate Report();
   IncrementalMap map_;
+  MeshDiffer differ_;  // live surface + finalised regions → deltas with stable triangle ids
+  std::int64_t published_triangles_ = 0;
+  std::int64_t last_frame_id_ = -1;
 };
 
 }  // namespace semap

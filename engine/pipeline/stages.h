@@ -48,14 +48,11 @@ struct StepTime {
 
 // What the map reports after each update.
 struct MapUpdate {
-  // The map's live surface now, with stable vertex ids, and the triangles finalised since the last update
-  // (they left the live surface for good). The pipeline's output thread turns them into the published mesh
-  // delta (MeshDiffer: finalised parts are added once, never removed), off the map's thread.
-  IdentifiedMesh live;
-  IdentifiedMesh finalised;
+  MeshDelta delta;  // change of the published mesh (finalised parts are added once, never removed)
   std::int64_t vertices = 0;
   std::int64_t cells = 0;
   std::int64_t rays = 0;
+  std::int64_t mesh_triangles = 0;  // triangles of the mesh as published so far
   // Where the map stage's time went, the same steps in the same order every frame.
   std::vector<StepTime> steps;
 };
@@ -65,7 +62,7 @@ class MapStage {
  public:
   virtual ~MapStage() = default;
   virtual MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) = 0;
-  // End of the sequence: finalise everything; the returned meshes complete the published mesh.
+  // End of the sequence: finalise everything; the returned delta completes the mesh.
   virtual MapUpdate Finish() = 0;
 };
 

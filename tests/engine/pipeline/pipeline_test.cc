@@ -73,39 +73,30 @@ class FakeSimplify : public SimplifyStage {
   std::int64_t last_frame_ = -1;
 };
 
-// The live surface grows by one triangle per frame; Finish() finalises it all plus one last triangle.
-// Optionally slow.
+// One triangle per frame; optionally slow.
 class FakeMap : public MapStage {
  public:
   explicit FakeMap(std::chrono::milliseconds delay = 0ms) : delay_(delay) {}
   MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override {
     std::this_thread::sleep_for(delay_);
-    AddTriangle(&live_);
     MapUpdate u;
-    u.live = live_;
+    u.delta.frame_id = cloud.camera_frame_ids.at(0);
+    u.delta.added_triangle_ids = {next_id_++};
+    u.delta.added_triangles = {{1, 2, 3}};
     u.vertices = static_cast<std::int64_t>(cloud.size());
+    u.mesh_triangles = static_cast<std::int64_t>(next_id_);
     return u;
   }
   MapUpdate Finish() override {
     MapUpdate u;
-    u.finalised = std::move(live_);
-    AddTriangle(&u.finalised);
-    live_ = IdentifiedMesh();
+    u.delta.added_triangle_ids = {next_id_++};
+    u.delta.added_triangles = {{4, 5, 6}};
     return u;
   }
 
  private:
-  void AddTriangle(IdentifiedMesh* m) {
-    const auto first = static_cast<std::uint32_t>(m->mesh.vertices.size());
-    for (int k = 0; k < 3; ++k) {
-      m->mesh.vertices.push_back(Eigen::Vector3d(double(next_vertex_), double(k), 0.0));
-      m->vertex_ids.push_back(next_vertex_++);
-    }
-    m->mesh.triangles.push_back({first, first + 1, first + 2});
-  }
   std::chrono::milliseconds delay_;
-  IdentifiedMesh live_;
-  VertexId next_vertex_ = 0;
+  TriangleId next_id_ = 0;
 };
 
 class RecordingSink : public PipelineSink {
@@ -150,7 +141,6 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   for (int i = 0; i < 40; ++i) EXPECT_EQ(sink.frames[i], i);
   EXPECT_EQ(sink.finishes, 1);
   EXPECT_EQ(sink.triangles, 41u);  // one per frame + the final flush
-  EXPECT_EQ(summary.final_stats.mesh_triangles, 41);  // published, counted by the pipeline
   EXPECT_EQ(summary.final_stats.frames_processed, 40);
   EXPECT_EQ(summary.final_stats.frames_dropped, 0);
   EXPECT_EQ(summary.frames_read, 40);
@@ -160,8 +150,7 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   // Accounting of the last frame (id 39: 49 points, every other kept → 25).
   EXPECT_EQ(sink.last.points_in, 49);
   EXPECT_EQ(sink.last.points_kept, 25);
-  ASSERT_EQ(sink.last.stages.size(), 5u);  // read, depth, simplify, map, publish (the fake map has no steps)
-  EXPECT_EQ(sink.last.stages[4].name, "publish");
+  ASSERT_EQ(sink.last.stages.size(), 4u);
   EXPECT_EQ(sink.last.stages[1].name, "depth");
   EXPECT_GE(sink.last.stages[1].max_ms, sink.last.stages[1].p50_ms);
 }
