@@ -15,7 +15,7 @@ ProgressSink::ProgressSink(std::int64_t total_frames, double interval_s)
 void ProgressSink::Print(const FrameStats& s, bool final) {
   std::string stages;
   for (const auto& st : s.stages) {
-    if (st.name == "read" || st.name.find('.') != std::string::npos) continue;  // steps: in the CSV
+    if (st.name == "read" || IsStageStep(st.name)) continue;  // steps: in the CSV
     char buf[64];
     std::snprintf(buf, sizeof(buf), " %s %.0fms", st.name.c_str(), st.mean_ms);
     stages += buf;

@@ -16,8 +16,11 @@ struct StageTiming {
   double p50_ms = 0.0;
   double p95_ms = 0.0;
   double max_ms = 0.0;
-  int queue_occupancy = 0;  // items waiting in the queue in front of the stage
+  int queue_occupancy = 0;  // items waiting in the queue in front of the stage (a step has none: 0)
 };
+
+// A step inside a stage is named "stage.step" (e.g. "map.trace"): it has a time but no queue of its own.
+inline bool IsStageStep(const std::string& name) { return name.find('.') != std::string::npos; }
 
 struct ClassPointCount {
   Label label = 0;

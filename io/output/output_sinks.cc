@@ -78,13 +78,20 @@ StatsFileSink::StatsFileSink(const OutputOptions& options) : dir_(options.dir) {
 void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::optional<Pose3d>&) {
   if (!header_written_) {
     csv_ << "frame_id,timestamp_s,elapsed_s,fps,frames_processed,frames_dropped,frames_failed";
-    for (const auto& st : s.stages) csv_ << "," << st.name << "_ms," << st.name << "_queue";
+    // A step of a stage ("map.trace") has a time and no queue of its own.
+    for (const auto& st : s.stages) {
+      csv_ << "," << st.name << "_ms";
+      if (!IsStageStep(st.name)) csv_ << "," << st.name << "_queue";
+    }
     csv_ << ",points_in,points_kept,map_vertices,map_cells,map_rays,mesh_triangles,rss_mb,cpu_s\n";
     header_written_ = true;
   }
   csv_ << s.frame_id << ',' << s.timestamp_s << ',' << s.elapsed_s << ',' << s.fps << ',' << s.frames_processed
        << ',' << s.frames_dropped << ',' << s.frames_failed;
-  for (const auto& st : s.stages) csv_ << ',' << st.last_ms << ',' << st.queue_occupancy;
+  for (const auto& st : s.stages) {
+    csv_ << ',' << st.last_ms;
+    if (!IsStageStep(st.name)) csv_ << ',' << st.queue_occupancy;
+  }
   csv_ << ',' << s.points_in << ',' << s.points_kept << ',' << s.map_vertices << ',' << s.map_cells << ','
        << s.map_rays << ',' << s.mesh_triangles << ',' << s.rss_mb << ',' << s.cpu_s << '\n';
   jsonl_ << StatsJson(s).dump() << '\n';
