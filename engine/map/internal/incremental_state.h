@@ -12,6 +12,7 @@
 #include "engine/map/internal/ray_tracer.h"
 #include "engine/map/internal/steiner_lattice.h"
 #include "engine/map/internal/surface_extraction.h"
+#include "engine/map/internal/surface_tracker.h"
 #include "engine/map/internal/triangulation.h"
 
 namespace semap::map_internal {
@@ -40,9 +41,10 @@ class IncrementalState {
   MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
   IdentifiedMesh ExtractMesh() const;
   IdentifiedMesh TakeFinalisedMesh();
+  SurfaceChange TakeSurfaceChange();
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
   MapSnapshot ExportSnapshot() const;
-  MapStatistics Statistics() const;
+  MapStatistics Statistics(bool count_cell_states) const;
 
  private:
   // Update steps.
@@ -85,6 +87,7 @@ class IncrementalState {
   RayGeometry geometry_;
   Delaunay dt_;
   ManifoldCarver carver_;
+  SurfaceTracker surface_;  // the live surface, updated from carver_'s journal and the created cells
   SteinerLattice lattice_;
   RayRegistry rays_;
   std::unordered_map<std::uint32_t, PointRecord> points_;
