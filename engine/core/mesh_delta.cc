@@ -39,25 +39,21 @@ std::array<VertexId, 3> KeyOf(const IdentifiedMesh& m, const std::array<std::uin
 
 }  // namespace
 
-void MeshDiffer::PublishFrozen(const IdentifiedMesh& frozen, std::unordered_set<VertexId>* seen_vertices,
-                               MeshDelta* delta) {
+MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, const IdentifiedMesh& frozen) {
+  SEMAP_ASSERT(live.vertex_ids.size() == live.mesh.vertices.size());
   SEMAP_ASSERT(frozen.vertex_ids.size() == frozen.mesh.vertices.size());
+  MeshDelta delta;
+  delta.frame_id = frame_id;
+  std::unordered_set<VertexId> seen_vertices;
+
   // Frozen triangles: publish those never published, then forget them (they are never removed).
   for (const auto& t : frozen.mesh.triangles) {
     const auto key = KeyOf(frozen, t);
     if (live_.erase(key) > 0) continue;  // already published while live
-    delta->added_triangle_ids.push_back(next_id_++);
-    delta->added_triangles.push_back(key);
-    for (auto i : t) AddVertex(frozen, i, seen_vertices, delta);
+    delta.added_triangle_ids.push_back(next_id_++);
+    delta.added_triangles.push_back(key);
+    for (auto i : t) AddVertex(frozen, i, &seen_vertices, &delta);
   }
-}
-
-MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, const IdentifiedMesh& frozen) {
-  SEMAP_ASSERT(live.vertex_ids.size() == live.mesh.vertices.size());
-  MeshDelta delta;
-  delta.frame_id = frame_id;
-  std::unordered_set<VertexId> seen_vertices;
-  PublishFrozen(frozen, &seen_vertices, &delta);
 
   decltype(live_) next;
   next.reserve(live.mesh.triangles.size());
@@ -80,30 +76,6 @@ MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, 
   for (const auto& [key, id] : live_) delta.removed_triangle_ids.push_back(id);
   std::sort(delta.removed_triangle_ids.begin(), delta.removed_triangle_ids.end());
   live_ = std::move(next);
-  return delta;
-}
-
-MeshDelta MeshDiffer::Update(std::int64_t frame_id, const SurfaceChange& change, const IdentifiedMesh& frozen) {
-  SEMAP_ASSERT(change.added.vertex_ids.size() == change.added.mesh.vertices.size());
-  MeshDelta delta;
-  delta.frame_id = frame_id;
-  std::unordered_set<VertexId> seen_vertices;
-  PublishFrozen(frozen, &seen_vertices, &delta);
-  for (const auto& removed : change.removed) {
-    auto it = live_.find(CanonicalTriangle(removed));
-    if (it == live_.end()) continue;  // frozen since: published for good
-    delta.removed_triangle_ids.push_back(it->second);
-    live_.erase(it);
-  }
-  std::sort(delta.removed_triangle_ids.begin(), delta.removed_triangle_ids.end());
-  for (const auto& t : change.added.mesh.triangles) {
-    const auto key = KeyOf(change.added, t);
-    const auto [it, inserted] = live_.try_emplace(key, next_id_);
-    if (!inserted) continue;  // already live (or listed twice): publish once
-    delta.added_triangle_ids.push_back(next_id_++);
-    delta.added_triangles.push_back(key);
-    for (auto i : t) AddVertex(change.added, i, &seen_vertices, &delta);
-  }
   return delta;
 }
 

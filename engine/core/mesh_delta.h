@@ -5,7 +5,6 @@
 #include <array>
 #include <cstdint>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include <Eigen/Core>
@@ -38,14 +37,6 @@ struct MeshDelta {
   bool empty() const { return removed_triangle_ids.empty() && added_triangle_ids.empty(); }
 };
 
-// What changed in a live mesh since the producer last said: triangles that appeared (with their vertices and
-// attributes) and triangles that disappeared (CanonicalTriangle of their vertex ids). For producers that track
-// their surface themselves (IncrementalMap::TakeSurfaceChange), so that no whole mesh is built per update.
-struct SurfaceChange {
-  IdentifiedMesh added;
-  std::vector<std::array<VertexId, 3>> removed;
-};
-
 // Producer side: turns successive meshes into deltas. A triangle is identified by its three vertex ids in
 // order (rotations of the same oriented triangle are the same triangle). Not thread-safe.
 class MeshDiffer {
@@ -54,9 +45,6 @@ class MeshDiffer {
   // the map that leave the live mesh for good) are added if not yet published and are never removed
   // afterwards: they are forgotten by the differ, which keeps its memory bounded by the live mesh.
   MeshDelta Update(std::int64_t frame_id, const IdentifiedMesh& live, const IdentifiedMesh& frozen = {});
-  // The same from the live mesh's change instead of the whole live mesh (what the producer reports must be
-  // true of what this differ saw: removed triangles were added before, unless they were frozen since).
-  MeshDelta Update(std::int64_t frame_id, const SurfaceChange& change, const IdentifiedMesh& frozen = {});
 
   size_t num_live_triangles() const { return live_.size(); }
 
@@ -64,9 +52,6 @@ class MeshDiffer {
   struct KeyHash {
     size_t operator()(const std::array<VertexId, 3>& k) const;
   };
-  // Publishes the triangles of `frozen` not yet published and forgets them.
-  void PublishFrozen(const IdentifiedMesh& frozen, std::unordered_set<VertexId>* seen_vertices, MeshDelta* delta);
-
   std::unordered_map<std::array<VertexId, 3>, TriangleId, KeyHash> live_;
   TriangleId next_id_ = 1;
 };

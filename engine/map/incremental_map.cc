@@ -29,12 +29,9 @@ MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points,
 Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh().mesh; }
 IdentifiedMesh IncrementalMap::ExtractIdentifiedMesh() const { return impl_->ExtractMesh(); }
 IdentifiedMesh IncrementalMap::TakeFinalisedMesh() { return impl_->TakeFinalisedMesh(); }
-SurfaceChange IncrementalMap::TakeSurfaceChange() { return impl_->TakeSurfaceChange(); }
 std::vector<CellVotes> IncrementalMap::CellVotesSnapshot() const { return impl_->CellVotesSnapshot(); }
 MapSnapshot IncrementalMap::ExportSnapshot() const { return impl_->ExportSnapshot(); }
-MapStatistics IncrementalMap::Statistics(bool count_cell_states) const {
-  return impl_->Statistics(count_cell_states);
-}
+MapStatistics IncrementalMap::Statistics() const { return impl_->Statistics(); }
 
 namespace map_internal {
 
@@ -49,10 +46,6 @@ IdentifiedMesh IncrementalState::TakeFinalisedMesh() {
   finalised_ = IdentifiedMesh();
   finalised_index_.clear();
   return out;
-}
-
-SurfaceChange IncrementalState::TakeSurfaceChange() {
-  return surface_.Take(Attributes(), PointAttributes{}.label);
 }
 
 MapSnapshot IncrementalState::ExportSnapshot() const {
@@ -78,15 +71,13 @@ MapSnapshot IncrementalState::ExportSnapshot() const {
   return s;
 }
 
-MapStatistics IncrementalState::Statistics(bool count_cell_states) const {
+MapStatistics IncrementalState::Statistics() const {
   MapStatistics s = counters_;
   s.num_points = points_.size();
   s.num_steiner_vertices = steiner_.size();
   s.num_cells = dt_.number_of_finite_cells();
-  if (count_cell_states) {
-    s.num_carved_cells = CountCarvedCells(dt_);
-    s.num_free_cells = CountFreeCells(dt_);
-  }
+  s.num_carved_cells = CountCarvedCells(dt_);
+  s.num_free_cells = CountFreeCells(dt_);
   s.num_rays = rays_.num_live();
   return s;
 }

@@ -37,7 +37,6 @@ struct MapUpdateResult {
   double trace_ms = 0.0;     // retracing the affected rays and tracing the new ones
   double carve_ms = 0.0;     // shrinking and regrowing the manifold free space
   double finalise_ms = 0.0;  // finalising and releasing old parts (every finalise_every_frames frames)
-  double surface_ms = 0.0;   // bringing the tracked surface up to date around the changed cells
 };
 
 // The live map as batch-map input: cloud point i is live point `point_ids[i]`; its first camera is the camera
@@ -71,15 +70,10 @@ class IncrementalMap {
   // Triangles of finalised regions not yet taken, with the same vertex ids; each finalised triangle is
   // returned exactly once (they left the live surface for good).
   IdentifiedMesh TakeFinalisedMesh();
-  // How the live surface changed since the last call (the first call: all of it), with the same vertex ids:
-  // feed it to MeshDiffer::Update with TakeFinalisedMesh() as `frozen`. It costs what the updates changed,
-  // where ExtractIdentifiedMesh walks the whole map.
-  SurfaceChange TakeSurfaceChange();
 
   std::vector<CellVotes> CellVotesSnapshot() const;
   MapSnapshot ExportSnapshot() const;
-  // `count_cell_states` = false leaves num_carved_cells and num_free_cells 0: counting them visits every cell.
-  MapStatistics Statistics(bool count_cell_states = true) const;
+  MapStatistics Statistics() const;
 
  private:
   class Impl;

@@ -41,8 +41,7 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   MapUpdate u = Report();
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"trace", r.trace_ms},
-             {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"surface", r.surface_ms},
-             {"mesh", mesh_ms}};
+             {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"mesh", mesh_ms}};
   return u;
 }
 
@@ -50,10 +49,10 @@ MapUpdate IncrementalMapStage::Finish() { return Report(); }
 
 MapUpdate IncrementalMapStage::Report() {
   const IdentifiedMesh finalised = map_.TakeFinalisedMesh();
-  MeshDelta delta = differ_.Update(last_frame_id_, map_.TakeSurfaceChange(), finalised);
+  MeshDelta delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
   published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
                           static_cast<std::int64_t>(delta.removed_triangle_ids.size());
-  const MapStatistics s = map_.Statistics(/*count_cell_states=*/false);
+  const MapStatistics s = map_.Statistics();
   MapUpdate u;
   u.delta = std::move(delta);
   u.vertices = static_cast<std::int64_t>(s.num_points + s.num_steiner_vertices);

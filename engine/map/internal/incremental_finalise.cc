@@ -86,8 +86,6 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   }
   // One hole per connected cluster of removed vertices, re-triangulated once: the same Delaunay result as
   // removing them one by one, about 2.5 times faster on the ~30,000 vertices of a finalisation.
-  surface_.Sync();
-  surface_.Forget(destroyed_);
   dt_.remove_cluster(removed.begin(), removed.end());
   for (std::uint32_t id : finalised) points_.erase(id);
   created_mark_ = NewMark();

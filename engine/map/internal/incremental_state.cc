@@ -57,10 +57,7 @@ IncrementalState::IncrementalState(const MapOptions& options)
     : options_(options),
       geometry_{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()},
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
-      surface_(&dt_, options.drop_steiner_triangles),
-      lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {
-  carver_.set_journal(surface_.dirty());
-}
+      lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
 
 AttributeLookup IncrementalState::Attributes() const {
   return [this](std::uint32_t id) { return points_.at(id).attributes; };
@@ -106,8 +103,6 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   result.rays_retraced = affected.size();
   result.locate_ms = Lap(&lap);
 
-  surface_.Sync();
-  surface_.Forget(destroyed_);
   InsertVertices(&pending, &result);
   created_mark_ = NewMark();
   MarkCreatedCells(inserted_, kNoMark);
@@ -142,8 +137,6 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   result.carve_ms = Lap(&lap);
   Finalise(&result);
   result.finalise_ms = Lap(&lap);
-  surface_.Sync();
-  result.surface_ms = Lap(&lap);
   return result;
 }
 
@@ -247,10 +240,7 @@ void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertice
     star.clear();
     dt_.incident_cells(v, std::back_inserter(star));
     for (const CellHandle c : star) {
-      if (c->info().stamp != old_mark) {
-        c->info().created = created_mark_;
-        surface_.created()->push_back(c);
-      }
+      if (c->info().stamp != old_mark) c->info().created = created_mark_;
     }
   }
 }
@@ -372,7 +362,6 @@ std::size_t IncrementalState::ShrinkNonFree() {
   for (const CellHandle c : touched_) {
     if (!c->info().carved || c->info().IsFree()) continue;
     c->info().carved = false;
-    surface_.dirty()->push_back(c);
     ++uncarved;
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
   }

@@ -12,7 +12,6 @@
 #include "engine/map/internal/ray_tracer.h"
 #include "engine/map/internal/steiner_lattice.h"
 #include "engine/map/internal/surface_extraction.h"
-#include "engine/map/internal/surface_tracker.h"
 #include "engine/map/internal/triangulation.h"
 
 namespace semap::map_internal {
@@ -41,10 +40,9 @@ class IncrementalState {
   MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
   IdentifiedMesh ExtractMesh() const;
   IdentifiedMesh TakeFinalisedMesh();
-  SurfaceChange TakeSurfaceChange();
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
   MapSnapshot ExportSnapshot() const;
-  MapStatistics Statistics(bool count_cell_states) const;
+  MapStatistics Statistics() const;
 
  private:
   // Update steps.
@@ -87,7 +85,6 @@ class IncrementalState {
   RayGeometry geometry_;
   Delaunay dt_;
   ManifoldCarver carver_;
-  SurfaceTracker surface_;  // the live surface, updated from carver_'s journal and the created cells
   SteinerLattice lattice_;
   RayRegistry rays_;
   std::unordered_map<std::uint32_t, PointRecord> points_;

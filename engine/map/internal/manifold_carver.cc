@@ -122,10 +122,10 @@ bool ManifoldCarver::TryCarve(CellHandle cell) {
         break;
     }
   }
-  SetCarved(cell, true);
+  cell->info().carved = true;
   for (int k = 0; k < num_unknown; ++k) {
     if (!IsRegular(unknown[k])) {
-      SetCarved(cell, false);
+      cell->info().carved = false;
       return false;
     }
   }
@@ -185,7 +185,7 @@ void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, bool allow_fill,
 void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
                                 std::vector<CellHandle>* changed) {
   auto set_carved = [&](CellHandle c, bool carved) {
-    SetCarved(c, carved);
+    c->info().carved = carved;
     settled_.insert(&*c);
     changed->push_back(c);
     for (int k = 0; k < 4; ++k) stack->push_back(c->vertex(k));
@@ -272,7 +272,7 @@ std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
   std::size_t carved = 0;
   for (const CellHandle c : cells) {
     if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c)) continue;
-    SetCarved(c, true);
+    c->info().carved = true;
     ++carved;
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
   }
@@ -299,7 +299,7 @@ void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices,
     dt_->incident_cells(v, std::back_inserter(star));
     for (const CellHandle c : star) {
       if (!c->info().carved) continue;
-      SetCarved(c, false);
+      c->info().carved = false;
       uncarved->push_back(c);
       for (int k = 0; k < 4; ++k) to_check.push_back(c->vertex(k));
     }

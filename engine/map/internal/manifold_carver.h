@@ -59,10 +59,6 @@ class ManifoldCarver {
   // Appends the uncarved cells to `uncarved`.
   void UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved);
 
-  // Every cell whose carved flag the carver writes from now on is appended to `journal` (nullptr: none), so
-  // that an observer (the incremental map's SurfaceTracker) looks at what changed only.
-  void set_journal(std::vector<CellHandle>* journal) { journal_ = journal; }
-
   std::uint64_t num_tests() const { return num_tests_; }
 
  private:
@@ -70,10 +66,6 @@ class ManifoldCarver {
   // from the cells around `cell` only (see TryCarve); kUnknown when only the full link test can tell.
   enum class Verdict { kRegular, kNotRegular, kUnknown };
   Verdict CarveVerdict(CellHandle cell, int iv) const;
-  void SetCarved(CellHandle cell, bool carved) {
-    cell->info().carved = carved;
-    if (journal_ != nullptr) journal_->push_back(cell);
-  }
   // True when a carved cell is incident to the edge (cell->vertex(i), cell->vertex(j)).
   bool EdgeTouchesCarved(CellHandle cell, int i, int j) const;
   // One repair step at the non-regular vertex v (see Repair); pushes the vertices of changed cells.
@@ -90,7 +82,6 @@ class ManifoldCarver {
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
   std::vector<VertexHandle> ends_;                            // scratch
   std::uint64_t num_tests_ = 0;
-  std::vector<CellHandle>* journal_ = nullptr;
 };
 
 }  // namespace semap::map_internal

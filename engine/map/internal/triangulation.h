@@ -34,11 +34,9 @@ struct RayRef {
 struct CellInfo {
   std::int64_t free_q = 0;
   std::int64_t matter_q = 0;
-  bool carved = false;          // inside the manifold free-space region
-  bool surface_carved = false;  // `carved` as the SurfaceTracker last saw it (incremental map)
-  std::uint32_t stamp = 0;      // scratch mark for set membership during one update
-  std::uint32_t created = 0;    // mark of the update that created the cell (incremental map)
-  std::uint32_t surface_mark = 0;  // the SurfaceTracker's scratch mark
+  bool carved = false;        // inside the manifold free-space region
+  std::uint32_t stamp = 0;    // scratch mark for set membership during one update
+  std::uint32_t created = 0;  // mark of the update that created the cell (incremental map)
   std::vector<RayRef> rays;   // rays whose trace gave this cell a vote (may hold stale entries)
 
   bool IsFree() const { return free_q > matter_q; }

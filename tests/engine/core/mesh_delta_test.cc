@@ -76,30 +76,6 @@ TEST(MeshDiffer, FrozenTrianglesAreNeverRemoved) {
   EXPECT_EQ(differ.num_live_triangles(), 1u);
 }
 
-// The change-driven update gives the same deltas as diffing whole live meshes, frozen triangles included:
-// a frozen live triangle is not removed when the change later drops it, a triangle added twice is
-// published once.
-TEST(MeshDiffer, ChangesGiveTheSameDeltasAsWholeMeshes) {
-  MeshDiffer whole, changed;
-  const std::vector<std::array<VertexId, 3>> first{{1, 2, 3}, {2, 4, 3}, {3, 4, 5}};
-  SurfaceChange c1;
-  c1.added = MakeMesh({{1, 2, 3}, {2, 4, 3}, {3, 4, 5}, {3, 1, 2}});  // {3, 1, 2} is {1, 2, 3} again
-  const MeshDelta d1 = changed.Update(0, c1);
-  EXPECT_EQ(d1.added_triangles, whole.Update(0, MakeMesh(first)).added_triangles);
-  EXPECT_EQ(d1.added_triangle_ids.size(), 3u);
-  // Frame 1: {2, 4, 3} is frozen (and leaves the live mesh), {3, 4, 5} goes, {5, 6, 7} comes.
-  SurfaceChange c2;
-  c2.added = MakeMesh({{5, 6, 7}});
-  c2.removed = {CanonicalTriangle({2, 4, 3}), CanonicalTriangle({3, 4, 5})};
-  const IdentifiedMesh frozen = MakeMesh({{4, 3, 2}});  // a rotation of {2, 4, 3}
-  const MeshDelta d2 = changed.Update(1, c2, frozen);
-  const MeshDelta w2 = whole.Update(1, MakeMesh({{1, 2, 3}, {5, 6, 7}}), frozen);
-  EXPECT_EQ(d2.removed_triangle_ids, w2.removed_triangle_ids);
-  EXPECT_EQ(d2.added_triangles, w2.added_triangles);
-  ASSERT_EQ(d2.removed_triangle_ids.size(), 1u);  // {3, 4, 5} only: the frozen one stays published
-  EXPECT_EQ(changed.num_live_triangles(), 2u);
-}
-
 TEST(MeshDeltaProperty, AccumulatedDeltasEqualLiveMeshPlusFrozen) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 20; ++trial) {
