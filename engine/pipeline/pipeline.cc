@@ -321,6 +321,16 @@ struct Pipeline::Impl {
     std::array<TimingStats, kNumStages> timing;
     std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
+    // The run's totals as of now: frame rate, the map's sizes and published mesh, the process's memory and CPU.
+    auto take_totals = [&](const MapUpdate& update) {
+      stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
+      stats.map_vertices = update.vertices;
+      stats.map_cells = update.cells;
+      stats.map_rays = update.rays;
+      stats.mesh_triangles = update.mesh_triangles;
+      stats.rss_mb = CurrentRssMb();
+      stats.cpu_s = ProcessCpuSeconds();
+    };
     while (auto item = to_output.Pop()) {
       const auto now = Clock::now();
       stats.elapsed_s = MsBetween(start, now) / 1000.0;
@@ -329,13 +339,7 @@ struct Pipeline::Impl {
         if (item->failed()) {
           ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
         }
-        stats.map_vertices = item->update.vertices;
-        stats.map_cells = item->update.cells;
-        stats.map_rays = item->update.rays;
-        stats.mesh_triangles = item->update.mesh_triangles;
-        stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
-        stats.rss_mb = CurrentRssMb();
-        stats.cpu_s = ProcessCpuSeconds();
+        take_totals(item->update);
         ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
         continue;
       }
@@ -347,7 +351,6 @@ struct Pipeline::Impl {
       ++stats.frames_processed;
       stats.frame_id = item->frame_id;
       stats.timestamp_s = item->timestamp_s;
-      stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
       const std::array<int, kNumStages> occupancy = {0, to_depth.size(), to_simplify.size(), to_map.size()};
       stats.stages.clear();
       for (int s = 0; s < kNumStages; ++s) {
@@ -366,12 +369,7 @@ struct Pipeline::Impl {
       for (const auto& c : item->counts) stats.points_kept += c.kept;
       if (item->counts.empty()) stats.points_kept = stats.points_in;
       stats.class_counts = item->counts;
-      stats.map_vertices = item->update.vertices;
-      stats.map_cells = item->update.cells;
-      stats.map_rays = item->update.rays;
-      stats.mesh_triangles = item->update.mesh_triangles;
-      stats.rss_mb = CurrentRssMb();
-      stats.cpu_s = ProcessCpuSeconds();
+      take_totals(item->update);
       ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
     }
     summary->final_stats = stats;

@@ -91,6 +91,7 @@ class FakeMap : public MapStage {
     MapUpdate u;
     u.delta.added_triangle_ids = {next_id_++};
     u.delta.added_triangles = {{4, 5, 6}};
+    u.mesh_triangles = static_cast<std::int64_t>(next_id_);
     return u;
   }
 
@@ -141,6 +142,7 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   for (int i = 0; i < 40; ++i) EXPECT_EQ(sink.frames[i], i);
   EXPECT_EQ(sink.finishes, 1);
   EXPECT_EQ(sink.triangles, 41u);  // one per frame + the final flush
+  EXPECT_EQ(summary.final_stats.mesh_triangles, 41);  // as the map reported it with its final delta
   EXPECT_EQ(summary.final_stats.frames_processed, 40);
   EXPECT_EQ(summary.final_stats.frames_dropped, 0);
   EXPECT_EQ(summary.frames_read, 40);
