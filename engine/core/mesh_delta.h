@@ -52,8 +52,13 @@ class MeshDiffer {
   struct KeyHash {
     size_t operator()(const std::array<VertexId, 3>& k) const;
   };
-  std::unordered_map<std::array<VertexId, 3>, TriangleId, KeyHash> live_;
+  struct LiveTriangle {
+    TriangleId id = 0;
+    std::uint64_t seen = 0;  // generation of the last update that had it
+  };
+  std::unordered_map<std::array<VertexId, 3>, LiveTriangle, KeyHash> live_;
   TriangleId next_id_ = 1;
+  std::uint64_t generation_ = 0;
 };
 
 // Subscriber side: applies snapshots and deltas and rebuilds an indexed mesh. Not thread-safe.

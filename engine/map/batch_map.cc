@@ -39,7 +39,10 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
     if (!WithinRange(options, p, cloud.camera_centers_world[cloud.camera_index[i]])) continue;
     kept[i] = true;
     lattice.Use(p, 0, &nodes);
-    inputs.emplace_back(ToPoint(p), VertexInfo{i, false, 0});
+    VertexInfo info{i, false, 0};
+    if (!cloud.labels.empty()) info.attributes.label = cloud.labels[i];
+    if (!cloud.colors_rgb.empty()) info.attributes.color_rgb = cloud.colors_rgb[i];
+    inputs.emplace_back(ToPoint(p), info);
   }
   for (const Eigen::Vector3d& c : cloud.camera_centers_world) lattice.Use(c, 0, &nodes);
   for (std::uint32_t n = 0; n < nodes.size(); ++n) {
@@ -102,16 +105,7 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   std::vector<SurfaceFacet> facets;
   CollectSurface(dt, options.drop_steiner_triangles, &facets);
   const Label unlabelled = 0;
-  result.mesh = FacetsToMesh(
-      facets,
-      [&](std::uint32_t id) {
-        PointAttributes a;
-        if (!cloud.labels.empty()) a.label = cloud.labels[id];
-        if (!cloud.colors_rgb.empty()) a.color_rgb = cloud.colors_rgb[id];
-        return a;
-      },
-      unlabelled)
-                    .mesh;
+  result.mesh = FacetsToMesh(facets, unlabelled).mesh;
   if (with_cell_votes) result.cell_votes = CollectCellVotes(dt);
 
   MapStatistics& s = result.statistics;

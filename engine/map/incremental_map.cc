@@ -32,13 +32,14 @@ IdentifiedMesh IncrementalMap::TakeFinalisedMesh() { return impl_->TakeFinalised
 std::vector<CellVotes> IncrementalMap::CellVotesSnapshot() const { return impl_->CellVotesSnapshot(); }
 MapSnapshot IncrementalMap::ExportSnapshot() const { return impl_->ExportSnapshot(); }
 MapStatistics IncrementalMap::Statistics() const { return impl_->Statistics(); }
+MapStatistics IncrementalMap::Sizes() const { return impl_->Sizes(); }
 
 namespace map_internal {
 
 IdentifiedMesh IncrementalState::ExtractMesh() const {
   std::vector<SurfaceFacet> facets;
   CollectSurface(dt_, options_.drop_steiner_triangles, &facets);
-  return FacetsToMesh(facets, Attributes(), PointAttributes{}.label);
+  return FacetsToMesh(facets, PointAttributes{}.label);
 }
 
 IdentifiedMesh IncrementalState::TakeFinalisedMesh() {
@@ -62,8 +63,9 @@ MapSnapshot IncrementalState::ExportSnapshot() const {
   for (std::uint32_t i = 0; i < s.point_ids.size(); ++i) {
     const PointRecord& p = points_.at(s.point_ids[i]);
     s.cloud.positions_world.push_back(p.position);
-    s.cloud.labels.push_back(p.attributes.label);
-    s.cloud.colors_rgb.push_back(p.attributes.color_rgb);
+    const PointAttributes& a = p.vertex->info().attributes;
+    s.cloud.labels.push_back(a.label);
+    s.cloud.colors_rgb.push_back(a.color_rgb);
     s.cloud.camera_index.push_back(camera_index.at(rays_[p.rays.front()].camera));
     for (std::size_t r = 1; r < p.rays.size(); ++r)
       s.extra.push_back({i, camera_index.at(rays_[p.rays[r]].camera)});
@@ -71,14 +73,19 @@ MapSnapshot IncrementalState::ExportSnapshot() const {
   return s;
 }
 
-MapStatistics IncrementalState::Statistics() const {
+MapStatistics IncrementalState::Sizes() const {
   MapStatistics s = counters_;
   s.num_points = points_.size();
   s.num_steiner_vertices = steiner_.size();
   s.num_cells = dt_.number_of_finite_cells();
+  s.num_rays = rays_.num_live();
+  return s;
+}
+
+MapStatistics IncrementalState::Statistics() const {
+  MapStatistics s = Sizes();
   s.num_carved_cells = CountCarvedCells(dt_);
   s.num_free_cells = CountFreeCells(dt_);
-  s.num_rays = rays_.num_live();
   return s;
 }
 

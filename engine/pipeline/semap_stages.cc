@@ -52,7 +52,7 @@ MapUpdate IncrementalMapStage::Report() {
   MeshDelta delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
   published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
                           static_cast<std::int64_t>(delta.removed_triangle_ids.size());
-  const MapStatistics s = map_.Statistics();
+  const MapStatistics s = map_.Sizes();
   MapUpdate u;
   u.delta = std::move(delta);
   u.vertices = static_cast<std::int64_t>(s.num_points + s.num_steiner_vertices);

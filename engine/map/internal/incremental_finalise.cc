@@ -131,8 +131,7 @@ void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& vert
           if (inserted) {
             finalised_.mesh.vertices.push_back(ToEigen(u->point()));
             finalised_.vertex_ids.push_back(VertexKey(u));
-            const PointAttributes a =
-                u->info().steiner ? PointAttributes{} : points_.at(u->info().id).attributes;
+            const PointAttributes& a = u->info().attributes;  // the defaults for a Steiner vertex
             finalised_.mesh.labels.push_back(a.label);
             finalised_.mesh.colors_rgb.push_back(a.color_rgb);
           }

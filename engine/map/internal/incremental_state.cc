@@ -59,10 +59,6 @@ IncrementalState::IncrementalState(const MapOptions& options)
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
       lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
 
-AttributeLookup IncrementalState::Attributes() const {
-  return [this](std::uint32_t id) { return points_.at(id).attributes; };
-}
-
 MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::vector<Observation>& extra) {
   frame.AssertConsistent();
   SEMAP_ASSERT(frame.empty() || frame.camera_index.size() == frame.size(), "every point needs its camera");
@@ -187,10 +183,11 @@ void IncrementalState::ClassifyPoints(const LabelledCloud& frame,
       PointRecord& record = points_[target];
       record.position = p;
       record.frame = frame_;
-      if (!frame.labels.empty()) record.attributes.label = frame.labels[i];
-      if (!frame.colors_rgb.empty()) record.attributes.color_rgb = frame.colors_rgb[i];
+      PointAttributes attributes;
+      if (!frame.labels.empty()) attributes.label = frame.labels[i];
+      if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
       grid[VoxelKey(p, voxel)].push_back(target);
-      pending->push_back({p, target, 0});
+      pending->push_back({p, target, 0, attributes});
     }
     result->point_ids[i] = target;
     new_rays->emplace_back(target, camera);
@@ -296,7 +293,7 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
     SEMAP_ASSERT(dt_.number_of_vertices() == before + 1,
                  "vertex at an occupied position " << pv.position.transpose());
     if (pv.point_id != kNoId) {
-      v->info() = VertexInfo{pv.point_id, false, 0};
+      v->info() = VertexInfo{pv.point_id, false, 0, pv.attributes};
       points_.at(pv.point_id).vertex = v;
       arrival_.push_back(pv.point_id);
       ++result->inserted;

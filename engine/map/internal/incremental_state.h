@@ -31,6 +31,7 @@ struct PendingVertex {
   Eigen::Vector3d position;
   std::uint32_t point_id = kNoId;  // kNoId for a Steiner node
   LatticeKey node = 0;
+  PointAttributes attributes;
 };
 
 class IncrementalState {
@@ -43,6 +44,7 @@ class IncrementalState {
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
   MapSnapshot ExportSnapshot() const;
   MapStatistics Statistics() const;
+  MapStatistics Sizes() const;
 
  private:
   // Update steps.
@@ -79,7 +81,6 @@ class IncrementalState {
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
   void ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes);
   std::uint32_t NewMark() { return ++mark_; }
-  AttributeLookup Attributes() const;
 
   MapOptions options_;
   RayGeometry geometry_;

@@ -14,7 +14,6 @@ namespace semap::map_internal {
 struct PointRecord {
   VertexHandle vertex;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  PointAttributes attributes;
   std::int64_t frame = 0;           // frame of insertion
   std::vector<std::uint32_t> rays;  // its rays, the first one from its first camera
 };

@@ -1,6 +1,7 @@
 #include "engine/map/internal/surface_extraction.h"
 
 #include <algorithm>
+#include <limits>
 #include <unordered_map>
 
 namespace semap::map_internal {
@@ -46,31 +47,72 @@ void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFa
   }
 }
 
-IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
-                            Label unlabelled) {
+namespace {
+
+// The mesh index of each vertex, by vertex id. Point ids of a live map are nearly contiguous (numbered in
+// arrival order, finalised oldest first), so a table over their span replaces a hash map over the ~10^5
+// vertices of a live surface; a sparse span (a few ancient points kept) and the Steiner vertices go to hash
+// maps.
+class VertexIndex {
+ public:
+  explicit VertexIndex(const std::vector<SurfaceFacet>& facets) {
+    std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
+    for (const SurfaceFacet& f : facets) {
+      for (const VertexHandle v : f.vertices) {
+        if (v->info().steiner) continue;
+        lo = std::min(lo, v->info().id);
+        hi = std::max(hi, v->info().id);
+      }
+    }
+    if (lo > hi) return;
+    const std::size_t span = std::size_t(hi - lo) + 1;
+    if (span <= kMaxSpanPerFacet * facets.size()) {
+      first_id_ = lo;
+      table_.assign(span, kUnset);
+    }
+  }
+  // The slot of `v`, or kUnset; `slot` may be set through the returned reference.
+  std::uint32_t& Slot(VertexHandle v) {
+    const std::uint32_t id = v->info().id;
+    if (v->info().steiner) return steiner_.try_emplace(id, kUnset).first->second;
+    if (!table_.empty()) return table_[id - first_id_];
+    return sparse_.try_emplace(id, kUnset).first->second;
+  }
+
+  static constexpr std::uint32_t kUnset = std::numeric_limits<std::uint32_t>::max();
+
+ private:
+  static constexpr std::size_t kMaxSpanPerFacet = 8;
+  std::uint32_t first_id_ = 0;
+  std::vector<std::uint32_t> table_;
+  std::unordered_map<std::uint32_t, std::uint32_t> steiner_, sparse_;
+};
+
+}  // namespace
+
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled) {
   IdentifiedMesh out;
   Mesh& mesh = out.mesh;
-  std::unordered_map<const void*, std::uint32_t> index;
-  index.reserve(facets.size());
+  VertexIndex index(facets);
   mesh.triangles.reserve(facets.size());
   for (const SurfaceFacet& f : facets) {
     std::array<std::uint32_t, 3> tri;
     for (int k = 0; k < 3; ++k) {
       const VertexHandle v = f.vertices[k];
-      auto [it, inserted] = index.try_emplace(&*v, std::uint32_t(mesh.vertices.size()));
-      if (inserted) {
+      std::uint32_t& slot = index.Slot(v);
+      if (slot == VertexIndex::kUnset) {
+        slot = std::uint32_t(mesh.vertices.size());
         mesh.vertices.push_back(ToEigen(v->point()));
         out.vertex_ids.push_back(VertexKey(v));
         if (v->info().steiner) {
           mesh.labels.push_back(unlabelled);
           mesh.colors_rgb.push_back(kSteinerColor);
         } else {
-          const PointAttributes a = attributes(v->info().id);
-          mesh.labels.push_back(a.label);
-          mesh.colors_rgb.push_back(a.color_rgb);
+          mesh.labels.push_back(v->info().attributes.label);
+          mesh.colors_rgb.push_back(v->info().attributes.color_rgb);
         }
       }
-      tri[k] = it->second;
+      tri[k] = slot;
     }
     mesh.triangles.push_back(tri);
   }

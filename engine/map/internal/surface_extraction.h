@@ -1,7 +1,6 @@
 // Reads the surface (boundary of the carved region) and the per-cell votes out of the triangulation.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "engine/core/mesh.h"
@@ -10,13 +9,6 @@
 #include "engine/map/map_types.h"
 
 namespace semap::map_internal {
-
-struct PointAttributes {
-  Label label = 0;
-  std::array<std::uint8_t, 3> color_rgb{0, 0, 0};
-};
-// Attributes of a data point by id.
-using AttributeLookup = std::function<PointAttributes(std::uint32_t point_id)>;
 
 // A facet's identity: the sorted keys of its vertices.
 using FacetKey = std::array<std::uint64_t, 3>;
@@ -39,10 +31,9 @@ SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
 // are left out. Appends to `facets`.
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets);
 
-// Builds a mesh of `facets` (vertices shared, Steiner vertices labelled `unlabelled`, grey), with the vertex
-// keys as stable vertex ids.
-IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, const AttributeLookup& attributes,
-                            Label unlabelled);
+// Builds a mesh of `facets` (vertices shared, with their info().attributes; Steiner vertices labelled
+// `unlabelled`, grey), with the vertex keys as stable vertex ids.
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled);
 
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);

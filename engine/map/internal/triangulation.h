@@ -8,18 +8,28 @@
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
+
+#include "engine/core/class_map.h"
 
 namespace semap::map_internal {
 
 inline constexpr std::uint32_t kNoId = std::numeric_limits<std::uint32_t>::max();
 
+// What a data point brings to the mesh (Steiner vertices keep the defaults).
+struct PointAttributes {
+  Label label = 0;
+  std::array<std::uint8_t, 3> color_rgb{0, 0, 0};
+};
+
 struct VertexInfo {
   std::uint32_t id = kNoId;  // point id, or Steiner node slot when `steiner`
   bool steiner = false;
   std::uint32_t stamp = 0;  // scratch mark for set membership during one update
+  PointAttributes attributes;  // fits in the vertex's padding: a vertex stays 48 bytes
 };
 
 // One (ray, trace epoch) entry of a cell's ray list. An entry is live while the ray's epoch equals `epoch`;
@@ -49,6 +59,8 @@ using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 using Point = Delaunay::Point;
 using VertexHandle = Delaunay::Vertex_handle;
+// The ray walks read vertices all the time: keep them small (point + cell handle + this = 48 bytes).
+static_assert(sizeof(VertexInfo) <= 16, "VertexInfo grew: a CGAL vertex would take another 8 bytes");
 using CellHandle = Delaunay::Cell_handle;
 
 inline Point ToPoint(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }

@@ -135,6 +135,37 @@ TEST(IncrementalMap, VotesEqualBatchOnRandomStreams) {
   }
 }
 
+// Mesh vertices carry the label of the point they are (the first observation's label, kept on merges), and
+// the cheap per-frame sizes equal the full statistics.
+TEST(IncrementalMap, MeshVerticesCarryTheirPointsLabelsAndSizesMatchStatistics) {
+  MapOptions options;
+  IncrementalMap map(options);
+  RandomStream stream(5);
+  std::map<std::uint32_t, Label> label_of;
+  for (int f = 0; f < 4; ++f) {
+    std::vector<Observation> extra;
+    const LabelledCloud frame = stream.Frame(f, 300, &extra);
+    const MapUpdateResult r = map.Update(frame, extra);
+    for (std::size_t i = 0; i < r.point_ids.size(); ++i) {
+      if (r.point_ids[i] != kDroppedPoint) label_of.try_emplace(r.point_ids[i], frame.labels[i]);
+    }
+    const IdentifiedMesh mesh = map.ExtractIdentifiedMesh();
+    ASSERT_GT(mesh.mesh.num_triangles(), 0u);
+    for (std::size_t v = 0; v < mesh.vertex_ids.size(); ++v) {
+      ASSERT_TRUE(label_of.count(std::uint32_t(mesh.vertex_ids[v]))) << "a mesh vertex that is no point";
+      EXPECT_EQ(mesh.mesh.labels[v], label_of.at(std::uint32_t(mesh.vertex_ids[v])));
+    }
+    const MapStatistics full = map.Statistics(), sizes = map.Sizes();
+    EXPECT_GT(full.num_carved_cells, 0u);
+    EXPECT_EQ(sizes.num_carved_cells, 0u);
+    EXPECT_EQ(sizes.num_points, full.num_points);
+    EXPECT_EQ(sizes.num_steiner_vertices, full.num_steiner_vertices);
+    EXPECT_EQ(sizes.num_cells, full.num_cells);
+    EXPECT_EQ(sizes.num_rays, full.num_rays);
+    EXPECT_EQ(sizes.rays_traced, full.rays_traced);
+  }
+}
+
 TEST(IncrementalMap, MergesNearbyPointsAndRejectsUnknownIds) {
   MapOptions options;
   options.merge_distance_m = 0.1;
