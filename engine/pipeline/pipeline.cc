@@ -321,13 +321,16 @@ struct Pipeline::Impl {
     std::array<TimingStats, kNumStages> timing;
     std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
-    // The run's totals as of now: frame rate, the map's sizes and published mesh, the process's memory and CPU.
-    auto take_totals = [&](const MapUpdate& update) {
+    // The run's totals as of now: frame rate, the map's sizes and published mesh (from `update`; kept as they
+    // were without one), the process's memory and CPU.
+    auto take_totals = [&](const MapUpdate* update) {
       stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
-      stats.map_vertices = update.vertices;
-      stats.map_cells = update.cells;
-      stats.map_rays = update.rays;
-      stats.mesh_triangles = update.mesh_triangles;
+      if (update != nullptr) {
+        stats.map_vertices = update->vertices;
+        stats.map_cells = update->cells;
+        stats.map_rays = update->rays;
+        stats.mesh_triangles = update->mesh_triangles;
+      }
       stats.rss_mb = CurrentRssMb();
       stats.cpu_s = ProcessCpuSeconds();
     };
@@ -339,7 +342,8 @@ struct Pipeline::Impl {
         if (item->failed()) {
           ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
         }
-        take_totals(item->update);
+        // A failed finish carries no update: the map as of the last frame is what was published.
+        take_totals(item->failed() ? nullptr : &item->update);
         ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
         continue;
       }
@@ -369,7 +373,7 @@ struct Pipeline::Impl {
       for (const auto& c : item->counts) stats.points_kept += c.kept;
       if (item->counts.empty()) stats.points_kept = stats.points_in;
       stats.class_counts = item->counts;
-      take_totals(item->update);
+      take_totals(&item->update);
       ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
     }
     summary->final_stats = stats;

@@ -76,7 +76,8 @@ class FakeSimplify : public SimplifyStage {
 // One triangle per frame; optionally slow.
 class FakeMap : public MapStage {
  public:
-  explicit FakeMap(std::chrono::milliseconds delay = 0ms) : delay_(delay) {}
+  explicit FakeMap(std::chrono::milliseconds delay = 0ms, bool finish_throws = false)
+      : delay_(delay), finish_throws_(finish_throws) {}
   MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override {
     std::this_thread::sleep_for(delay_);
     MapUpdate u;
@@ -88,6 +89,7 @@ class FakeMap : public MapStage {
     return u;
   }
   MapUpdate Finish() override {
+    if (finish_throws_) throw std::runtime_error("final mesh extraction failed");
     MapUpdate u;
     u.delta.added_triangle_ids = {next_id_++};
     u.delta.added_triangles = {{4, 5, 6}};
@@ -97,6 +99,7 @@ class FakeMap : public MapStage {
 
  private:
   std::chrono::milliseconds delay_;
+  bool finish_throws_ = false;
   TriangleId next_id_ = 0;
 };
 
@@ -227,6 +230,24 @@ TEST(Pipeline, StopRequestDrainsAndFinishes) {
   EXPECT_LT(summary.final_stats.frames_processed, 100000);
   EXPECT_EQ(summary.final_stats.frames_processed, summary.frames_read);  // everything read was drained
   EXPECT_EQ(sink.finishes, 1);
+}
+
+// The map's Finish throws: the error is reported and the final totals stay those of the last frame (not
+// the failed finish's empty update).
+TEST(Pipeline, AFailingFinishKeepsTheLastFramesTotals) {
+  PipelineOptions options;
+  RecordingSink sink;
+  Pipeline pipeline(
+      options, std::make_unique<FakeReader>(5), [] { return std::make_unique<FakeDepth>(std::set<std::int64_t>{}); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>(0ms, /*finish_throws=*/true));
+  pipeline.AddSink(&sink);
+  const PipelineSummary summary = pipeline.Run();
+  EXPECT_EQ(sink.finishes, 1);
+  ASSERT_EQ(sink.errors.size(), 1u);
+  EXPECT_NE(sink.errors[0].second.find("final mesh extraction failed"), std::string::npos);
+  EXPECT_EQ(summary.final_stats.frames_processed, 5);
+  EXPECT_EQ(summary.final_stats.mesh_triangles, 5);  // the fake map's count after its fifth frame
+  EXPECT_GT(summary.final_stats.map_vertices, 0);
 }
 
 TEST(Pipeline, AThrowingSinkDoesNotStopTheRun) {
