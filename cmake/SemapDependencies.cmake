@@ -9,6 +9,16 @@ find_package(yaml-cpp REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
+# mimalloc serves malloc in the semap executable: the map allocates and frees some 10^5 small blocks per frame
+# (the cells' ray lists, CGAL's triangulation, mesh deltas), where glibc's malloc costs ~10 % of the frame rate
+# (bench/RESULTS.md). Sanitizer builds keep their own allocator.
+option(SEMAP_MIMALLOC "Link the semap executable with mimalloc, which then serves malloc" ON)
+if(SEMAP_SANITIZE)
+  set(SEMAP_MIMALLOC OFF)
+endif()
+if(SEMAP_MIMALLOC)
+  find_package(mimalloc 2.0 REQUIRED)
+endif()
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
 find_program(LCM_GEN lcm-gen REQUIRED)

@@ -10,6 +10,7 @@
 #include "io/eval/mesh_evaluation.h"
 #include "io/mesh/ply_off.h"
 #include "io/output/output_sinks.h"
+#include "tools/allocator.h"
 #include "tools/cli_common.h"
 #include "tools/engine_run.h"
 #include "tools/eval_report.h"
@@ -58,10 +59,10 @@ int Run(const RunArgs& args) {
   const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
   auto source = OpenStreamingSource(config, args.path);
   const std::int64_t total = source->size();
-  spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers", args.path, total,
+  spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers, {}", args.path, total,
                io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
                config.pipeline.mode == PipelineOptions::Mode::kRealtime ? "realtime" : "exhaustive",
-               config.pipeline.depth_workers);
+               config.pipeline.depth_workers, AllocatorDescription());
 
   // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
   io::MeshFileSink mesh_sink(config.output);

@@ -1,13 +1,14 @@
 // semap — real-time incremental dense mapping with semantic point-cloud simplification.
 #include <CLI/CLI.hpp>
 
+#include "tools/allocator.h"
 #include "tools/cli_common.h"
 
 int main(int argc, char** argv) {
   using namespace semap::tools;
   CLI::App app{"semap: dense 3D visual mapping via semantic simplification (stereo KITTI → manifold mesh)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "semap 0.1.0");
+  app.set_version_flag("--version", "semap 0.1.0 (" + AllocatorDescription() + ")");
   int exit_code = kExitOk;
   const RegisterFn commands[] = {
       RegisterRunCommand,

@@ -1,0 +1,28 @@
+#include "tools/allocator.h"
+
+#include <cstdlib>
+
+#ifdef SEMAP_WITH_MIMALLOC
+#include <mimalloc.h>
+
+#include <string>
+#endif
+
+namespace semap::tools {
+
+std::string AllocatorDescription() {
+#ifdef SEMAP_WITH_MIMALLOC
+  // Linking mimalloc replaces malloc only if the dynamic linker binds malloc to it: ask mimalloc whether it
+  // owns a block that plain malloc returned.
+  void* probe = std::malloc(64);
+  const bool serves_malloc = mi_is_in_heap_region(probe);
+  std::free(probe);
+  const int v = mi_version();  // e.g. 209 for 2.0.9
+  return "mimalloc " + std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10) +
+         (serves_malloc ? "" : ", linked but not serving malloc");
+#else
+  return "system malloc";
+#endif
+}
+
+}  // namespace semap::tools
