@@ -1,6 +1,7 @@
 #include "tools/allocator.h"
 
 #include <cstdlib>
+#include <cstring>
 
 #ifdef SEMAP_WITH_MIMALLOC
 #include <mimalloc.h>
@@ -15,6 +16,7 @@ std::string AllocatorDescription() {
   // Linking mimalloc replaces malloc only if the dynamic linker binds malloc to it: ask mimalloc whether it
   // owns a block that plain malloc returned.
   void* probe = std::malloc(64);
+  if (probe != nullptr) std::memset(probe, 0, 64);
   const bool serves_malloc = mi_is_in_heap_region(probe);
   std::free(probe);
   const int v = mi_version();  // e.g. 209 for 2.0.9

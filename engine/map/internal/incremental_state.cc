@@ -87,7 +87,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   ClassifyPoints(frame, camera_ids, &result, &pending, &new_rays);
   for (const Observation& o : extra) new_rays.emplace_back(o.point, camera_ids[o.camera]);
   for (const PendingVertex& p : pending) lattice_.Use(p.position, frame_, &nodes);
-  for (LatticeKey node : nodes) pending.push_back({lattice_.Position(node), kNoId, node});
+  for (LatticeKey node : nodes) pending.push_back({lattice_.Position(node), kNoId, node, {}});
   SpatialSort(&pending);
 
   // Destroyed cells and the rays through them, untraced in the old triangulation.
@@ -298,7 +298,7 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
       arrival_.push_back(pv.point_id);
       ++result->inserted;
     } else {
-      v->info() = VertexInfo{next_steiner_id_++, true, 0};
+      v->info() = VertexInfo{next_steiner_id_++, true, 0, {}};
       steiner_[pv.node] = v;
       ++result->steiner_inserted;
     }
