@@ -5,8 +5,6 @@
 
 #ifdef SEMAP_WITH_MIMALLOC
 #include <mimalloc.h>
-
-#include <string>
 #endif
 
 namespace semap::tools {
