@@ -39,14 +39,14 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
     if (!WithinRange(options, p, cloud.camera_centers_world[cloud.camera_index[i]])) continue;
     kept[i] = true;
     lattice.Use(p, 0, &nodes);
-    VertexInfo info{i, false, 0, {}};
+    VertexInfo info{i, false, false, 0, {}};
     if (!cloud.labels.empty()) info.attributes.label = cloud.labels[i];
     if (!cloud.colors_rgb.empty()) info.attributes.color_rgb = cloud.colors_rgb[i];
     inputs.emplace_back(ToPoint(p), info);
   }
   for (const Eigen::Vector3d& c : cloud.camera_centers_world) lattice.Use(c, 0, &nodes);
   for (std::uint32_t n = 0; n < nodes.size(); ++n) {
-    inputs.emplace_back(ToPoint(lattice.Position(nodes[n])), VertexInfo{n, true, 0, {}});
+    inputs.emplace_back(ToPoint(lattice.Position(nodes[n])), VertexInfo{n, true, false, 0, {}});
   }
   Delaunay dt;
   dt.insert(inputs.begin(), inputs.end());
@@ -102,10 +102,9 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
     carver.CarveAndRepair(free_cells, &changed);
   }
 
-  std::vector<SurfaceFacet> facets;
-  CollectSurface(dt, options.drop_steiner_triangles, &facets);
   const Label unlabelled = 0;
-  result.mesh = FacetsToMesh(facets, unlabelled).mesh;
+  result.mesh = ExtractSurfaceMesh(dt, options.drop_steiner_triangles, /*irregular=*/{}, /*frozen=*/nullptr,
+                                   unlabelled).mesh;
   if (with_cell_votes) result.cell_votes = CollectCellVotes(dt);
 
   MapStatistics& s = result.statistics;

@@ -37,9 +37,18 @@ MapStatistics IncrementalMap::Sizes() const { return impl_->Sizes(); }
 namespace map_internal {
 
 IdentifiedMesh IncrementalState::ExtractMesh() const {
-  std::vector<SurfaceFacet> facets;
-  CollectSurface(dt_, options_.drop_steiner_triangles, &facets);
-  return FacetsToMesh(facets, PointAttributes{}.label);
+  // Non-regular vertices, and their neighbours on the surface (an edge with more than two facets makes both
+  // ends non-regular), get their runs by wedges.
+  std::vector<VertexHandle> irregular;
+  std::vector<SurfaceFacet> around;
+  for (const auto& [key, v] : irregular_) {
+    around.clear();
+    SurfaceAround(dt_, v, &around);
+    irregular.push_back(v);
+    for (const SurfaceFacet& f : around) irregular.insert(irregular.end(), f.vertices.begin(), f.vertices.end());
+  }
+  return ExtractSurfaceMesh(dt_, options_.drop_steiner_triangles, irregular, &fan_copies_,
+                            PointAttributes{}.label);
 }
 
 IdentifiedMesh IncrementalState::TakeFinalisedMesh() {

@@ -23,6 +23,9 @@ struct MapUpdateResult {
   std::size_t inserted = 0;  // new vertices (data points)
   std::size_t merged = 0;    // points merged into an existing one (their ray added)
   std::size_t dropped = 0;
+  // Of `dropped`: points whose insertion would have re-triangulated a seam of finalisation (cells kept
+  // as they are so that the emitted and the live surface stay one manifold).
+  std::size_t points_rejected_at_seam = 0;
   std::size_t steiner_inserted = 0;
   std::size_t cells_destroyed = 0;  // cells with votes replaced by the insertion
   std::size_t rays_retraced = 0;    // existing rays untraced and traced again

@@ -27,10 +27,9 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
 
   std::vector<VertexHandle> removed;
   for (std::uint32_t id : finalised) removed.push_back(points_.at(id).vertex);
-  EmitFinalisedFacets(removed);
   for (LatticeKey node : released_nodes) {
     auto it = steiner_.find(node);
-    SEMAP_ASSERT(it != steiner_.end());
+    if (it == steiner_.end()) continue;  // never inserted: it would have cut into a seam (see SealedNear)
     removed.push_back(it->second);
     steiner_.erase(it);
   }
@@ -52,6 +51,15 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
     }
   }
   CollectBoundary(removing);
+  EmitFinalisedFacets(removed, cell_mark);
+  // The carving seen across each facet of the hole's boundary, from inside the hole: the cells that will
+  // fill the hole keep it (SealHole).
+  std::unordered_map<FacetHandles, bool, FacetHandlesHash> hole_side;
+  for (const CellHandle d : destroyed_) {
+    for (int i = 0; i < 4; ++i) {
+      if (d->neighbor(i)->info().stamp != cell_mark) hole_side[SortedFacet(d, i)] = d->info().CarvedAcross(i);
+    }
+  }
   std::vector<std::uint32_t> affected;
   CollectAffectedRays(&affected);
   // The finalised points' rays are untraced in full (they may cross cells far from the removed stars).
@@ -86,10 +94,13 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   }
   // One hole per connected cluster of removed vertices, re-triangulated once: the same Delaunay result as
   // removing them one by one, about 2.5 times faster on the ~30,000 vertices of a finalisation.
+  TakeIrregular();
+  for (const VertexHandle v : removed) irregular_.erase(&*v);
   dt_.remove_cluster(removed.begin(), removed.end());
   for (std::uint32_t id : finalised) points_.erase(id);
   created_mark_ = NewMark();
   MarkCreatedCells(boundary_, old_mark);
+  SealHole(hole_side);
   result->points_finalised = finalised.size();
   result->vertices_removed = removed.size();
 
@@ -109,38 +120,96 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   result->cells_carved += Regrow();
 }
 
-void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& vertices) {
-  std::unordered_set<FacetKey, FacetKeyHash> emitted;
+void IncrementalState::SealHole(
+    const std::unordered_map<FacetHandles, bool, FacetHandlesHash>& hole_side) {
   std::vector<CellHandle> star;
-  for (const VertexHandle v : vertices) {
+  for (const VertexHandle v : boundary_) {
     star.clear();
     dt_.incident_cells(v, std::back_inserter(star));
-    for (const CellHandle c : star) {
-      if (!c->info().carved) continue;
+    for (const CellHandle h : star) {
+      if (h->info().created != created_mark_ || h->info().IsSealed()) continue;
+      std::uint8_t sealed = CellInfo::kSealed;
       for (int i = 0; i < 4; ++i) {
-        if (c->vertex(i) == v || c->neighbor(i)->info().carved) continue;
-        const SurfaceFacet f = OrientedFacet(c, i);
-        bool has_steiner = false;
-        for (const VertexHandle u : f.vertices) has_steiner |= u->info().steiner;
-        if ((has_steiner && options_.drop_steiner_triangles) || !emitted.insert(f.id).second) continue;
-        std::array<std::uint32_t, 3> tri;
-        for (int k = 0; k < 3; ++k) {
-          const VertexHandle u = f.vertices[k];
-          auto [it, inserted] =
-              finalised_index_.try_emplace(VertexKey(u), std::uint32_t(finalised_.mesh.vertices.size()));
-          if (inserted) {
-            finalised_.mesh.vertices.push_back(ToEigen(u->point()));
-            finalised_.vertex_ids.push_back(VertexKey(u));
-            const PointAttributes& a = u->info().attributes;  // the defaults for a Steiner vertex
-            finalised_.mesh.labels.push_back(a.label);
-            finalised_.mesh.colors_rgb.push_back(a.color_rgb);
-          }
-          tri[k] = it->second;
-        }
-        finalised_.mesh.triangles.push_back(tri);
+        if (h->neighbor(i)->info().created == created_mark_) continue;  // inside the hole: no surface
+        const auto it = hole_side.find(SortedFacet(h, i));
+        SEMAP_ASSERT(it != hole_side.end(), "a facet of the refilled hole was not on the hole's boundary");
+        if (it->second) sealed |= std::uint8_t(1u << i);
       }
+      h->info().sealed = sealed;
+      h->info().carved = false;
     }
   }
+  // Every cell around the hole's vertices keeps its carving from now on (IsPinned): their surface fans,
+  // whose other part was just emitted, stay whole.
+  for (const VertexHandle v : boundary_) v->info().frozen = true;
+}
+
+void IncrementalState::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* around) {
+  around->clear();
+  SurfaceAround(dt_, v, around);
+  around->erase(std::remove_if(around->begin(), around->end(),
+                               [&](const SurfaceFacet& f) { return LeftOut(f, options_.drop_steiner_triangles); }),
+                around->end());
+  std::vector<const SurfaceFacet*> fan;
+  for (const SurfaceFacet& f : *around) fan.push_back(&f);
+  const std::vector<std::uint8_t> copies = FanRuns(dt_, v, fan);
+  const std::uint64_t key = VertexKey(v);
+  for (std::size_t f = 0; f < fan.size(); ++f) {
+    const FacetKey& id = fan[f]->id;
+    auto it = fan_copies_.try_emplace(id, std::array<std::uint8_t, 3>{kUnassigned, kUnassigned, kUnassigned}).first;
+    it->second[std::find(id.begin(), id.end(), key) - id.begin()] = copies[f];
+  }
+}
+
+void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& removed, std::uint32_t destroyed_mark) {
+  // The copies of every vertex of the emitted facets, fixed from its whole cycle while the whole surface is
+  // still here: the seam's vertices (boundary_) keep them while they stay live and pinned.
+  std::vector<SurfaceFacet> around;
+  for (const VertexHandle v : boundary_) {
+    if (!v->info().frozen) RecordFan(v, &around);
+  }
+  for (const VertexHandle v : removed) {
+    if (!v->info().frozen) RecordFan(v, &around);
+  }
+  // Every surface facet inside the hole goes: those through the removed vertices, and those between two
+  // destroyed cells whose three vertices stay (the re-triangulation does not keep them).
+  std::unordered_set<FacetKey, FacetKeyHash> emitted;
+  around.clear();
+  for (const CellHandle c : destroyed_) {
+    if (dt_.is_infinite(c)) continue;
+    for (int i = 0; i < 4; ++i) {
+      const CellHandle n = c->neighbor(i);
+      if (n->info().stamp != destroyed_mark || c->info().CarvedAcross(i) == NeighbourCarved(c, i)) continue;
+      if (!c->info().CarvedAcross(i) && !dt_.is_infinite(n)) continue;  // found from its carved side
+      around.push_back(OrientedSurfaceFacet(c, i));
+    }
+  }
+  {
+    for (const SurfaceFacet& f : around) {
+      if (LeftOut(f, options_.drop_steiner_triangles) || !emitted.insert(f.id).second) continue;
+      const auto copies = fan_copies_.find(f.id);
+      SEMAP_ASSERT(copies != fan_copies_.end(), "a finalised facet without the copies of its vertices");
+      std::array<std::uint32_t, 3> tri;
+      for (int k = 0; k < 3; ++k) {
+        const VertexHandle u = f.vertices[k];
+        const std::uint64_t key = VertexKey(u);
+        std::uint8_t copy = copies->second[std::find(f.id.begin(), f.id.end(), key) - f.id.begin()];
+        if (copy == kUnassigned) copy = 0;
+        const std::uint64_t id = CopyKey(key, copy);
+        auto [it, inserted] = finalised_index_.try_emplace(id, std::uint32_t(finalised_.mesh.vertices.size()));
+        if (inserted) {
+          finalised_.mesh.vertices.push_back(ToEigen(u->point()));
+          finalised_.vertex_ids.push_back(id);
+          const PointAttributes& a = u->info().attributes;  // the defaults for a Steiner vertex
+          finalised_.mesh.labels.push_back(a.label);
+          finalised_.mesh.colors_rgb.push_back(a.color_rgb);
+        }
+        tri[k] = it->second;
+      }
+      finalised_.mesh.triangles.push_back(tri);
+    }
+  }
+  for (const FacetKey& id : emitted) fan_copies_.erase(id);
 }
 
 }  // namespace semap::map_internal

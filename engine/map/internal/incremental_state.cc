@@ -92,7 +92,9 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
 
   // Destroyed cells and the rays through them, untraced in the old triangulation.
   destroyed_.clear();
-  CollectConflicts(pending);
+  std::vector<char> conflicts_pinned;
+  CollectConflicts(pending, &conflicts_pinned);
+  result.points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, &pending, &new_rays, &result);
   result.cells_destroyed = destroyed_.size();
   std::vector<std::uint32_t> affected;
   CollectAffectedRays(&affected);
@@ -132,6 +134,7 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   result.cells_carved = Regrow();
   result.carve_ms = Lap(&lap);
   Finalise(&result);
+  TakeIrregular();
   result.finalise_ms = Lap(&lap);
   return result;
 }
@@ -194,12 +197,15 @@ void IncrementalState::ClassifyPoints(const LabelledCloud& frame,
   }
 }
 
-void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pending) {
+void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pending,
+                                        std::vector<char>* conflicts_pinned) {
   boundary_.clear();
+  conflicts_pinned->assign(pending.size(), 0);
   if (dt_.dimension() < 3) return;
   const std::uint32_t mark = NewMark();
   CellHandle hint;
-  for (const PendingVertex& pv : pending) {
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    const PendingVertex& pv = pending[k];
     const Point p = ToPoint(pv.position);
     Delaunay::Locate_type lt;
     int li, lj;
@@ -209,6 +215,13 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
                  "a new vertex coincides with an existing one at " << pv.position.transpose());
     conflict_scratch_.clear();
     dt_.find_conflicts(p, c, CGAL::Emptyset_iterator(), std::back_inserter(conflict_scratch_));
+    // A cell is destroyed by the insertion of the pending set iff one of them conflicts with it in the old
+    // triangulation, so leaving out the vertices that conflict with a pinned cell keeps every seam intact.
+    if (std::any_of(conflict_scratch_.begin(), conflict_scratch_.end(),
+                    [](CellHandle cc) { return IsPinned(cc); })) {
+      (*conflicts_pinned)[k] = 1;
+      continue;
+    }
     for (const CellHandle cc : conflict_scratch_) {
       if (cc->info().stamp == mark) continue;
       cc->info().stamp = mark;
@@ -216,6 +229,41 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
     }
   }
   CollectBoundary(kNoMark);
+}
+
+void IncrementalState::TakeIrregular() {
+  for (const VertexHandle v : carver_.TakeUnrepaired()) irregular_.emplace(&*v, v);
+}
+
+std::size_t IncrementalState::DropPinnedConflicts(
+    const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays, MapUpdateResult* result) {
+  std::unordered_set<std::uint32_t> dropped_ids;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < pending->size(); ++k) {
+    PendingVertex& pv = (*pending)[k];
+    if (!conflicts_pinned[k]) {
+      (*pending)[kept++] = std::move(pv);
+    } else if (pv.point_id != kNoId) {
+      dropped_ids.insert(pv.point_id);
+      points_.erase(pv.point_id);
+    }
+    // A dropped Steiner node stays "required" in the lattice but absent: Finalise skips it.
+  }
+  pending->resize(kept);
+  if (dropped_ids.empty()) return 0;
+  new_rays->erase(std::remove_if(new_rays->begin(), new_rays->end(),
+                                 [&](const auto& ray) { return dropped_ids.count(ray.first) > 0; }),
+                  new_rays->end());
+  std::size_t dropped = 0;  // frame points: the new points and those merged into them
+  for (std::uint32_t& id : result->point_ids) {
+    if (id == kDroppedPoint || !dropped_ids.count(id)) continue;
+    id = kDroppedPoint;
+    ++dropped;
+  }
+  result->merged -= dropped - dropped_ids.size();
+  result->dropped += dropped;
+  return dropped;
 }
 
 void IncrementalState::CollectBoundary(std::uint32_t excluded_vertex_mark) {
@@ -293,12 +341,12 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
     SEMAP_ASSERT(dt_.number_of_vertices() == before + 1,
                  "vertex at an occupied position " << pv.position.transpose());
     if (pv.point_id != kNoId) {
-      v->info() = VertexInfo{pv.point_id, false, 0, pv.attributes};
+      v->info() = VertexInfo{pv.point_id, false, false, 0, pv.attributes};
       points_.at(pv.point_id).vertex = v;
       arrival_.push_back(pv.point_id);
       ++result->inserted;
     } else {
-      v->info() = VertexInfo{next_steiner_id_++, true, 0, {}};
+      v->info() = VertexInfo{next_steiner_id_++, true, false, 0, {}};
       steiner_[pv.node] = v;
       ++result->steiner_inserted;
     }
@@ -357,7 +405,7 @@ std::size_t IncrementalState::ShrinkNonFree() {
   std::vector<VertexHandle> vertices;
   std::size_t uncarved = 0;
   for (const CellHandle c : touched_) {
-    if (!c->info().carved || c->info().IsFree()) continue;
+    if (!c->info().carved || c->info().IsFree() || IsPinned(c)) continue;
     c->info().carved = false;
     ++uncarved;
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));

@@ -1,6 +1,7 @@
 // The state of the incremental map and its update steps (engine/map/incremental_map.cc drives them).
 #pragma once
 
+#include <algorithm>
 #include <deque>
 #include <unordered_map>
 #include <unordered_set>
@@ -16,13 +17,23 @@
 
 namespace semap::map_internal {
 
-struct FacetKeyHash {
-  std::size_t operator()(const FacetKey& t) const {
+// A facet by its three vertex handles, sorted: names a facet across a re-triangulation that keeps it.
+using FacetHandles = std::array<const void*, 3>;
+struct FacetHandlesHash {
+  std::size_t operator()(const FacetHandles& t) const {
     std::size_t h = 0;
-    for (auto k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<std::uint64_t>()(k);
+    for (const void* k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<const void*>()(k);
     return h;
   }
 };
+inline FacetHandles SortedFacet(CellHandle c, int opposite) {
+  FacetHandles f;
+  for (int k = 0, n = 0; k < 4; ++k) {
+    if (k != opposite) f[n++] = &*c->vertex(k);
+  }
+  std::sort(f.begin(), f.end());
+  return f;
+}
 
 // A pending insertion: a data point (id) or a Steiner node (node key).
 inline constexpr std::uint32_t kNoMark = 0xFFFFFFFFu;  // a stamp never given
@@ -51,7 +62,9 @@ class IncrementalState {
   void ClassifyPoints(const LabelledCloud& frame, const std::vector<std::uint32_t>& camera_ids,
                       MapUpdateResult* result, std::vector<PendingVertex>* pending,
                       std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays);
-  void CollectConflicts(const std::vector<PendingVertex>& pending);
+  // destroyed_ = the cells in conflict with `pending`, except for the vertices whose conflict zone holds a
+  // pinned cell: those are flagged in `conflicts_pinned` (one entry per pending vertex).
+  void CollectConflicts(const std::vector<PendingVertex>& pending, std::vector<char>* conflicts_pinned);
   // boundary_ = the finite vertices of destroyed_, except those stamped `excluded_vertex_mark`.
   void CollectBoundary(std::uint32_t excluded_vertex_mark);
   // Uncarves the touched cells that are no longer free, then repairs the manifold around them (greedy
@@ -75,7 +88,22 @@ class IncrementalState {
   // Carves the free cells of touched_ and makes the manifold whole again around them and boundary_.
   std::size_t Regrow();
   void Finalise(MapUpdateResult* result);
-  void EmitFinalisedFacets(const std::vector<VertexHandle>& vertices);
+  // Seals the cells that refilled the hole of a finalisation (created_mark_, around boundary_) with the
+  // carving `hole_side` recorded across the hole's boundary facets, and freezes boundary_.
+  void SealHole(const std::unordered_map<FacetHandles, bool, FacetHandlesHash>& hole_side);
+  // Drops the pending vertices whose insertion would destroy a pinned cell (a seam of finalisation): their
+  // points are dropped (counted in `result`) with their rays. Returns the number dropped.
+  std::size_t DropPinnedConflicts(const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,
+                                  std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays,
+                                  MapUpdateResult* result);
+  // Emits the surface facets inside the hole that removing `removed` will leave (between two cells of
+  // destroyed_, stamped `destroyed_mark`; boundary_ is the seam) as finalised triangles, with the copies of
+  // pinched vertices fixed in fan_copies_.
+  void EmitFinalisedFacets(const std::vector<VertexHandle>& removed, std::uint32_t destroyed_mark);
+  // Moves the vertices the carver could not repair to irregular_.
+  void TakeIrregular();
+  // Fixes in fan_copies_ the copy of `v` in each emitted facet of its cycle (`around`: scratch).
+  void RecordFan(VertexHandle v, std::vector<SurfaceFacet>* around);
 
   // The two halves of a trace: the walk (const, safe to run concurrently) and the bookkeeping.
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
@@ -112,7 +140,11 @@ class IncrementalState {
 
   // Outputs.
   IdentifiedMesh finalised_;
-  std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // vertex key → finalised_mesh_ vertex
+  std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // copy key → finalised_mesh_ vertex
+  FanCopies fan_copies_;
+  // Vertices the carver left non-regular (beside a seam, where every fix would change a pinned cell): the
+  // output gives each of their wedges' runs its own copy. Removed with their vertices.
+  std::unordered_map<const void*, VertexHandle> irregular_;  // the copies at frozen vertices (and, during a finalisation, at the removed ones)
   MapStatistics counters_;
 };
 

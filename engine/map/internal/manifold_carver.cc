@@ -105,7 +105,7 @@ bool ManifoldCarver::EdgeTouchesCarved(CellHandle cell, int i, int j) const {
 }
 
 bool ManifoldCarver::TryCarve(CellHandle cell) {
-  if (cell->info().carved || dt_->is_infinite(cell)) return false;
+  if (cell->info().carved || dt_->is_infinite(cell) || IsPinned(cell)) return false;
   // Every vertex is regular before (the carver's invariant), so the local verdicts decide most cases.
   VertexHandle unknown[4];
   int num_unknown = 0;
@@ -139,7 +139,7 @@ std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
   // Cells closing more of the region (more carved neighbours) first, then by free vote: a cell with several
   // carved facets rarely pinches the surface, while growing thin fingers first blocks later additions.
   auto push = [&](CellHandle c) {
-    if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c)) return;
+    if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c) || IsPinned(c)) return;
     std::int64_t carved_neighbours = 0;
     for (int i = 0; i < 4; ++i) carved_neighbours += c->neighbor(i)->info().carved ? 1 : 0;
     queue.emplace((carved_neighbours << kNeighbourShift) + std::min(c->info().free_q, kMaxVoteKey), c);
@@ -176,13 +176,20 @@ void ManifoldCarver::Repair(std::vector<VertexHandle> vertices, bool allow_fill,
   while (!stack.empty()) {
     const VertexHandle v = stack.back();
     stack.pop_back();
-    if (dt_->is_infinite(v)) continue;
-    while (!IsRegular(v)) RepairStep(v, allow_fill && fill_cost_q_ >= 0, &stack, changed);
+    // A frozen vertex's star is pinned: its fan is final (and made regular before it froze).
+    if (dt_->is_infinite(v) || v->info().frozen) continue;
+    while (!IsRegular(v)) {
+      if (!RepairStep(v, allow_fill && fill_cost_q_ >= 0, &stack, changed)) {
+        ++num_unrepaired_;
+        unrepaired_.push_back(v);
+        break;
+      }
+    }
   }
   settled_.clear();
 }
 
-void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
+bool ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
                                 std::vector<CellHandle>* changed) {
   auto set_carved = [&](CellHandle c, bool carved) {
     c->info().carved = carved;
@@ -222,11 +229,23 @@ void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
     }
   }
   SEMAP_ASSERT(!component_excess.empty(), "a vertex without carved cells is regular");
-  const int best = int(std::max_element(component_excess.begin(), component_excess.end()) -
-                       component_excess.begin());
+  // A component holding a pinned cell cannot be given up: it is the one kept, and with two such
+  // components keeping is impossible.
+  int best = int(std::max_element(component_excess.begin(), component_excess.end()) - component_excess.begin());
+  int pinned_components = 0;
+  {
+    std::vector<char> has_pinned(component_excess.size(), 0);
+    for (int s = 0; s < n; ++s) {
+      if (component_[s] >= 0 && !has_pinned[component_[s]] && IsPinned(star_[s])) {
+        has_pinned[component_[s]] = 1;
+        ++pinned_components;
+        best = component_[s];
+      }
+    }
+  }
   constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
   std::int64_t keep_cost = kNever;
-  if (component_excess.size() > 1) {
+  if (component_excess.size() > 1 && pinned_components <= 1) {
     keep_cost = 0;
     for (int s = 0; s < n; ++s) {
       if (component_[s] >= 0 && component_[s] != best) keep_cost += std::max<std::int64_t>(excess(star_[s]), 0);
@@ -236,7 +255,7 @@ void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
   for (int s = 0; s < n && fill_cost != kNever; ++s) {
     const CellHandle c = star_[s];
     if (c->info().carved) continue;
-    if (dt_->is_infinite(c) || settled_.count(&*c)) {
+    if (dt_->is_infinite(c) || settled_.count(&*c) || IsPinned(c)) {
       fill_cost = kNever;
     } else {
       fill_cost += std::max<std::int64_t>(-excess(c), 0) + fill_cost_q_;
@@ -259,11 +278,14 @@ void ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
       const int iv = c->index(v);
       bool on_boundary = false;
       for (int i = 0; i < 4; ++i) on_boundary |= i != iv && !c->neighbor(i)->info().carved;
-      if (on_boundary && (weakest < 0 || excess(c) < excess(star_[weakest]))) weakest = s;
+      if (on_boundary && !IsPinned(c) && (weakest < 0 || excess(c) < excess(star_[weakest]))) weakest = s;
     }
-    SEMAP_ASSERT(weakest >= 0, "a non-regular vertex has a carved cell on the boundary");
+    // Without pinned cells a non-regular vertex always has a carved cell on the boundary; beside a seam of
+    // finalisation every such cell may be pinned, and nothing is left to change here.
+    if (weakest < 0) return false;
     set_carved(star_[weakest], false);
   }
+  return true;
 }
 
 std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed,
@@ -271,7 +293,7 @@ std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
   std::vector<VertexHandle> vertices = also_repair;
   std::size_t carved = 0;
   for (const CellHandle c : cells) {
-    if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c)) continue;
+    if (c->info().carved || !c->info().IsFree() || dt_->is_infinite(c) || IsPinned(c)) continue;
     c->info().carved = true;
     ++carved;
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
@@ -298,7 +320,7 @@ void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices,
     star.clear();
     dt_->incident_cells(v, std::back_inserter(star));
     for (const CellHandle c : star) {
-      if (!c->info().carved) continue;
+      if (!c->info().carved || IsPinned(c)) continue;
       c->info().carved = false;
       uncarved->push_back(c);
       for (int k = 0; k < 4; ++k) to_check.push_back(c->vertex(k));

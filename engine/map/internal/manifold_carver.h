@@ -14,7 +14,8 @@ namespace semap::map_internal {
 // single cycle on v's link (or there are none): then each edge has exactly two boundary facets and each
 // vertex a disk-like umbrella (the vertex/edge conditions of Litvinov–Lhuillier and Piazza et al.). Carving
 // or uncarving one cell changes only the links of its four vertices, so each change is tested on those only.
-// Infinite cells are never carved. Works on a triangulation it does not own; not thread-safe.
+// Infinite cells are never carved, and pinned cells (IsPinned: the seams of an incremental map's
+// finalisation) never change. Works on a triangulation it does not own; not thread-safe.
 class ManifoldCarver {
  public:
   // `max_passes`: Grow() retries the cells that failed, while a pass still carves something, at most this
@@ -60,6 +61,10 @@ class ManifoldCarver {
   void UncarveStars(const std::vector<VertexHandle>& vertices, std::vector<CellHandle>* uncarved);
 
   std::uint64_t num_tests() const { return num_tests_; }
+  // Vertices Repair left non-regular because every change that would fix them touches a pinned cell.
+  std::uint64_t num_unrepaired() const { return num_unrepaired_; }
+  // Those vertices since the last call (they may be regular again by now).
+  std::vector<VertexHandle> TakeUnrepaired() { return std::move(unrepaired_); }
 
  private:
   // Whether vertex `cell->vertex(iv)`, regular now, stays regular once the uncarved `cell` is carved, decided
@@ -68,8 +73,9 @@ class ManifoldCarver {
   Verdict CarveVerdict(CellHandle cell, int iv) const;
   // True when a carved cell is incident to the edge (cell->vertex(i), cell->vertex(j)).
   bool EdgeTouchesCarved(CellHandle cell, int i, int j) const;
-  // One repair step at the non-regular vertex v (see Repair); pushes the vertices of changed cells.
-  void RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
+  // One repair step at the non-regular vertex v (see Repair); pushes the vertices of changed cells. False
+  // when no step is possible without changing a pinned cell.
+  bool RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
                   std::vector<CellHandle>* changed);
 
   Delaunay* dt_;
@@ -82,6 +88,8 @@ class ManifoldCarver {
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
   std::vector<VertexHandle> ends_;                            // scratch
   std::uint64_t num_tests_ = 0;
+  std::uint64_t num_unrepaired_ = 0;
+  std::vector<VertexHandle> unrepaired_;
 };
 
 }  // namespace semap::map_internal

@@ -28,6 +28,9 @@ struct PointAttributes {
 struct VertexInfo {
   std::uint32_t id = kNoId;  // point id, or Steiner node slot when `steiner`
   bool steiner = false;
+  // On a seam of finalisation (incremental map): its surface fan is final, so every cell around it keeps its
+  // carving for good (see CellInfo::Pinned).
+  bool frozen = false;
   std::uint32_t stamp = 0;  // scratch mark for set membership during one update
   PointAttributes attributes;  // fits in the vertex's padding: a vertex stays 48 bytes
 };
@@ -45,12 +48,31 @@ struct CellInfo {
   std::int64_t free_q = 0;
   std::int64_t matter_q = 0;
   bool carved = false;        // inside the manifold free-space region
+  // A cell filling the hole left by finalised vertices (incremental map): never carved, it stands for the
+  // released cells it replaced. Each of its facets on the hole's boundary keeps the carving of the released
+  // cell that was behind it (bit i: the facet opposite vertex i), so the surface there stays what it was.
+  std::uint8_t sealed = 0;    // kSealed | facet carving bits, or 0
   std::uint32_t stamp = 0;    // scratch mark for set membership during one update
   std::uint32_t created = 0;  // mark of the update that created the cell (incremental map)
   std::vector<RayRef> rays;   // rays whose trace gave this cell a vote (may hold stale entries)
 
   bool IsFree() const { return free_q > matter_q; }
+  bool IsSealed() const { return sealed != 0; }
+  // Whether the cell counts as carved seen across its facet opposite vertex `i`.
+  bool CarvedAcross(int i) const { return IsSealed() ? ((sealed >> i) & 1) != 0 : carved; }
+
+  static constexpr std::uint8_t kSealed = 0x10;
 };
+
+// A cell whose carving may never change: sealed, or incident to a frozen (seam) vertex.
+template <class C>
+bool IsPinned(const C& cell) {
+  if (cell->info().IsSealed()) return true;
+  for (int k = 0; k < 4; ++k) {
+    if (cell->vertex(k)->info().frozen) return true;
+  }
+  return false;
+}
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<VertexInfo, Kernel>;

@@ -34,22 +34,29 @@ ManifoldReport CheckManifold(const Mesh& mesh, bool allow_boundary) {
     const auto& tri = mesh.triangles[t];
     if (tri[0] >= n || tri[1] >= n || tri[2] >= n) {
       Add(&r, "triangle " + std::to_string(t) + " has an index out of range");
+      ++r.num_bad_triangles;
       continue;
     }
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
       Add(&r, "triangle " + std::to_string(t) + " repeats a vertex");
+      ++r.num_bad_triangles;
       continue;
     }
     const Eigen::Vector3d& a = mesh.vertices[tri[0]];
     if ((mesh.vertices[tri[1]] - a).cross(mesh.vertices[tri[2]] - a).norm() <= 0.0) {
       Add(&r, "triangle " + std::to_string(t) + " has zero area");
+      ++r.num_bad_triangles;
     }
     auto key = tri;
     std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) Add(&r, "triangle " + std::to_string(t) + " is a duplicate");
+    if (!seen.insert(key).second) {
+      Add(&r, "triangle " + std::to_string(t) + " is a duplicate");
+      ++r.num_bad_triangles;
+    }
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = tri[k], v = tri[(k + 1) % 3], w = tri[(k + 2) % 3];
-      if (++directed[{u, v}] > 1) {
+      if (++directed[{u, v}] == 2) ++r.num_misoriented_edges;
+      if (directed[{u, v}] > 1) {
         Add(&r, "directed edge " + std::to_string(u) + "->" + std::to_string(v) +
                     " used twice (inconsistent orientation or non-manifold edge)");
       }
@@ -63,6 +70,7 @@ ManifoldReport CheckManifold(const Mesh& mesh, bool allow_boundary) {
   for (const auto& [e, count] : undirected) {
     if (count == 1) ++r.num_boundary_edges;
     if (count > 2 || (count == 1 && !allow_boundary)) {
+      ++r.num_nonmanifold_edges;
       Add(&r, "edge " + std::to_string(e.first) + "-" + std::to_string(e.second) + " has " +
                   std::to_string(count) + " triangles");
     }
@@ -87,6 +95,7 @@ ManifoldReport CheckManifold(const Mesh& mesh, bool allow_boundary) {
     }
     if (bad_degree || (ends != 0 && !(allow_boundary && ends == 2))) {
       Add(&r, "vertex " + std::to_string(v) + " link is not a single cycle/path");
+      ++r.num_nonmanifold_vertices;
       continue;
     }
     // Walk the chain from an end (or anywhere for a cycle) and count the edges reached.
@@ -110,7 +119,10 @@ ManifoldReport CheckManifold(const Mesh& mesh, bool allow_boundary) {
       ++reached;
       current = edges[next].first == current ? edges[next].second : edges[next].first;
     }
-    if (reached != edges.size()) Add(&r, "vertex " + std::to_string(v) + " link has several components");
+    if (reached != edges.size()) {
+      Add(&r, "vertex " + std::to_string(v) + " link has several components");
+      ++r.num_nonmanifold_vertices;
+    }
   }
   return r;
 }

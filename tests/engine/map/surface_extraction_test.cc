@@ -19,7 +19,7 @@ TEST(FacetsToMesh, EveryTriangleNamesItsFacetsVerticesOnce) {
     for (std::uint32_t i = 0; i < 400; ++i) {
       const VertexHandle v = dt.insert(Point(unit(rng), unit(rng), unit(rng)));
       const bool steiner = i % 10 == 0;
-      v->info() = VertexInfo{steiner ? i : i * id_stride, steiner, 0, {}};
+      v->info() = VertexInfo{steiner ? i : i * id_stride, steiner, false, 0, {}};
       if (!steiner) v->info().attributes = {Label(i % 7), {std::uint8_t(i), 2, 3}};
     }
     for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) c->info().carved = unit(rng) < 0.4;
