@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -141,6 +142,27 @@ class RunFaults : public ::testing::Test {
 
   // The error recorded for the first skipped frame.
   nlohmann::json FirstError() const { return nlohmann::json::parse(Lines(out_ / "errors.jsonl").at(0)); }
+
+  // A long run sent `signal` after a few frames drains the frames in flight, writes the mesh so far and the
+  // stats, says "(stopped early)" and exits 0.
+  void ExpectStopsCleanlyOn(int signal) const {
+    const pid_t pid = Start(" --set input.loops=100");
+    ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", 3, kRunTimeoutS)) << Log();
+    ASSERT_EQ(kill(pid, signal), 0);
+    const int code = Wait(pid, kRunTimeoutS);
+    const std::string log = Log();
+    ASSERT_NE(code, -1) << "hang\n" << log;
+    EXPECT_EQ(code, 0) << log;
+    EXPECT_NE(log.find("(stopped early)"), std::string::npos) << log;
+    const auto summary = ReadJson(out_ / "summary.json");
+    const int processed = summary["frames_processed"];
+    EXPECT_GE(processed, 3);
+    EXPECT_LT(processed, 100 * kFrames);
+    EXPECT_EQ(summary["frames_failed"], 0);
+    EXPECT_EQ(Lines(out_ / "frames.csv").size(), static_cast<size_t>(processed + 1));
+    EXPECT_GT(io::ReadMeshPly(out_ / "mesh.ply").num_triangles(), 0u);
+    EXPECT_GT(io::ReadMeshOff(out_ / "mesh.off").num_triangles(), 0u);
+  }
 
   fs::path dir_, drive_, out_;
 };
@@ -273,24 +295,7 @@ TEST_F(RunFaults, OutputFolderBecomingUnwritableIsReportedNamingThePath) {
   EXPECT_EQ(Lines(dir_ / "moved" / "frames.csv").size(), static_cast<size_t>(3 * kFrames + 1));
 }
 
-TEST_F(RunFaults, SigintStopsCleanlyWithTheMeshSoFar) {
-  const pid_t pid = Start(" --set input.loops=100");
-  ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", 3, kRunTimeoutS)) << Log();
-  ASSERT_EQ(kill(pid, SIGINT), 0);
-  const int code = Wait(pid, kRunTimeoutS);
-  const std::string log = Log();
-  ASSERT_NE(code, -1) << "hang\n" << log;
-  EXPECT_EQ(code, 0) << log;
-  EXPECT_NE(log.find("(stopped early)"), std::string::npos) << log;
-  const auto summary = ReadJson(out_ / "summary.json");
-  const int processed = summary["frames_processed"];
-  EXPECT_GE(processed, 3);
-  EXPECT_LT(processed, 100 * kFrames);
-  EXPECT_EQ(summary["frames_failed"], 0);
-  EXPECT_EQ(Lines(out_ / "frames.csv").size(), static_cast<size_t>(processed + 1));
-  EXPECT_GT(io::ReadMeshPly(out_ / "mesh.ply").num_triangles(), 0u);
-  EXPECT_GT(io::ReadMeshOff(out_ / "mesh.off").num_triangles(), 0u);
-}
+TEST_F(RunFaults, SigintStopsCleanlyWithTheMeshSoFar) { ExpectStopsCleanlyOn(SIGINT); }
 
 // Whether the process `pid` has a handler installed for SIGINT (the SigCgt mask of /proc/PID/status).
 bool CatchesSigint(pid_t pid) {
@@ -317,6 +322,170 @@ TEST_F(RunFaults, SecondSigintEndsTheProcessAtOnce) {
   const int code = Wait(pid, kRunTimeoutS);
   ASSERT_NE(code, -1) << "hang\n" << Log();
   EXPECT_EQ(code, -1000 - SIGINT) << "the second SIGINT should end the process\n" << Log();
+}
+
+// --- every way a run can end (issue #19) -------------------------------------------------------------------
+
+TEST_F(RunFaults, SigtermStopsCleanlyWithTheMeshSoFar) {
+  // What `timeout`, systemd and container runtimes send: the same as Ctrl-C.
+  ExpectStopsCleanlyOn(SIGTERM);
+}
+
+TEST_F(RunFaults, ClosedOutputPipeDoesNotKillTheRun) {
+  // `semap run … 2>&1 | head -1`: the reader goes away after the first line; the run goes on to the end.
+  const fs::path code = dir_ / "code";
+  const CliRun r = test::RunShell("( timeout " + std::to_string(kRunTimeoutS) + " " + std::string(SEMAP_EXE) +
+                                  " run " + (dir_ / "seq").string() + " --out " + out_.string() + kFast +
+                                  "; echo $? > " + code.string() + " ) 2>&1 | head -n 1");
+  EXPECT_EQ(test::ReadTextFile(code), "0\n") << "exit code of semap run (141 = killed by SIGPIPE)";
+  EXPECT_EQ(ReadJson(out_ / "summary.json")["frames_processed"], kFrames);
+  EXPECT_GT(io::ReadMeshPly(out_ / "mesh.ply").num_triangles(), 0u);
+}
+
+TEST_F(RunFaults, RerunKilledMidwayLeavesTheOldMeshWholeAndNoSummary) {
+  ASSERT_EQ(Run().exit_code, 0);
+  const size_t old_triangles = io::ReadMeshPly(out_ / "mesh.ply").num_triangles();
+  const pid_t pid = Start(" --set input.loops=100");
+  // More rows than the first run wrote: the new run is under way.
+  ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", kFrames + 3, kRunTimeoutS)) << Log();
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  Wait(pid, kRunTimeoutS);
+  // summary.json is removed when a run starts and written last: its absence says the run did not finish.
+  EXPECT_FALSE(fs::exists(out_ / "summary.json"));
+  EXPECT_EQ(io::ReadMeshPly(out_ / "mesh.ply").num_triangles(), old_triangles);
+  EXPECT_GT(io::ReadMeshOff(out_ / "mesh.off").num_triangles(), 0u);
+}
+
+TEST_F(RunFaults, FailedStartLeavesThePreviousRunsFilesAlone) {
+  ASSERT_EQ(Run().exit_code, 0);
+  std::vector<std::string> before;
+  for (const char* name : {"frames.csv", "frames.jsonl", "errors.jsonl", "summary.json", "mesh.ply"}) {
+    before.push_back(test::ReadTextFile(out_ / name));
+  }
+  const CliRun r = Run(" --lcm-url 'bogus://nowhere:1'");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  size_t i = 0;
+  for (const char* name : {"frames.csv", "frames.jsonl", "errors.jsonl", "summary.json", "mesh.ply"}) {
+    EXPECT_EQ(test::ReadTextFile(out_ / name), before[i++]) << name;
+  }
+}
+
+TEST_F(RunFaults, UnwritableOutputFolderIsCaughtBeforeTheFirstFrameWithoutFrameStats) {
+  test::WriteTextFile(dir_ / "file", "x");
+  const fs::path out = dir_ / "file" / "out";
+  const CliRun r = test::RunShell("timeout " + std::to_string(kRunTimeoutS) + " " + std::string(SEMAP_EXE) +
+                                  " run " + (dir_ / "seq").string() + " --out " + out.string() + kFast +
+                                  " --set output.frame_stats=false");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(r.Has(out.string())) << r.output;
+  EXPECT_FALSE(r.Has("frames processed")) << r.output;
+}
+
+TEST_F(RunFaults, EveryFrameFailingIsAnErrorAndTheMissingCalibrationIsNamed) {
+  // OXTS poses need calib_velo_to_cam.txt: without it every frame fails, naming the file.
+  const fs::path velo = drive_.parent_path() / "calib_velo_to_cam.txt";
+  ASSERT_TRUE(fs::remove(velo));
+  const CliRun r = Run();
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(r.Has("no frame could be processed: all " + std::to_string(kFrames) + " frames failed")) << r.output;
+  EXPECT_TRUE(r.Has(velo.string() + ": calibration file not found")) << r.output;
+  EXPECT_EQ(Lines(out_ / "errors.jsonl").size(), static_cast<size_t>(kFrames));
+  EXPECT_NE(FirstError()["error"].get<std::string>().find(velo.string()), std::string::npos);
+}
+
+TEST_F(RunFaults, ImplausiblePrincipalPointIsAnErrorBeforeAnyFrame) {
+  const fs::path cam = drive_.parent_path() / "calib_cam_to_cam.txt";
+  for (const char* typo : {"1e9", "6095593"}) {
+    std::string text = test::ReadTextFile(cam);
+    const auto line = text.find("P_rect_02:");
+    ASSERT_NE(line, std::string::npos);
+    std::istringstream in(text.substr(line + 10, text.find('\n', line) - line - 10));
+    std::vector<std::string> v;
+    for (std::string x; in >> x;) v.push_back(x);
+    ASSERT_EQ(v.size(), 12u);
+    v[2] = typo;  // cx
+    std::string edited = text.substr(0, line) + "P_rect_02:";
+    for (const auto& x : v) edited += " " + x;
+    edited += text.substr(text.find('\n', line));
+    const fs::path damaged = dir_ / "damaged_calib.txt";
+    test::WriteTextFile(damaged, edited);
+    fs::copy_file(damaged, cam, fs::copy_options::overwrite_existing);
+    const CliRun r = Run();
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_TRUE(r.Has(cam.string() + ": key 'P_rect_02': principal point cx =")) << r.output;
+    EXPECT_FALSE(r.Has("frames processed")) << r.output;
+    test::WriteTextFile(cam, text);
+  }
+}
+
+TEST_F(RunFaults, FrameOfAnotherSizeThanTheCalibrationIsSkippedAndCounted) {
+  const fs::path left = drive_ / "image_02/data" / Frame(3, "png");
+  for (const char* cam : {"image_02", "image_03"}) {
+    const fs::path path = drive_ / cam / "data" / Frame(3, "png");
+    const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    cv::Mat big;
+    cv::resize(image, big, cv::Size(image.cols * 2, image.rows * 2));
+    ASSERT_TRUE(cv::imwrite(path.string(), big));
+  }
+  ExpectSkipped(Run(), {3});
+  const auto e = FirstError();
+  EXPECT_EQ(e["stage"], "read");
+  EXPECT_NE(e["error"].get<std::string>().find(left.string() + ": left image is 640x192 but the calibration is for "
+                                               "320x96"),
+            std::string::npos)
+      << e.dump();
+}
+
+TEST_F(RunFaults, LabelImageOfAnotherSizeIsResizedWithAWarning) {
+  const fs::path label = drive_ / "semantic/data" / Frame(2, "png");
+  const cv::Mat labels = cv::imread(label.string(), cv::IMREAD_UNCHANGED);
+  cv::Mat small;
+  cv::resize(labels, small, cv::Size(labels.cols / 2, labels.rows / 2), 0, 0, cv::INTER_NEAREST);
+  ASSERT_TRUE(cv::imwrite(label.string(), small));
+  const CliRun r = Run();
+  ExpectSkipped(r, {});
+  EXPECT_TRUE(r.Has("frame 2: label image 160x48 resized (nearest neighbour) to the image size 320x96")) << r.output;
+  // semantics.size_mismatch: refuse makes it a skipped frame.
+  const CliRun refused = Run(" --set semantics.size_mismatch=refuse");
+  ExpectSkipped(refused, {2});
+  EXPECT_NE(FirstError()["error"].get<std::string>().find("label image of frame 2 is 160x48"), std::string::npos)
+      << FirstError().dump();
+}
+
+TEST_F(RunFaults, MissingLabelImageCostsNothingWithSemanticsSourceNone) {
+  fs::remove(drive_ / "semantic/data" / Frame(4, "png"));
+  ExpectSkipped(Run(" --set semantics.source=none"), {});
+}
+
+TEST_F(RunFaults, BadNumbersOnTheCommandLineAreRefusedNamingTheOption) {
+  struct Case {
+    std::string args;
+    std::vector<std::string> says;
+  };
+  const std::vector<Case> cases = {
+      {" --frames -5", {"--frames"}},
+      {" --set map.sigma_free_m=.inf", {"map.sigma_free_m", "must be a finite number"}},
+      {" --set map.sigma_free_m=.nan", {"map.sigma_free_m", "must be a finite number"}},
+      {" --set pipeline.cpu_affinity=[0,1000]", {"pipeline.cpu_affinity", "no such CPU available"}},
+  };
+  for (const Case& c : cases) {
+    const CliRun r = Run(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    for (const auto& text : c.says) EXPECT_TRUE(r.Has(text)) << c.args << "\n" << r.output;
+    EXPECT_FALSE(r.Has("frames processed")) << c.args << "\n" << r.output;
+  }
+}
+
+TEST_F(RunFaults, LogAndErrorsGoToStderr) {
+  const CliRun ok = test::RunShell("{ " + std::string(SEMAP_EXE) + " run " + (dir_ / "seq").string() + " --out " +
+                                   out_.string() + kFast + " --frames 2 2>/dev/null; }");
+  EXPECT_EQ(ok.exit_code, 0);
+  EXPECT_EQ(ok.output, "");
+  const CliRun bad = test::RunShell("{ " + std::string(SEMAP_EXE) + " run " + (dir_ / "none").string() +
+                                    " --out " + out_.string() + " 2>/dev/null; }");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(bad.output, "");
+  EXPECT_TRUE(test::RunSemap("run " + (dir_ / "none").string() + " --out " + out_.string()).Has("not found"));
 }
 
 }  // namespace
