@@ -1,9 +1,7 @@
 // `semap map-sfm INPUT --format colmap|openmvg|slam-json [--incremental] --out DIR`: the Delaunay map of an
 // existing structure-from-motion / SLAM reconstruction (cameras and points), batch or view by view.
-#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -183,59 +181,6 @@ void RunIncremental(const io::SfmReconstruction& r, const io::Config& config, co
   *final_stats = s;
 }
 
-// The map covers a bounded region around the origin (its Steiner lattice holds about ±10^6 cubes of
-// map.steiner_spacing_m); a coordinate beyond 1000 km, or beyond 10^5 cubes, is an outlier of the
-// reconstruction or a unit mistake, never a street, and must not reach the map's range assertion.
-constexpr double kMaxCoordinateM = 1e6;
-constexpr double kMaxLatticeCubes = 1e5;
-double MaxCoordinateM(const MapOptions& map) {
-  return std::min(kMaxCoordinateM, kMaxLatticeCubes * map.steiner_spacing_m);
-}
-
-bool Beyond(const Eigen::Vector3d& p, double limit_m) { return !(p.cwiseAbs().maxCoeff() <= limit_m); }
-
-// Leaves out the points with a coordinate beyond `limit_m` (with their observations) and warns, naming the
-// first; a view whose centre is beyond is an error naming it.
-void DropFarPoints(const std::string& input, double limit_m, io::SfmReconstruction* r) {
-  for (const io::SfmView& v : r->views) {
-    if (Beyond(v.world_from_cam.translation(), limit_m)) {
-      throw io::FileError(input, fmt::format("view {} ({}) has its centre beyond {} m from the origin: not a "
-                                             "reconstruction in metres?",
-                                             v.id, v.name, limit_m));
-    }
-  }
-  std::vector<std::int64_t> new_index(r->num_points(), -1);
-  std::size_t kept = 0, dropped = 0;
-  std::int64_t first_id = 0;
-  for (std::size_t i = 0; i < r->num_points(); ++i) {
-    if (Beyond(r->points_world[i], limit_m)) {
-      if (dropped++ == 0) first_id = r->point_ids[i];
-      continue;
-    }
-    new_index[i] = static_cast<std::int64_t>(kept);
-    r->points_world[kept] = r->points_world[i];
-    r->point_ids[kept] = r->point_ids[i];
-    if (!r->point_colors_rgb.empty()) r->point_colors_rgb[kept] = r->point_colors_rgb[i];
-    if (!r->point_labels.empty()) r->point_labels[kept] = r->point_labels[i];
-    ++kept;
-  }
-  if (dropped == 0) return;
-  r->points_world.resize(kept);
-  r->point_ids.resize(kept);
-  if (!r->point_colors_rgb.empty()) r->point_colors_rgb.resize(kept);
-  if (!r->point_labels.empty()) r->point_labels.resize(kept);
-  std::vector<io::SfmObservation> observations;
-  for (io::SfmObservation o : r->observations) {
-    if (new_index[o.point] < 0) continue;
-    o.point = static_cast<std::uint32_t>(new_index[o.point]);
-    observations.push_back(o);
-  }
-  r->observations = std::move(observations);
-  r->AssertConsistent();
-  spdlog::warn("{}: {} point(s) with a coordinate beyond {} m were left out (first: point id {})", input, dropped,
-               limit_m, first_id);
-}
-
 int Run(const MapSfmArgs& args) {
   const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
   const io::SfmFormat format = io::SfmFormatFromName(args.format);
@@ -243,7 +188,11 @@ int Run(const MapSfmArgs& args) {
 
   const auto t_read = std::chrono::steady_clock::now();
   io::SfmReconstruction r = io::ReadSfm(args.input, format);
-  DropFarPoints(args.input, MaxCoordinateM(config.map), &r);
+  const double limit_m = io::MaxSfmCoordinateM(config.map);
+  if (const io::FarPoints far = io::DropFarPoints(args.input, limit_m, &r); far.count > 0) {
+    spdlog::warn("{}: {} point(s) with a coordinate beyond {} m were left out (first: point id {})", args.input,
+                 far.count, limit_m, far.first_id);
+  }
   spdlog::info("{} ({}): {} views, {} points, {} observations, {}, read in {:.2f} s", args.input,
                io::SfmFormatName(format), r.views.size(), r.num_points(), r.observations.size(),
                r.point_labels.empty() ? "no labels" : "labelled", SecondsSince(t_read));
