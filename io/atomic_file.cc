@@ -54,7 +54,8 @@ void AtomicFile::Commit() {
   if (temp_ != path_) {
     std::error_code ec;
     fs::rename(temp_, path_, ec);
-    if (ec) throw FileError(path_, "cannot rename " + temp_.filename().string() + " into place: " + ec.message());
+    if (ec)
+      throw FileError(path_, "cannot rename " + temp_.filename().string() + " into place: " + ec.message());
   }
   committed_ = true;
 }
@@ -74,7 +75,8 @@ void CheckWritableFolder(const fs::path& dir) {
   const fs::path probe = TempNameFor(dir / "write-probe");
   {
     std::ofstream out(probe);
-    if (!out) throw FileError(dir, "output folder is not writable (" + std::string(std::strerror(errno)) + ")");
+    if (!out)
+      throw FileError(dir, "output folder is not writable (" + std::string(std::strerror(errno)) + ")");
   }
   fs::remove(probe, ec);
 }

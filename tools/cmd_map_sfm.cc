@@ -190,8 +190,8 @@ int Run(const MapSfmArgs& args) {
   io::SfmReconstruction r = io::ReadSfm(args.input, format);
   const double limit_m = io::MaxSfmCoordinateM(config.map);
   if (const io::FarPoints far = io::DropFarPoints(args.input, limit_m, &r); far.count > 0) {
-    spdlog::warn("{}: {} point(s) with a coordinate beyond {} m were left out (first: point id {})", args.input,
-                 far.count, limit_m, far.first_id);
+    spdlog::warn("{}: {} point(s) with a coordinate beyond {} m were left out (first: point id {})",
+                 args.input, far.count, limit_m, far.first_id);
   }
   spdlog::info("{} ({}): {} views, {} points, {} observations, {}, read in {:.2f} s", args.input,
                io::SfmFormatName(format), r.views.size(), r.num_points(), r.observations.size(),

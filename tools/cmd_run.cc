@@ -126,9 +126,11 @@ int Run(const RunArgs& args) {
   }
   if (s.frames_processed == 0 && s.frames_failed > 0) {
     // Not a success with an empty mesh: nothing of the sequence could be used.
-    spdlog::error("no frame could be processed: all {} frames failed (see the warnings above{})", s.frames_failed,
-                  config.output.frame_stats ? " and " + (std::filesystem::path(config.output.dir) / "errors.jsonl").string()
-                                            : std::string());
+    spdlog::error("no frame could be processed: all {} frames failed (see the warnings above{})",
+                  s.frames_failed,
+                  config.output.frame_stats
+                      ? " and " + (std::filesystem::path(config.output.dir) / "errors.jsonl").string()
+                      : std::string());
     return kExitFailure;
   }
   return kExitOk;

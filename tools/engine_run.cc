@@ -82,8 +82,8 @@ EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, d
   if (run.summary.sink_errors > 0) throw std::runtime_error("output error: " + run.summary.first_sink_error);
   const FrameStats& s = run.summary.final_stats;
   if (s.frames_processed == 0 && s.frames_failed > 0) {
-    throw std::runtime_error(dataset + ": no frame could be processed (all " + std::to_string(s.frames_failed) +
-                             " failed)");
+    throw std::runtime_error(dataset + ": no frame could be processed (all " +
+                             std::to_string(s.frames_failed) + " failed)");
   }
   run.mesh = mesh_sink.mesh();
   run.evaluation = io::EvaluateMesh(run.mesh, dataset, config.input, config.eval);

@@ -48,8 +48,8 @@ int main(int argc, char** argv) {
       valid += (valid.empty() ? "" : ", ") + sub->get_name();
     }
     if (!known) {
-      std::fprintf(stderr, "semap: unknown subcommand '%s'; valid subcommands: %s (semap --help)\n", word.c_str(),
-                   valid.c_str());
+      std::fprintf(stderr, "semap: unknown subcommand '%s'; valid subcommands: %s (semap --help)\n",
+                   word.c_str(), valid.c_str());
       return kExitUsage;
     }
   }

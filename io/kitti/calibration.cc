@@ -130,7 +130,8 @@ StereoCalibration StereoFromProjections(const Eigen::Matrix<double, 3, 4>& p_lef
   return s;
 }
 
-void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::path& path, const std::string& key) {
+void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::path& path,
+                             const std::string& key) {
   const double w = s.width_px, h = s.height_px;
   const std::string image = std::to_string(s.width_px) + "x" + std::to_string(s.height_px) + " image";
   auto number = [](double v) {
@@ -151,7 +152,8 @@ void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::
     if (!(f >= kMinFocalPerSide * side && f <= kMaxFocalPerSide * side)) {
       throw FileError(path, "key '" + key + "': focal length " + name + " = " + number(f) +
                                 " px is implausible for a " + image + " (expected " +
-                                number(kMinFocalPerSide * side) + " to " + number(kMaxFocalPerSide * side) + ")");
+                                number(kMinFocalPerSide * side) + " to " + number(kMaxFocalPerSide * side) +
+                                ")");
     }
   }
 }

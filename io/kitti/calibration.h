@@ -46,7 +46,8 @@ StereoCalibration StereoFromProjections(const Eigen::Matrix<double, 3, 4>& p_lef
 // set from the images): the principal point inside the image, the focal lengths between 0.05 and 1000 times
 // the larger image side. A typo there (cx = 1e9, cy = 1728540) would otherwise abort on an assertion,
 // allocate gigabytes or map nonsense.
-void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::path& path, const std::string& key);
+void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::path& path,
+                             const std::string& key);
 
 // [R | T] of a raw calibration file ("R:" 9 values row-major, "T:" 3 values) as a rigid transform.
 Pose3d ReadRigidTransform(const std::filesystem::path& path);

@@ -134,7 +134,8 @@ std::unique_ptr<SequenceSource> OpenKittiRaw(const fs::path& path, const FrameSo
       imu_from_cam2 = calib.cam2_from_imu->inverse();
       info.has_poses = true;
     } else {
-      missing_calibration = calib_dir / (calib.cam2_from_velo ? "calib_imu_to_velo.txt" : "calib_velo_to_cam.txt");
+      missing_calibration =
+          calib_dir / (calib.cam2_from_velo ? "calib_imu_to_velo.txt" : "calib_velo_to_cam.txt");
       info.notes.push_back("oxts present but " + missing_calibration.string() + " missing: no poses");
     }
   }

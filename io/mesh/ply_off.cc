@@ -41,7 +41,9 @@ class PlyOut {
  public:
   // Written under a temporary name and renamed into place by Close() (see AtomicFile).
   PlyOut(const std::filesystem::path& path, PlyEncoding encoding)
-      : ascii_(encoding == PlyEncoding::kAscii), buffer_(kWriteBufferBytes), file_(path, /*binary=*/true),
+      : ascii_(encoding == PlyEncoding::kAscii),
+        buffer_(kWriteBufferBytes),
+        file_(path, /*binary=*/true),
         out_(file_.stream()) {
     file_.SetBuffer(&buffer_);
   }

@@ -56,7 +56,8 @@ struct FarPoints {
 };
 // Leaves out the points with a coordinate beyond `limit_m` (or not finite), with their observations. A view
 // whose centre is beyond is an error: throws FileError naming `input` and the view.
-FarPoints DropFarPoints(const std::filesystem::path& input, double limit_m, SfmReconstruction* reconstruction);
+FarPoints DropFarPoints(const std::filesystem::path& input, double limit_m,
+                        SfmReconstruction* reconstruction);
 
 // Simplification applies when the method is not O and the reconstruction has labels.
 bool SimplifiesSfm(const SfmReconstruction& reconstruction, const SimplifyOptions& simplify);

@@ -55,8 +55,8 @@ TEST(SemapEvalFaults, AJsonFileThatCannotBeWrittenIsAnErrorNamingIt) {
   // One triangle in front of the cameras.
   test::WriteTextFile(dir / "mesh.off", "OFF\n3 1 0\n-5 -5 10\n5 -5 10\n0 5 10\n3 0 1 2\n");
   for (const std::string target : {"/proc/semap_eval.json", "/dev/full"}) {
-    const auto r = RunSemap("eval " + t.root.string() + " --mesh " + (dir / "mesh.off").string() + " --json " +
-                            target);
+    const auto r =
+        RunSemap("eval " + t.root.string() + " --mesh " + (dir / "mesh.off").string() + " --json " + target);
     EXPECT_EQ(r.exit_code, 1) << target << "\n" << r.output;
     EXPECT_TRUE(r.Has(target + ": ")) << target << "\n" << r.output;
   }

@@ -262,8 +262,8 @@ TEST(SemapMapSfm, APointFarAwayIsLeftOutWithAWarningNotAnAssertion) {
   r.points_world[5] = {0.0, 0.0, 0.0};
   r.views[1].world_from_cam.translation().z() = -1e12;
   io::WriteOpenMvgJson(dir / "sfm_data.json", r);
-  const auto camera = test::RunSemap("map-sfm " + (dir / "sfm_data.json").string() + " --format openmvg --out " +
-                                     (dir / "o").string());
+  const auto camera = test::RunSemap("map-sfm " + (dir / "sfm_data.json").string() +
+                                     " --format openmvg --out " + (dir / "o").string());
   EXPECT_EQ(camera.exit_code, 1) << camera.output;
   EXPECT_TRUE(camera.Has("view " + std::to_string(r.views[1].id))) << camera.output;
   EXPECT_TRUE(camera.Has("has its centre beyond 1000000 m")) << camera.output;

@@ -387,7 +387,8 @@ TEST_F(RunFaults, EveryFrameFailingIsAnErrorAndTheMissingCalibrationIsNamed) {
   ASSERT_TRUE(fs::remove(velo));
   const CliRun r = Run();
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_TRUE(r.Has("no frame could be processed: all " + std::to_string(kFrames) + " frames failed")) << r.output;
+  EXPECT_TRUE(r.Has("no frame could be processed: all " + std::to_string(kFrames) + " frames failed"))
+      << r.output;
   EXPECT_TRUE(r.Has(velo.string() + ": calibration file not found")) << r.output;
   EXPECT_EQ(Lines(out_ / "errors.jsonl").size(), static_cast<size_t>(kFrames));
   EXPECT_NE(FirstError()["error"].get<std::string>().find(velo.string()), std::string::npos);
@@ -430,9 +431,10 @@ TEST_F(RunFaults, FrameOfAnotherSizeThanTheCalibrationIsSkippedAndCounted) {
   ExpectSkipped(Run(), {3});
   const auto e = FirstError();
   EXPECT_EQ(e["stage"], "read");
-  EXPECT_NE(e["error"].get<std::string>().find(left.string() + ": left image is 640x192 but the calibration is for "
-                                               "320x96"),
-            std::string::npos)
+  EXPECT_NE(
+      e["error"].get<std::string>().find(left.string() + ": left image is 640x192 but the calibration is for "
+                                                         "320x96"),
+      std::string::npos)
       << e.dump();
 }
 
@@ -444,11 +446,13 @@ TEST_F(RunFaults, LabelImageOfAnotherSizeIsResizedWithAWarning) {
   ASSERT_TRUE(cv::imwrite(label.string(), small));
   const CliRun r = Run();
   ExpectSkipped(r, {});
-  EXPECT_TRUE(r.Has("frame 2: label image 160x48 resized (nearest neighbour) to the image size 320x96")) << r.output;
+  EXPECT_TRUE(r.Has("frame 2: label image 160x48 resized (nearest neighbour) to the image size 320x96"))
+      << r.output;
   // semantics.size_mismatch: refuse makes it a skipped frame.
   const CliRun refused = Run(" --set semantics.size_mismatch=refuse");
   ExpectSkipped(refused, {2});
-  EXPECT_NE(FirstError()["error"].get<std::string>().find("label image of frame 2 is 160x48"), std::string::npos)
+  EXPECT_NE(FirstError()["error"].get<std::string>().find("label image of frame 2 is 160x48"),
+            std::string::npos)
       << FirstError().dump();
 }
 
@@ -477,8 +481,8 @@ TEST_F(RunFaults, BadNumbersOnTheCommandLineAreRefusedNamingTheOption) {
 }
 
 TEST_F(RunFaults, LogAndErrorsGoToStderr) {
-  const CliRun ok = test::RunShell("{ " + std::string(SEMAP_EXE) + " run " + (dir_ / "seq").string() + " --out " +
-                                   out_.string() + kFast + " --frames 2 2>/dev/null; }");
+  const CliRun ok = test::RunShell("{ " + std::string(SEMAP_EXE) + " run " + (dir_ / "seq").string() +
+                                   " --out " + out_.string() + kFast + " --frames 2 2>/dev/null; }");
   EXPECT_EQ(ok.exit_code, 0);
   EXPECT_EQ(ok.output, "");
   const CliRun bad = test::RunShell("{ " + std::string(SEMAP_EXE) + " run " + (dir_ / "none").string() +

@@ -176,8 +176,9 @@ Frame SequenceSource::ReadFrame(size_t index) {
   if (f.left.cols != scan_.info.calibration.width_px || f.left.rows != scan_.info.calibration.height_px) {
     throw FileError(scan_.info.left_dir / png,
                     "left image is " + std::to_string(f.left.cols) + "x" + std::to_string(f.left.rows) +
-                        " but the calibration is for " + std::to_string(scan_.info.calibration.width_px) + "x" +
-                        std::to_string(scan_.info.calibration.height_px) + " (the size of the first image)");
+                        " but the calibration is for " + std::to_string(scan_.info.calibration.width_px) +
+                        "x" + std::to_string(scan_.info.calibration.height_px) +
+                        " (the size of the first image)");
   }
   f.calibration = scan_.info.calibration;
   f.world_from_cam = PoseAt(index);

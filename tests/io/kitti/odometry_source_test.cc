@@ -109,7 +109,8 @@ TEST(KittiOdometrySource, GrayPairOnRequest) {
 }
 
 TEST(KittiOdometryBadInput, NonFinitePoseIsAnErrorAtOpenNamingFileAndLine) {
-  // The poses are read when the sequence is opened: a bad line ends the run before any frame (README, Faults).
+  // The poses are read when the sequence is opened: a bad line ends the run before any frame (README,
+  // Faults).
   const TinyOdometry t = WriteTinyOdometry(test::TempDir(), 3, 3);
   test::WriteTextFile(t.root / "poses" / "07.txt",
                       "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 nan 0 1 0 0 0 0 1 1.5\n1 0 0 0 0 1 0 0 0 0 1 3\n");

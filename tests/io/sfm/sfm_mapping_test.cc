@@ -217,7 +217,8 @@ TEST(SfmMapping, PointsBeyondTheMapsRangeAreLeftOutWithTheirObservations) {
     DropFarPoints("sfm_data.json", limit, &r);
     FAIL() << "expected FileError";
   } catch (const FileError& e) {
-    EXPECT_NE(std::string(e.what()).find("sfm_data.json: view " + std::to_string(r.views[2].id)), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("sfm_data.json: view " + std::to_string(r.views[2].id)),
+              std::string::npos)
         << e.what();
   }
 }
