@@ -253,7 +253,10 @@ TEST(KittiRawBadInput, LabelImageOfWrongSizeIsPassedOnForTheLabelStage) {
   std::vector<std::string> errors;
   EXPECT_EQ(Drain(*source, &errors), (std::vector<std::int64_t>{0, 1, 2, 3}));
   EXPECT_TRUE(errors.empty());
-  auto again = OpenFrameSource(t.root, {.first_frame = 2, .max_frames = 1});
+  FrameSourceOptions third;
+  third.first_frame = 2;
+  third.max_frames = 1;
+  auto again = OpenFrameSource(t.root, third);
   const auto f = again->Next();
   ASSERT_TRUE(f);
   EXPECT_TRUE(SameImage(f->labels, written));
