@@ -143,6 +143,22 @@ class RunFaults : public ::testing::Test {
   // The error recorded for the first skipped frame.
   nlohmann::json FirstError() const { return nlohmann::json::parse(Lines(out_ / "errors.jsonl").at(0)); }
 
+  // With `scan` missing or unusable, the run (which does not read scans) processes every frame, and
+  // `semap eval` leaves that frame out, counts it and names the file (and `problem`, when given).
+  void ExpectScanLeftOutOfEvaluation(const fs::path& scan, const std::string& problem) const {
+    ExpectSkipped(Run(), {});
+    const CliRun eval = test::RunShell("timeout " + std::to_string(kRunTimeoutS) + " " + std::string(SEMAP_EXE) +
+                                       " eval " + (dir_ / "seq").string() + " --mesh " +
+                                       (out_ / "mesh.ply").string());
+    EXPECT_EQ(eval.exit_code, 0) << eval.output;
+    EXPECT_TRUE(eval.Has(std::to_string(kFrames - 1) + " evaluated (" + std::to_string(kFrames - 1) +
+                         " with Velodyne"))
+        << eval.output;
+    EXPECT_TRUE(eval.Has("1 frame(s) could not be read")) << eval.output;
+    EXPECT_TRUE(eval.Has(scan.string())) << eval.output;
+    EXPECT_TRUE(eval.Has(problem)) << eval.output;
+  }
+
   // A long run sent `signal` after a few frames drains the frames in flight, writes the mesh so far and the
   // stats, says "(stopped early)" and exits 0.
   void ExpectStopsCleanlyOn(int signal) const {
@@ -186,18 +202,16 @@ TEST_F(RunFaults, CorruptImageMidSequenceIsSkippedAndCounted) {
 }
 
 TEST_F(RunFaults, MissingVelodyneScanDoesNotCostTheFrame) {
-  // The run does not use the scans (they serve evaluation): every frame is processed.
   const fs::path scan = drive_ / "velodyne_points/data" / Frame(2, "bin");
   fs::remove(scan);
-  ExpectSkipped(Run(), {});
-  // Evaluation skips that frame, counts it and names the file.
-  const CliRun eval = test::RunShell("timeout " + std::to_string(kRunTimeoutS) + " " + std::string(SEMAP_EXE) +
-                                     " eval " + (dir_ / "seq").string() + " --mesh " + (out_ / "mesh.ply").string());
-  EXPECT_EQ(eval.exit_code, 0) << eval.output;
-  EXPECT_TRUE(eval.Has(std::to_string(kFrames - 1) + " evaluated (" + std::to_string(kFrames - 1) + " with Velodyne"))
-      << eval.output;
-  EXPECT_TRUE(eval.Has("1 frame(s) could not be read")) << eval.output;
-  EXPECT_TRUE(eval.Has(scan.string())) << eval.output;
+  ExpectScanLeftOutOfEvaluation(scan, "");
+}
+
+TEST_F(RunFaults, EmptyVelodyneScanIsAMissingScan) {
+  // A 0-byte scan is not a frame with Velodyne (an empty reference would count as evaluated).
+  const fs::path scan = drive_ / "velodyne_points/data" / Frame(2, "bin");
+  test::TruncateFile(scan, 0);
+  ExpectScanLeftOutOfEvaluation(scan, "Velodyne scan is empty");
 }
 
 TEST_F(RunFaults, MissingLabelImageIsSkippedAndCounted) {
