@@ -107,7 +107,9 @@ int Run(const RunArgs& args) {
     spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
                  c.other_messages, c.send_failures, c.dropped);
   }
-  if (args.eval) {
+  if (args.eval && mesh.num_triangles() == 0) {
+    spdlog::warn("--eval: the mesh has no faces: nothing to evaluate");
+  } else if (args.eval) {
     // After the run, so that it does not count in the frame rate: every frame's camera against the final mesh.
     const io::MeshEvaluation e = io::EvaluateMesh(mesh, args.path, config.input, config.eval);
     PrintEvaluation(e);

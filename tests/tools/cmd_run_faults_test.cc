@@ -399,8 +399,10 @@ TEST_F(RunFaults, EveryFrameFailingIsAnErrorAndTheMissingCalibrationIsNamed) {
   // OXTS poses need calib_velo_to_cam.txt: without it every frame fails, naming the file.
   const fs::path velo = drive_.parent_path() / "calib_velo_to_cam.txt";
   ASSERT_TRUE(fs::remove(velo));
-  const CliRun r = Run();
+  const CliRun r = Run(" --eval");
   EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(r.Has("--eval: the mesh has no faces: nothing to evaluate")) << r.output;
+  EXPECT_FALSE(r.Has("RMSE")) << r.output;
   EXPECT_TRUE(r.Has("no frame could be processed: all " + std::to_string(kFrames) + " frames failed"))
       << r.output;
   EXPECT_TRUE(r.Has(velo.string() + ": calibration file not found")) << r.output;
