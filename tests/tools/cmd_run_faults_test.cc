@@ -384,6 +384,16 @@ TEST_F(RunFaults, FailedStartLeavesThePreviousRunsFilesAlone) {
   }
 }
 
+TEST_F(RunFaults, EvaluationFileThatCannotBeWrittenIsAnErrorNotWrote) {
+  // eval.json cannot replace a folder of that name (as a full disk, the write fails): exit 1 naming it.
+  fs::create_directories(out_ / "eval.json" / "x");
+  const CliRun r = Run(" --eval");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(r.Has((out_ / "eval.json").string() + ": cannot rename")) << r.output;
+  EXPECT_FALSE(r.Has("wrote " + (out_ / "eval_frames.csv").string() + " and")) << r.output;
+  EXPECT_TRUE(fs::is_directory(out_ / "eval.json" / "x"));
+}
+
 TEST_F(RunFaults, UnwritableOutputFolderIsCaughtBeforeTheFirstFrameWithoutFrameStats) {
   test::WriteTextFile(dir_ / "file", "x");
   const fs::path out = dir_ / "file" / "out";
