@@ -58,6 +58,16 @@ nlohmann::json ReadJson(const fs::path& path) {
   return nlohmann::json::parse(in);
 }
 
+// Whether the process `pid` has a handler installed for `signal` (the SigCgt mask of /proc/PID/status).
+bool CatchesSignal(pid_t pid, int signal) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (signal - 1)) & 1u;
+  }
+  return false;
+}
+
 // The generated sequence (once per test binary) and each test's own copy of it.
 class RunFaults : public ::testing::Test {
  protected:
@@ -142,6 +152,23 @@ class RunFaults : public ::testing::Test {
 
   // The error recorded for the first skipped frame.
   nlohmann::json FirstError() const { return nlohmann::json::parse(Lines(out_ / "errors.jsonl").at(0)); }
+
+  // The first `signal`'s handler asks the pipeline to stop and puts the default actions back: once it has
+  // run, a second one must end the process at once instead of waiting for the frames in flight.
+  void ExpectSecondSignalEndsTheProcessAtOnce(int signal) const {
+    const pid_t pid = Start(" --set input.loops=100");
+    ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", 3, kRunTimeoutS)) << Log();
+    ASSERT_TRUE(CatchesSignal(pid, signal)) << "semap run should catch signal " << signal << " while it runs";
+    ASSERT_EQ(kill(pid, signal), 0);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kRunTimeoutS);
+    while (CatchesSignal(pid, signal) && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_EQ(kill(pid, signal), 0);
+    const int code = Wait(pid, kRunTimeoutS);
+    ASSERT_NE(code, -1) << "hang\n" << Log();
+    EXPECT_EQ(code, -1000 - signal) << "the second signal " << signal << " should end the process\n" << Log();
+  }
 
   // With `scan` missing or unusable, the run (which does not read scans) processes every frame, and
   // `semap eval` leaves that frame out, counts it and names the file (and `problem`, when given).
@@ -311,32 +338,9 @@ TEST_F(RunFaults, OutputFolderBecomingUnwritableIsReportedNamingThePath) {
 
 TEST_F(RunFaults, SigintStopsCleanlyWithTheMeshSoFar) { ExpectStopsCleanlyOn(SIGINT); }
 
-// Whether the process `pid` has a handler installed for SIGINT (the SigCgt mask of /proc/PID/status).
-bool CatchesSigint(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1u;
-  }
-  return false;
-}
+TEST_F(RunFaults, SecondSigintEndsTheProcessAtOnce) { ExpectSecondSignalEndsTheProcessAtOnce(SIGINT); }
 
-TEST_F(RunFaults, SecondSigintEndsTheProcessAtOnce) {
-  const pid_t pid = Start(" --set input.loops=100");
-  ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", 3, kRunTimeoutS)) << Log();
-  ASSERT_TRUE(CatchesSigint(pid)) << "semap run should catch SIGINT while it runs";
-  ASSERT_EQ(kill(pid, SIGINT), 0);
-  // The first signal's handler asks the pipeline to stop and puts the default action back: once it has run,
-  // a second Ctrl-C must end the process at once instead of waiting for the frames in flight.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kRunTimeoutS);
-  while (CatchesSigint(pid) && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  ASSERT_EQ(kill(pid, SIGINT), 0);
-  const int code = Wait(pid, kRunTimeoutS);
-  ASSERT_NE(code, -1) << "hang\n" << Log();
-  EXPECT_EQ(code, -1000 - SIGINT) << "the second SIGINT should end the process\n" << Log();
-}
+TEST_F(RunFaults, SecondSigtermEndsTheProcessAtOnce) { ExpectSecondSignalEndsTheProcessAtOnce(SIGTERM); }
 
 // --- every way a run can end (issue #19) -------------------------------------------------------------------
 
