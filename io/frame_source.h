@@ -31,6 +31,9 @@ struct FrameSourceOptions {
   int max_frames = 0;
   // Read the Velodyne scans when present (needed for evaluation only).
   bool load_velodyne = true;
+  // Read the label images (not a config key: a run sets it from semantics.source, so that with `none` or
+  // `enet` a missing or damaged label image does not cost the frame).
+  bool load_labels = true;
   // Folder of label PNGs (one per frame, same stem); empty = the layout's own (e.g. semantic/data of a
   // generated sequence) when present, else none.
   std::string labels_dir;

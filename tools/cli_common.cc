@@ -1,5 +1,8 @@
 #include "tools/cli_common.h"
 
+#include <limits>
+#include <stdexcept>
+
 #include <spdlog/spdlog.h>
 
 #include "engine/core/check.h"
@@ -12,6 +15,24 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* args) {
   cmd->add_option("--set", args->overrides, "override a config value: section.key=value (repeatable)");
   cmd->add_option("--log-level", args->log_level, "trace|debug|info|warn|error|off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+}
+
+CLI::Validator FrameCountCheck() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        long long n = -1;
+        std::size_t used = 0;
+        try {
+          n = std::stoll(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || n < 0 || n > std::numeric_limits<int>::max()) {
+          return "'" + text + "' is not a number of frames (a whole number >= 0; 0 = all)";
+        }
+        return {};
+      },
+      "FRAMES>=0");
 }
 
 io::Config LoadConfigFrom(const CommonArgs& args) { return io::LoadConfig(args.config_path, args.overrides); }

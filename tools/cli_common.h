@@ -26,6 +26,9 @@ struct CommonArgs {
 // Adds --config, --set and --log-level to a subcommand.
 void AddCommonOptions(CLI::App* cmd, CommonArgs* args);
 
+// Check of a --frames option: a whole number >= 0 (0 = all frames); "-5" is refused, not taken for "all".
+CLI::Validator FrameCountCheck();
+
 // Loads the config from the common args (throws io::ConfigError).
 io::Config LoadConfigFrom(const CommonArgs& args);
 

@@ -258,7 +258,9 @@ void RegisterCompareCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"incremental", "single-frame"}))
       ->capture_default_str();
   cmd->add_option("--methods", args->methods, "methods to run (default: all), e.g. O PS voxel");
-  cmd->add_option("--frames", args->frames, "frames to use, 0 = all")->capture_default_str();
+  cmd->add_option("--frames", args->frames, "frames to use, 0 = all")
+      ->check(FrameCountCheck())
+      ->capture_default_str();
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Compare(*args); }); });
 }
 

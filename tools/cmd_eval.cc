@@ -1,10 +1,9 @@
 // `semap eval PATH --mesh MESH.ply`: accuracy of a mesh against the sequence's Velodyne scans (and exact
 // depth maps of generated sequences), plus its size.
-#include <fstream>
-
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "io/atomic_file.h"
 #include "io/eval/mesh_evaluation.h"
 #include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
@@ -34,12 +33,14 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
       const io::Config config = LoadConfigFrom(args->common);
       const std::filesystem::path mesh_path(args->mesh);
       const Mesh mesh = mesh_path.extension() == ".off" ? io::ReadMeshOff(mesh_path) : io::ReadMeshPly(mesh_path);
+      // A mesh without faces has no surface to measure: an RMSE of 0 would read as perfect.
+      if (mesh.num_triangles() == 0) throw io::FileError(mesh_path, "mesh has no faces: nothing to evaluate");
       const auto e = io::EvaluateMesh(mesh, args->path, config.input, config.eval);
       PrintEvaluation(e);
       if (!args->json.empty()) {
         nlohmann::json j = ToJson(e, /*per_frame=*/true);
         j["mesh"] = args->mesh;
-        std::ofstream(args->json) << j.dump(2) << "\n";
+        io::WriteFileAtomically(args->json, j.dump(2) + "\n");
       }
       if (e.frames_with_lidar == 0 && !e.exact_depth) {
         spdlog::error("{}: no frame with a pose and Velodyne or exact depth to compare with", args->path);

@@ -187,7 +187,12 @@ int Run(const MapSfmArgs& args) {
   const ClassMap class_map = io::LoadClassMap(config.input.class_map);  // empty = Cityscapes
 
   const auto t_read = std::chrono::steady_clock::now();
-  const io::SfmReconstruction r = io::ReadSfm(args.input, format);
+  io::SfmReconstruction r = io::ReadSfm(args.input, format);
+  const double limit_m = io::MaxSfmCoordinateM(config.map);
+  if (const io::FarPoints far = io::DropFarPoints(args.input, limit_m, &r); far.count > 0) {
+    spdlog::warn("{}: {} point(s) with a coordinate beyond {} m were left out (first: point id {})",
+                 args.input, far.count, limit_m, far.first_id);
+  }
   spdlog::info("{} ({}): {} views, {} points, {} observations, {}, read in {:.2f} s", args.input,
                io::SfmFormatName(format), r.views.size(), r.num_points(), r.observations.size(),
                r.point_labels.empty() ? "no labels" : "labelled", SecondsSince(t_read));

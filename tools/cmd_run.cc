@@ -1,12 +1,13 @@
 // `semap run PATH`: stream a sequence through the whole engine (depth → labels → simplification →
 // incremental Delaunay map) and write / publish the mesh.
 #include <csignal>
-#include <fstream>
+#include <filesystem>
 
 #include <spdlog/spdlog.h>
 
 #include "engine/pipeline/pipeline.h"
 #include "engine/pipeline/semap_stages.h"
+#include "io/atomic_file.h"
 #include "io/eval/mesh_evaluation.h"
 #include "io/mesh/ply_off.h"
 #include "io/output/output_sinks.h"
@@ -19,14 +20,17 @@
 namespace semap::tools {
 namespace {
 
-// A signal handler receives no context: this is the one way for SIGINT to reach the running pipeline.
+// A signal handler receives no context: this is the one way for SIGINT / SIGTERM to reach the running
+// pipeline (the project's one global, lock-free hence async-signal-safe).
 std::atomic<Pipeline*> g_running_pipeline{nullptr};
 
-// The first Ctrl-C drains the frames in flight and writes the mesh so far; a second one ends the process at
-// once (the default action is back in place).
+// The first Ctrl-C or SIGTERM (what `timeout`, systemd and container runtimes send) drains the frames in
+// flight and writes the mesh so far; a second one ends the process at once (the default actions are back in
+// place). SIGPIPE is ignored for the whole process (tools/main.cc).
 extern "C" void StopOnSignal(int) {
   if (Pipeline* p = g_running_pipeline.load()) p->RequestStop();
   std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
 }
 
 struct RunArgs {
@@ -80,9 +84,11 @@ int Run(const RunArgs& args) {
   pipeline.AddSink(&progress);
 
   g_running_pipeline.store(&pipeline);
-  auto previous = std::signal(SIGINT, StopOnSignal);
+  auto previous_int = std::signal(SIGINT, StopOnSignal);
+  auto previous_term = std::signal(SIGTERM, StopOnSignal);
   const PipelineSummary summary = pipeline.Run();
-  std::signal(SIGINT, previous);
+  std::signal(SIGINT, previous_int);
+  std::signal(SIGTERM, previous_term);
   g_running_pipeline.store(nullptr);
 
   const FrameStats& s = summary.final_stats;
@@ -101,13 +107,15 @@ int Run(const RunArgs& args) {
     spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
                  c.other_messages, c.send_failures, c.dropped);
   }
-  if (args.eval) {
+  if (args.eval && mesh.num_triangles() == 0) {
+    spdlog::warn("--eval: the mesh has no faces: nothing to evaluate");
+  } else if (args.eval) {
     // After the run, so that it does not count in the frame rate: every frame's camera against the final mesh.
     const io::MeshEvaluation e = io::EvaluateMesh(mesh, args.path, config.input, config.eval);
     PrintEvaluation(e);
     const std::filesystem::path dir(config.output.dir);
     WritePerFrameCsv(e, dir / "eval_frames.csv");
-    std::ofstream(dir / "eval.json") << ToJson(e, /*per_frame=*/false).dump(2) << "\n";
+    io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
     spdlog::info("wrote {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string());
   }
   if (summary.sink_errors > 0) {
@@ -116,6 +124,15 @@ int Run(const RunArgs& args) {
   }
   if (!summary.fatal_error.empty()) {
     spdlog::error("run stopped: {}", summary.fatal_error);
+    return kExitFailure;
+  }
+  if (s.frames_processed == 0 && s.frames_failed > 0) {
+    // Not a success with an empty mesh: nothing of the sequence could be used.
+    spdlog::error("no frame could be processed: all {} frames failed (see the warnings above{})",
+                  s.frames_failed,
+                  config.output.frame_stats
+                      ? " and " + (std::filesystem::path(config.output.dir) / "errors.jsonl").string()
+                      : std::string());
     return kExitFailure;
   }
   return kExitOk;
@@ -132,7 +149,8 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--out", args->out, "output folder (output.dir)");
   cmd->add_option("--method", args->method, "simplification method, e.g. PS or O (simplify.method)");
   cmd->add_option("--mode", args->mode, "exhaustive | realtime (pipeline.mode)");
-  cmd->add_option("--frames", args->frames, "frames to process, 0 = all (input.max_frames)");
+  cmd->add_option("--frames", args->frames, "frames to process, 0 = all (input.max_frames)")
+      ->check(FrameCountCheck());
   cmd->add_option("--lcm-url", args->lcm_url,
                   "publish over LCM at this URL, e.g. udpm://239.255.76.67:7667?ttl=0 (lcm.url)");
   cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")->capture_default_str();

@@ -155,7 +155,9 @@ void RegisterTableCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("PATH", args->datasets, "sequences (KITTI raw or odometry layout), each PATH or NAME=PATH")
       ->required();
   cmd->add_option("--out", args->out, "folder for the runs, table.md and table.json")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "frames per sequence, 0 = all")->capture_default_str();
+  cmd->add_option("--frames", args->frames, "frames per sequence, 0 = all")
+      ->check(FrameCountCheck())
+      ->capture_default_str();
   cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines, 0 = none")
       ->capture_default_str();
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Table(*args); }); });

@@ -1,6 +1,9 @@
 #include "tools/engine_run.h"
 
 #include <stdexcept>
+#include <string>
+
+#include <spdlog/spdlog.h>
 
 #include "engine/pipeline/semap_stages.h"
 #include "io/frame_source.h"
@@ -9,9 +12,33 @@
 
 namespace semap::tools {
 
+namespace {
+
+// The frames of a source, passed on as they are; a label image of another size than its frame is reported
+// (the label stage resizes it with nearest neighbour: semantics.size_mismatch = resize).
+class LabelSizeWarnings : public FrameReader {
+ public:
+  explicit LabelSizeWarnings(std::unique_ptr<io::FrameSource> source) : source_(std::move(source)) {}
+  std::optional<Frame> Next() override {
+    std::optional<Frame> f = source_->Next();
+    if (f && !f->labels.empty() && f->labels.size() != f->left.size()) {
+      spdlog::warn("frame {}: label image {}x{} resized (nearest neighbour) to the image size {}x{}", f->id,
+                   f->labels.cols, f->labels.rows, f->left.cols, f->left.rows);
+    }
+    return f;
+  }
+
+ private:
+  std::unique_ptr<io::FrameSource> source_;
+};
+
+}  // namespace
+
 std::unique_ptr<io::FrameSource> OpenStreamingSource(const io::Config& config, const std::string& dataset) {
   io::FrameSourceOptions input = config.input;
   input.load_velodyne = false;
+  input.load_labels =
+      config.semantics.source == LabelSource::kAuto || config.semantics.source == LabelSource::kDisk;
   return io::OpenFrameSource(dataset, input);
 }
 
@@ -19,8 +46,14 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::uniq
                                              std::unique_ptr<SimplifyStage> simplify) {
   const ClassMap class_map = source->class_map();
   if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
+  std::unique_ptr<FrameReader> reader;
+  if (config.semantics.size_mismatch == LabelSizePolicy::kResizeNearest) {
+    reader = std::make_unique<LabelSizeWarnings>(std::move(source));
+  } else {
+    reader = std::move(source);
+  }
   return std::make_unique<Pipeline>(
-      config.pipeline, std::move(source),
+      config.pipeline, std::move(reader),
       [depth = config.depth, semantics = config.semantics, class_map] {
         return std::make_unique<StereoLabelStage>(depth, semantics, class_map);
       },
@@ -47,6 +80,11 @@ EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, d
   run.summary = pipeline.Run();
   if (!run.summary.fatal_error.empty()) throw std::runtime_error("run stopped: " + run.summary.fatal_error);
   if (run.summary.sink_errors > 0) throw std::runtime_error("output error: " + run.summary.first_sink_error);
+  const FrameStats& s = run.summary.final_stats;
+  if (s.frames_processed == 0 && s.frames_failed > 0) {
+    throw std::runtime_error(dataset + ": no frame could be processed (all " +
+                             std::to_string(s.frames_failed) + " failed)");
+  }
   run.mesh = mesh_sink.mesh();
   run.evaluation = io::EvaluateMesh(run.mesh, dataset, config.input, config.eval);
   return run;

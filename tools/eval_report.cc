@@ -6,6 +6,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/atomic_file.h"
+
 namespace semap::tools {
 namespace {
 
@@ -79,7 +81,8 @@ void PrintEvaluation(const io::MeshEvaluation& e) {
 }
 
 void WritePerFrameCsv(const io::MeshEvaluation& e, const std::filesystem::path& path) {
-  std::ofstream out(path);
+  io::AtomicFile file(path);
+  std::ostream& out = file.stream();
   out << "frame_id,lidar_rmse_m,lidar_mae_m,lidar_median_m,lidar_bias_m,lidar_completeness,"
          "exact_rmse_m,exact_mae_m,exact_median_m,exact_bias_m,exact_completeness\n";
   for (const io::FrameAccuracy& f : e.per_frame) {
@@ -88,7 +91,7 @@ void WritePerFrameCsv(const io::MeshEvaluation& e, const std::filesystem::path& 
     CsvFields(out, f.exact_depth);
     out << '\n';
   }
-  if (!out) throw std::runtime_error("cannot write " + path.string());
+  file.Commit();
 }
 
 }  // namespace semap::tools

@@ -16,7 +16,8 @@ nlohmann::json ToJson(const io::MeshEvaluation& evaluation, bool per_frame);
 // Prints mesh size and the totals on stdout.
 void PrintEvaluation(const io::MeshEvaluation& evaluation);
 // One line per evaluated frame: frame_id, then RMSE / MAE / median / bias / completeness against Velodyne and
-// against exact depth (empty where the frame has none). Throws std::runtime_error naming the file.
+// against exact depth (empty where the frame has none). Written atomically; throws io::FileError naming the
+// file.
 void WritePerFrameCsv(const io::MeshEvaluation& evaluation, const std::filesystem::path& path);
 
 }  // namespace semap::tools

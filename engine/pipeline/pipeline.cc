@@ -19,14 +19,37 @@
 
 namespace semap {
 
+namespace {
+
+// "0-3, 6" for the CPUs in `set`.
+std::string AvailableCpus(const cpu_set_t& set) {
+  std::string out;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (!CPU_ISSET(c, &set)) continue;
+    int last = c;
+    while (last + 1 < CPU_SETSIZE && CPU_ISSET(last + 1, &set)) ++last;
+    out += (out.empty() ? "" : ", ") + std::to_string(c) + (last > c ? "-" + std::to_string(last) : "");
+    c = last;
+  }
+  return out;
+}
+
+}  // namespace
+
 void PipelineOptions::Check() const {
   SEMAP_CHECK_OPTION(realtime_rate_hz > 0.0, "realtime_rate_hz", realtime_rate_hz, "must be > 0");
   SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers, "must be in [1, 64]");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
   SEMAP_CHECK_OPTION(max_speed_mps >= 0.0 && std::isfinite(max_speed_mps), "max_speed_mps", max_speed_mps,
                      "must be >= 0 (0 = no check)");
+  cpu_set_t available;
+  CPU_ZERO(&available);
+  const bool known = sched_getaffinity(0, sizeof(available), &available) == 0;
   for (int cpu : cpu_affinity) {
     SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu, "CPU ids must be in [0, CPU_SETSIZE)");
+    // Pinning to a CPU this process may not run on would be silently ignored by the kernel.
+    SEMAP_CHECK_OPTION(!known || CPU_ISSET(cpu, &available), "cpu_affinity", cpu,
+                       "no such CPU available to this process (it may use " + AvailableCpus(available) + ")");
   }
 }
 

@@ -2,8 +2,12 @@
 // documented default config all come from the same list.
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <functional>
 #include <map>
+#include <stdexcept>
+#include <type_traits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,6 +15,41 @@
 #include <yaml-cpp/yaml.h>
 
 namespace semap::io {
+
+namespace field_binder_internal {
+
+// Non-finite numbers (.inf, .nan) are refused for every floating-point option: no parameter means anything
+// with them, and they would pass range checks written as comparisons.
+template <typename T>
+void CheckFinite(const T& value) {
+  if constexpr (std::is_floating_point_v<T>) {
+    if (!std::isfinite(value)) throw std::runtime_error("must be a finite number");
+  }
+}
+template <typename T>
+void CheckFinite(const std::vector<T>& values) {
+  for (const T& v : values) CheckFinite(v);
+}
+
+// A value as YAML; floating-point numbers in their shortest form that reads back exactly (0.3, not
+// 0.29999999999999999).
+template <typename T>
+YAML::Node Dump(const T& value) {
+  if constexpr (std::is_floating_point_v<T>) {
+    char buf[64];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), value);
+    if (ec == std::errc()) return YAML::Node(std::string(buf, end));
+  }
+  return YAML::Node(value);
+}
+template <typename T>
+YAML::Node Dump(const std::vector<T>& values) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  for (const T& v : values) n.push_back(Dump(v));
+  return n;
+}
+
+}  // namespace field_binder_internal
 
 // One bound field: its key inside the section, a one-line doc, and how to read and write it.
 struct BoundField {
@@ -27,8 +66,13 @@ class FieldBinder {
  public:
   template <typename T>
   void Field(std::string key, T* value, std::string doc) {
-    fields_.push_back({std::move(key), std::move(doc), [value](const YAML::Node& n) { *value = n.as<T>(); },
-                       [value]() { return YAML::Node(*value); }});
+    fields_.push_back({std::move(key), std::move(doc),
+                       [value](const YAML::Node& n) {
+                         T v = n.as<T>();
+                         field_binder_internal::CheckFinite(v);
+                         *value = std::move(v);
+                       },
+                       [value]() { return field_binder_internal::Dump(*value); }});
   }
 
   template <typename E>

@@ -1,9 +1,11 @@
 #include "io/kitti/calibration.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace semap::io {
 namespace {
@@ -22,6 +24,11 @@ Eigen::Matrix3d Orthonormalise(const Eigen::Matrix3d& r) {
   if (q.determinant() < 0) q = -q;
   return q;
 }
+
+// Focal lengths accepted for an image whose larger side is 1 px (CheckIntrinsicsFitImage): from a very wide
+// angle to a very long lens (KITTI: 0.58).
+constexpr double kMinFocalPerSide = 0.05;
+constexpr double kMaxFocalPerSide = 1000.0;
 
 // Maximum deviation of R^T R from identity accepted for a calibration rotation (KITTI prints ~7 digits).
 constexpr double kRotationTolerance = 1e-3;
@@ -121,6 +128,34 @@ StereoCalibration StereoFromProjections(const Eigen::Matrix<double, 3, 4>& p_lef
                               " m is not positive (is the right camera to the right of the left one?)");
   }
   return s;
+}
+
+void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::path& path,
+                             const std::string& key) {
+  const double w = s.width_px, h = s.height_px;
+  const std::string image = std::to_string(s.width_px) + "x" + std::to_string(s.height_px) + " image";
+  auto number = [](double v) {
+    char buf[64];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, ec == std::errc() ? end : buf);
+  };
+  auto inside = [&](const char* name, double v, double size) {
+    if (!(v >= 0.0 && v <= size)) {
+      throw FileError(path, "key '" + key + "': principal point " + name + " = " + number(v) +
+                                " px lies outside the " + image);
+    }
+  };
+  inside("cx", s.cx_px, w);
+  inside("cy", s.cy_px, h);
+  const double side = std::max(w, h);
+  for (const auto& [name, f] : {std::pair<const char*, double>{"fx", s.fx_px}, {"fy", s.fy_px}}) {
+    if (!(f >= kMinFocalPerSide * side && f <= kMaxFocalPerSide * side)) {
+      throw FileError(path, "key '" + key + "': focal length " + name + " = " + number(f) +
+                                " px is implausible for a " + image + " (expected " +
+                                number(kMinFocalPerSide * side) + " to " + number(kMaxFocalPerSide * side) +
+                                ")");
+    }
+  }
 }
 
 Pose3d ReadRigidTransform(const std::filesystem::path& path) {

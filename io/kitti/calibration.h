@@ -42,6 +42,13 @@ StereoCalibration StereoFromProjections(const Eigen::Matrix<double, 3, 4>& p_lef
                                         const Eigen::Matrix<double, 3, 4>& p_right,
                                         const std::filesystem::path& path);
 
+// Throws FileError naming `path` and `key` unless the intrinsics of `s` fit its image (width_px × height_px,
+// set from the images): the principal point inside the image, the focal lengths between 0.05 and 1000 times
+// the larger image side. A typo there (cx = 1e9, cy = 1728540) would otherwise abort on an assertion,
+// allocate gigabytes or map nonsense.
+void CheckIntrinsicsFitImage(const StereoCalibration& s, const std::filesystem::path& path,
+                             const std::string& key);
+
 // [R | T] of a raw calibration file ("R:" 9 values row-major, "T:" 3 values) as a rigid transform.
 Pose3d ReadRigidTransform(const std::filesystem::path& path);
 

@@ -58,6 +58,8 @@ std::unique_ptr<SequenceSource> OpenKittiOdometry(const fs::path& path, const Fr
   info.root = seq;
   info.left_dir = seq / (color ? "image_2" : "image_0");
   info.calibration = calib.stereo;
+  scan.calibration_file = seq / "calib.txt";
+  scan.calibration_key = color ? "P2" : "P0";
   scan.right_dir = seq / (color ? "image_3" : "image_1");
   scan.imread_flags = color ? cv::IMREAD_COLOR : cv::IMREAD_GRAYSCALE;
   scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d{1,12})\.png)"));

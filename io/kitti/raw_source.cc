@@ -29,15 +29,20 @@ std::vector<fs::path> DrivesIn(const fs::path& dir) {
 class KittiRawSource : public SequenceSource {
  public:
   KittiRawSource(SequenceScan scan, fs::path oxts_dir, std::optional<OxtsPoseConverter> converter,
-                 Pose3d imu_from_cam2)
+                 Pose3d imu_from_cam2, fs::path missing_calibration)
       : SequenceSource(std::move(scan)),
         oxts_dir_(std::move(oxts_dir)),
         converter_(std::move(converter)),
-        imu_from_cam2_(imu_from_cam2) {}
+        imu_from_cam2_(imu_from_cam2),
+        missing_calibration_(std::move(missing_calibration)) {}
 
  protected:
   // world_from_cam2_i = world_from_imu_i · cam2_from_imu⁻¹, from the frame's own OXTS file.
   std::optional<Pose3d> PoseAt(size_t index) override {
+    if (!missing_calibration_.empty()) {
+      // The drive has poses, but they cannot be used: say which file is missing rather than "no pose".
+      throw FileError(missing_calibration_, "calibration file not found: the OXTS poses (oxts/data) need it");
+    }
     if (!converter_) return std::nullopt;
     const OxtsPacket packet = ReadOxtsFile(oxts_dir_ / (scan().frames[index].stem + ".txt"));
     return converter_->WorldFromImu(packet) * imu_from_cam2_;
@@ -47,6 +52,7 @@ class KittiRawSource : public SequenceSource {
   fs::path oxts_dir_;
   std::optional<OxtsPoseConverter> converter_;
   Pose3d imu_from_cam2_;
+  fs::path missing_calibration_;  // set when oxts/data is present but a calibration file it needs is not
 };
 
 }  // namespace
@@ -89,6 +95,8 @@ std::unique_ptr<SequenceSource> OpenKittiRaw(const fs::path& path, const FrameSo
   info.root = *drive;
   info.left_dir = *drive / "image_02" / "data";
   info.calibration = calib.stereo;
+  scan.calibration_file = calib_dir / "calib_cam_to_cam.txt";
+  scan.calibration_key = "P_rect_02";
   scan.right_dir = *drive / "image_03" / "data";
   scan.imread_flags = cv::IMREAD_COLOR;
   scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d{1,12})\.png)"));
@@ -119,19 +127,22 @@ std::unique_ptr<SequenceSource> OpenKittiRaw(const fs::path& path, const FrameSo
   const fs::path oxts_dir = *drive / "oxts" / "data";
   std::optional<OxtsPoseConverter> converter;
   Pose3d imu_from_cam2 = Pose3d::Identity();
+  fs::path missing_calibration;
   if (fs::is_directory(oxts_dir)) {
     if (calib.cam2_from_imu) {
       converter.emplace(ReadOxtsFile(oxts_dir / (scan.all_frames.front().stem + ".txt")));
       imu_from_cam2 = calib.cam2_from_imu->inverse();
       info.has_poses = true;
     } else {
-      info.notes.push_back(
-          "oxts present but calib_velo_to_cam.txt / calib_imu_to_velo.txt missing: no poses");
+      missing_calibration =
+          calib_dir / (calib.cam2_from_velo ? "calib_imu_to_velo.txt" : "calib_velo_to_cam.txt");
+      info.notes.push_back("oxts present but " + missing_calibration.string() + " missing: no poses");
     }
   }
   AttachLabels(options, *drive / "semantic" / "data", &scan);
   FinishInfo(&scan);
-  return std::make_unique<KittiRawSource>(std::move(scan), oxts_dir, std::move(converter), imu_from_cam2);
+  return std::make_unique<KittiRawSource>(std::move(scan), oxts_dir, std::move(converter), imu_from_cam2,
+                                          std::move(missing_calibration));
 }
 
 }  // namespace semap::io::internal

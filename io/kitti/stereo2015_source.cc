@@ -28,6 +28,8 @@ std::unique_ptr<SequenceSource> OpenKittiStereo2015(const fs::path& path, const 
   info.root = path;
   info.left_dir = path / "image_2";
   info.calibration = calib.stereo;
+  scan.calibration_file = path / "calib_cam_to_cam.txt";
+  scan.calibration_key = "P_rect_02";
   scan.right_dir = path / "image_3";
   scan.imread_flags = cv::IMREAD_COLOR;
   scan.all_frames = ListFrames(info.left_dir, std::regex(R"((\d{1,12})_10\.png)"));

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/core/check.h"
+#include "io/atomic_file.h"
 #include "io/mesh/internal/ply_table.h"
 
 namespace semap::io {
@@ -38,11 +39,13 @@ std::string_view FormatNumber(T value, char (&buf)[64]) {
 // Buffered output file that writes PLY values in either encoding. Errors throw FileError(path).
 class PlyOut {
  public:
+  // Written under a temporary name and renamed into place by Close() (see AtomicFile).
   PlyOut(const std::filesystem::path& path, PlyEncoding encoding)
-      : path_(path), ascii_(encoding == PlyEncoding::kAscii), buffer_(kWriteBufferBytes) {
-    out_.rdbuf()->pubsetbuf(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
-    out_.open(path, std::ios::binary | std::ios::trunc);
-    if (!out_) throw FileError(path, "cannot open for writing");
+      : ascii_(encoding == PlyEncoding::kAscii),
+        buffer_(kWriteBufferBytes),
+        file_(path, /*binary=*/true),
+        out_(file_.stream()) {
+    file_.SetBuffer(&buffer_);
   }
 
   bool ascii() const { return ascii_; }
@@ -67,18 +70,13 @@ class PlyOut {
     if (ascii_) out_.put('\n');
   }
 
-  void Close() {
-    out_.flush();
-    if (!out_) throw FileError(path_, "write failed (disk full or I/O error)");
-    out_.close();
-    if (!out_) throw FileError(path_, "write failed on close");
-  }
+  void Close() { file_.Commit(); }
 
  private:
-  std::filesystem::path path_;
   bool ascii_;
-  std::vector<char> buffer_;
-  std::ofstream out_;
+  std::vector<char> buffer_;  // declared before file_: it outlives the stream using it
+  AtomicFile file_;
+  std::ostream& out_;
 };
 
 std::string HeaderStart(PlyEncoding encoding) {

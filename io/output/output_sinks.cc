@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/check.h"
+#include "io/atomic_file.h"
 #include "io/mesh/ply_off.h"
 
 namespace semap::io {
@@ -45,7 +46,10 @@ nlohmann::json StatsJson(const FrameStats& s) {
 
 void OutputOptions::Check() const { SEMAP_CHECK_OPTION(!dir.empty(), "dir", "''", "must not be empty"); }
 
-MeshFileSink::MeshFileSink(const OutputOptions& options) : options_(options) { options_.Check(); }
+MeshFileSink::MeshFileSink(const OutputOptions& options) : options_(options) {
+  options_.Check();
+  CheckWritableFolder(options_.dir);
+}
 
 void MeshFileSink::OnFrame(const FrameStats&, const MeshDelta& delta, const std::optional<Pose3d>&) {
   accumulator_.Apply(delta);
@@ -70,12 +74,22 @@ void MeshFileSink::OnFinish(const FrameStats&, const MeshDelta& final_delta) {
 
 StatsFileSink::StatsFileSink(const OutputOptions& options) : dir_(options.dir) {
   options.Check();
+  CheckWritableFolder(dir_);
+}
+
+void StatsFileSink::OpenOnce() {
+  if (opened_) return;
+  opened_ = true;
+  // The previous run's summary goes first: a folder without summary.json holds an unfinished run.
+  std::error_code ec;
+  std::filesystem::remove(dir_ / "summary.json", ec);
   csv_ = OpenForWriting(dir_ / "frames.csv");
   jsonl_ = OpenForWriting(dir_ / "frames.jsonl");
   errors_ = OpenForWriting(dir_ / "errors.jsonl");
 }
 
 void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::optional<Pose3d>&) {
+  OpenOnce();
   if (!header_written_) {
     csv_ << "frame_id,timestamp_s,elapsed_s,fps,frames_processed,frames_dropped,frames_failed";
     // A step of a stage ("map.trace") has a time and no queue of its own.
@@ -104,18 +118,18 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
 }
 
 void StatsFileSink::OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) {
+  OpenOnce();
   errors_ << nlohmann::json{{"frame_id", frame_id}, {"stage", stage}, {"error", what}}.dump() << '\n';
   errors_.flush();
   if (!errors_) throw FileError(dir_ / "errors.jsonl", "write failed");
 }
 
 void StatsFileSink::OnFinish(const FrameStats& stats, const MeshDelta&) {
+  OpenOnce();
   csv_.flush();
   jsonl_.flush();
   errors_.flush();
-  auto out = OpenForWriting(dir_ / "summary.json");
-  out << SummaryJson(stats) << '\n';
-  if (!out) throw FileError(dir_ / "summary.json", "write failed");
+  WriteFileAtomically(dir_ / "summary.json", SummaryJson(stats) + "\n");
 }
 
 std::string SummaryJson(const FrameStats& stats) { return StatsJson(stats).dump(2); }

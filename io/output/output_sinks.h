@@ -28,8 +28,9 @@ struct OutputOptions {
   void Check() const;
 };
 
-// Accumulates the mesh deltas and writes the final mesh at the end of the run. Throws FileError (naming the
-// path) when a file cannot be written; the pipeline records it and goes on.
+// Accumulates the mesh deltas and writes the final mesh at the end of the run, each file atomically (a
+// temporary name renamed into place). The constructor checks that the folder is writable; a file that cannot
+// be written later throws FileError (naming the path): the pipeline records it and goes on.
 class MeshFileSink : public PipelineSink {
  public:
   explicit MeshFileSink(const OutputOptions& options);
@@ -47,7 +48,11 @@ class MeshFileSink : public PipelineSink {
 };
 
 // frames.csv + frames.jsonl (one line per processed frame) and summary.json at the end; frame errors go
-// to errors.jsonl. Opening a file that cannot be written throws FileError.
+// to errors.jsonl. The constructor checks that the folder is writable (throws FileError naming it); the
+// per-frame files are opened (and a previous run's files replaced) at the first frame, so that a run that
+// fails to start leaves them alone. They are written in place and flushed every frame (they can be followed
+// live and keep every frame when the process dies); summary.json is written last, atomically, and removed
+// when the run starts: a folder without it holds a run that did not finish.
 class StatsFileSink : public PipelineSink {
  public:
   explicit StatsFileSink(const OutputOptions& options);
@@ -56,7 +61,10 @@ class StatsFileSink : public PipelineSink {
   void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
 
  private:
+  void OpenOnce();
+
   std::filesystem::path dir_;
+  bool opened_ = false;
   std::ofstream csv_;
   std::ofstream jsonl_;
   std::ofstream errors_;

@@ -25,6 +25,7 @@ struct PendingView {
 // "<array>[i] (key K)" entries of a cereal map; `body` gets the entry's key and value.
 template <typename Body>
 void ForEachKeyed(const JsonObject& root, const char* array_name, EntryRef* at, Body body) {
+  at->entry.clear();  // a missing array is the document's fault, not the last entry read before it
   const nlohmann::json& array = root.Array(array_name);
   for (std::size_t i = 0; i < array.size(); ++i) {
     at->entry = std::string(array_name) + "[" + std::to_string(i) + "]";

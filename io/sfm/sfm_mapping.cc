@@ -1,12 +1,71 @@
 #include "io/sfm/sfm_mapping.h"
 
+#include <algorithm>
 #include <chrono>
 #include <unordered_set>
 
+#include <spdlog/fmt/fmt.h>
+
 #include "engine/core/check.h"
 #include "engine/map/batch_map.h"
+#include "io/file_error.h"
 
 namespace semap::io {
+
+namespace {
+
+constexpr double kMaxSfmCoordinateM = 1e6;
+constexpr double kMaxLatticeCubes = 1e5;
+
+bool Beyond(const Eigen::Vector3d& p, double limit_m) {
+  return !p.allFinite() || p.cwiseAbs().maxCoeff() > limit_m;
+}
+
+}  // namespace
+
+double MaxSfmCoordinateM(const MapOptions& map) {
+  return std::min(kMaxSfmCoordinateM, kMaxLatticeCubes * map.steiner_spacing_m);
+}
+
+FarPoints DropFarPoints(const std::filesystem::path& input, double limit_m, SfmReconstruction* r) {
+  for (const SfmView& v : r->views) {
+    if (Beyond(v.world_from_cam.translation(), limit_m)) {
+      throw FileError(input, fmt::format("view {} ({}) has its centre beyond {} m from the origin: not a "
+                                         "reconstruction in metres?",
+                                         v.id, v.name, limit_m));
+    }
+  }
+  FarPoints far;
+  std::vector<std::int64_t> new_index(r->num_points(), -1);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < r->num_points(); ++i) {
+    if (Beyond(r->points_world[i], limit_m)) {
+      if (far.count++ == 0) far.first_id = r->point_ids[i];
+      continue;
+    }
+    new_index[i] = static_cast<std::int64_t>(kept);
+    r->points_world[kept] = r->points_world[i];
+    r->point_ids[kept] = r->point_ids[i];
+    if (!r->point_colors_rgb.empty()) r->point_colors_rgb[kept] = r->point_colors_rgb[i];
+    if (!r->point_labels.empty()) r->point_labels[kept] = r->point_labels[i];
+    ++kept;
+  }
+  if (far.count == 0) return far;
+  r->points_world.resize(kept);
+  r->point_ids.resize(kept);
+  if (!r->point_colors_rgb.empty()) r->point_colors_rgb.resize(kept);
+  if (!r->point_labels.empty()) r->point_labels.resize(kept);
+  std::vector<SfmObservation> observations;
+  observations.reserve(r->observations.size());
+  for (SfmObservation o : r->observations) {
+    if (new_index[o.point] < 0) continue;
+    o.point = static_cast<std::uint32_t>(new_index[o.point]);
+    observations.push_back(o);
+  }
+  r->observations = std::move(observations);
+  r->AssertConsistent();
+  return far;
+}
 namespace {
 
 // Markers of SfmIncrementalMapper::map_id_ besides a live map point id (kDroppedPoint: beyond range).

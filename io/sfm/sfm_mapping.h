@@ -43,6 +43,22 @@ std::vector<SfmKeyframe> MakeKeyframes(const SfmReconstruction& reconstruction);
 // The keyframe's new points as map input: camera 0 is the view's centre (frame id = view index).
 LabelledCloud KeyframeCloud(const SfmReconstruction& reconstruction, const SfmKeyframe& keyframe);
 
+// The largest |coordinate| a reconstruction may have for the map of `map`: the map covers a bounded region
+// around the origin (its Steiner lattice holds about ±10^6 cubes of map.steiner_spacing_m). Beyond 1000 km,
+// or beyond 10^5 cubes, a coordinate is an outlier of the reconstruction or a unit mistake, never a street,
+// and must not reach the map's range assertion.
+double MaxSfmCoordinateM(const MapOptions& map);
+
+// The points left out by DropFarPoints: how many, and the file id of the first.
+struct FarPoints {
+  std::size_t count = 0;
+  std::int64_t first_id = 0;
+};
+// Leaves out the points with a coordinate beyond `limit_m` (or not finite), with their observations. A view
+// whose centre is beyond is an error: throws FileError naming `input` and the view.
+FarPoints DropFarPoints(const std::filesystem::path& input, double limit_m,
+                        SfmReconstruction* reconstruction);
+
 // Simplification applies when the method is not O and the reconstruction has labels.
 bool SimplifiesSfm(const SfmReconstruction& reconstruction, const SimplifyOptions& simplify);
 

@@ -15,6 +15,7 @@
 #include "tests/engine/map/manifold_checker.h"
 #include "tests/engine/map/map_test_util.h"
 #include "tests/io/sfm/sfm_street.h"
+#include "tests/io/sfm/sfm_test_util.h"
 #include "tests/tools/cli_run.h"
 
 namespace semap::tools {
@@ -241,6 +242,31 @@ TEST(SemapMapSfm, BadInputAndUsageAreClearErrors) {
                                     " --format slam-json --out " + (dir / "o").string());
   EXPECT_EQ(empty.exit_code, 1) << empty.output;
   EXPECT_TRUE(empty.Has("no posed view")) << empty.output;
+}
+
+TEST(SemapMapSfm, APointFarAwayIsLeftOutWithAWarningNotAnAssertion) {
+  // One point at 1e12 m (an outlier, or a unit mistake) is beyond what the map covers: it is dropped and
+  // counted, the others are mapped. A camera that far is an error naming the view.
+  const auto dir = test::TempDir();
+  io::SfmReconstruction r = test::SmallStreet();
+  r.points_world[5] = {1e12, 0.0, 0.0};
+  io::WriteOpenMvgJson(dir / "sfm_data.json", r);
+  const auto run = test::RunSemap("map-sfm " + (dir / "sfm_data.json").string() + " --format openmvg --out " +
+                                  (dir / "o").string());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(run.Has("1 point(s) with a coordinate beyond 1000000 m were left out (first: point id " +
+                      std::to_string(r.point_ids[5]) + ")"))
+      << run.output;
+  EXPECT_GT(io::ReadMeshPly(dir / "o" / "mesh.ply").num_triangles(), 0u);
+
+  r.points_world[5] = {0.0, 0.0, 0.0};
+  r.views[1].world_from_cam.translation().z() = -1e12;
+  io::WriteOpenMvgJson(dir / "sfm_data.json", r);
+  const auto camera = test::RunSemap("map-sfm " + (dir / "sfm_data.json").string() +
+                                     " --format openmvg --out " + (dir / "o").string());
+  EXPECT_EQ(camera.exit_code, 1) << camera.output;
+  EXPECT_TRUE(camera.Has("view " + std::to_string(r.views[1].id))) << camera.output;
+  EXPECT_TRUE(camera.Has("has its centre beyond 1000000 m")) << camera.output;
 }
 
 }  // namespace

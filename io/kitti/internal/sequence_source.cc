@@ -5,6 +5,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/kitti/calibration.h"
 #include "io/kitti/velodyne.h"
 #include "io/labels/class_map_yaml.h"
 #include "io/labels/label_images.h"
@@ -86,6 +87,7 @@ void NominalTimestamps(const FrameSourceOptions& options, SequenceScan* scan) {
 void AttachLabels(const FrameSourceOptions& options, const fs::path& default_dir, SequenceScan* scan) {
   SequenceInfo& info = scan->info;
   info.class_map = LoadClassMap(options.class_map);
+  if (!options.load_labels) return;
   fs::path dir;
   if (!options.labels_dir.empty()) {
     dir = options.labels_dir;
@@ -136,6 +138,7 @@ void FinishInfo(SequenceScan* scan) {
   const cv::Size size = PngSize(info.left_dir / (scan->frames.front().stem + ".png"));
   info.calibration.width_px = size.width;
   info.calibration.height_px = size.height;
+  CheckIntrinsicsFitImage(info.calibration, scan->calibration_file, scan->calibration_key);
 }
 
 SequenceSource::SequenceSource(SequenceScan scan) : scan_(std::move(scan)) {}
@@ -168,17 +171,29 @@ Frame SequenceSource::ReadFrame(size_t index) {
                                     std::to_string(f.right.rows) + " but the left image is " +
                                     std::to_string(f.left.cols) + "x" + std::to_string(f.left.rows));
   }
+  // The calibration holds for the size of the sequence's first image: a frame of another size would be
+  // mapped with the wrong intrinsics (and may be far larger than what the run was sized for).
+  if (f.left.cols != scan_.info.calibration.width_px || f.left.rows != scan_.info.calibration.height_px) {
+    throw FileError(scan_.info.left_dir / png,
+                    "left image is " + std::to_string(f.left.cols) + "x" + std::to_string(f.left.rows) +
+                        " but the calibration is for " + std::to_string(scan_.info.calibration.width_px) +
+                        "x" + std::to_string(scan_.info.calibration.height_px) +
+                        " (the size of the first image)");
+  }
   f.calibration = scan_.info.calibration;
-  f.calibration.width_px = f.left.cols;
-  f.calibration.height_px = f.left.rows;
   f.world_from_cam = PoseAt(index);
   if (!scan_.velodyne_dir.empty()) {
     VelodyneScan v;
-    v.points_velo = ReadVelodyneBin(scan_.velodyne_dir / (entry.stem + ".bin"));
+    const fs::path scan_path = scan_.velodyne_dir / (entry.stem + ".bin");
+    v.points_velo = ReadVelodyneBin(scan_path);
+    // A valid file, but not a frame with Velodyne: treated as a missing scan (the frame is not evaluated
+    // against an empty reference).
+    if (v.points_velo.empty()) throw FileError(scan_path, "Velodyne scan is empty (0 points)");
     v.cam_from_velo = *scan_.info.cam_from_velo;
     f.velodyne = std::move(v);
   }
-  if (!scan_.labels_dir.empty()) f.labels = ReadLabelImage(scan_.labels_dir / png, f.left.size());
+  // Any size: the label stage resizes it or refuses it as semantics.size_mismatch says.
+  if (!scan_.labels_dir.empty()) f.labels = ReadLabelImage(scan_.labels_dir / png, cv::Size());
   return f;
 }
 

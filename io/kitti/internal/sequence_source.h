@@ -25,6 +25,8 @@ struct SequenceScan {
   std::filesystem::path right_dir;
   std::filesystem::path velodyne_dir;  // empty = not read
   std::filesystem::path labels_dir;    // empty = none
+  std::filesystem::path calibration_file;  // where info.calibration was read, and its key (for errors)
+  std::string calibration_key;
   int imread_flags = 0;                // cv::IMREAD_COLOR or cv::IMREAD_GRAYSCALE
   std::vector<FrameEntry> all_frames;  // every left image on disk, by id
   std::vector<FrameEntry> frames;      // the selected ones
@@ -48,15 +50,16 @@ void NominalTimestamps(const FrameSourceOptions& options, SequenceScan* scan);
 void TimestampsFromFile(const std::vector<double>& times_s, const std::filesystem::path& path,
                         const std::string& noun, SequenceScan* scan);
 
-// Labels: options.labels_dir, else `default_dir` when it exists; loads the class map. Sets labels_dir and
-// the info's label fields.
+// Labels: options.labels_dir, else `default_dir` when it exists (none when options.load_labels is off);
+// loads the class map. Sets labels_dir and the info's label fields.
 void AttachLabels(const FrameSourceOptions& options, const std::filesystem::path& default_dir,
                   SequenceScan* scan);
 
 // Image size from the first selected left image's PNG header (throws FileError when unreadable).
 cv::Size PngSize(const std::filesystem::path& path);
 
-// Fills frame ids, counts and image size of scan->info from the rest of the scan.
+// Fills frame ids, counts and image size of scan->info from the rest of the scan, and checks that the
+// calibration fits that image size (CheckIntrinsicsFitImage; throws FileError naming the calibration file).
 void FinishInfo(SequenceScan* scan);
 
 // Reads frames one at a time. A frame that cannot be read throws FrameError; the next Next() goes on.

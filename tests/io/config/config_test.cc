@@ -56,6 +56,31 @@ TEST(Config, MalformedAndOutOfRangeValuesNameTheKey) {
   EXPECT_NE(range.find("-3"), std::string::npos) << range;
 }
 
+TEST(Config, NonFiniteNumbersAreRefusedNamingTheKey) {
+  for (const char* value : {".inf", "-.inf", ".nan"}) {
+    const std::string override_error = ErrorOf("", {std::string("map.sigma_free_m=") + value});
+    EXPECT_NE(override_error.find("'map.sigma_free_m': must be a finite number"), std::string::npos)
+        << override_error;
+    const std::string file_error = ErrorOf(WriteYaml(std::string("depth:\n  max_depth_m: ") + value + "\n"));
+    EXPECT_NE(file_error.find("'depth.max_depth_m': must be a finite number"), std::string::npos) << file_error;
+  }
+}
+
+TEST(Config, NumbersAreDumpedInTheirShortestExactForm) {
+  Config c;
+  c.map.sigma_free_m = 0.3;
+  c.depth.max_depth_m = 100.0 / 3.0;
+  c.pipeline.cpu_affinity = {0, 1};
+  const std::string text = DumpConfig(c);
+  EXPECT_NE(text.find("  sigma_free_m: 0.3\n"), std::string::npos);
+  EXPECT_NE(text.find("  max_depth_m: 33.333333333333336\n"), std::string::npos);
+  EXPECT_NE(text.find("  cpu_affinity: [0, 1]\n"), std::string::npos);
+  const Config back = LoadConfig(WriteYaml(text));
+  EXPECT_EQ(back.map.sigma_free_m, 0.3);  // exact: the shortest form reads back to the same double
+  EXPECT_EQ(back.depth.max_depth_m, 100.0 / 3.0);
+  EXPECT_EQ(back.pipeline.cpu_affinity, (std::vector<int>{0, 1}));
+}
+
 TEST(Config, MissingOrInvalidFileIsAClearError) {
   EXPECT_NE(ErrorOf("/no/such/semap.yaml").find("/no/such/semap.yaml"), std::string::npos);
   const auto bad = WriteYaml("input: [1, 2\n");

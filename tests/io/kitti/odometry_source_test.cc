@@ -108,6 +108,21 @@ TEST(KittiOdometrySource, GrayPairOnRequest) {
   }
 }
 
+TEST(KittiOdometryBadInput, NonFinitePoseIsAnErrorAtOpenNamingFileAndLine) {
+  // The poses are read when the sequence is opened: a bad line ends the run before any frame (README,
+  // Faults).
+  const TinyOdometry t = WriteTinyOdometry(test::TempDir(), 3, 3);
+  test::WriteTextFile(t.root / "poses" / "07.txt",
+                      "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 nan 0 1 0 0 0 0 1 1.5\n1 0 0 0 0 1 0 0 0 0 1 3\n");
+  try {
+    OpenFrameSource(t.root, {});
+    FAIL() << "no error";
+  } catch (const FileError& e) {
+    EXPECT_EQ(std::string(e.what()), (t.root / "poses" / "07.txt").string() +
+                                         ": line 2 is not 12 finite numbers (3×4 row-major pose)");
+  }
+}
+
 TEST(KittiOdometryBadInput, PosesFileShorterThanFrames) {
   const TinyOdometry t = WriteTinyOdometry(test::TempDir(), 3, 2);
   try {

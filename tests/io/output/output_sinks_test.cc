@@ -8,6 +8,7 @@
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
+#include "tests/io/kitti/tiny_kitti.h"
 
 namespace semap::io {
 namespace {
@@ -50,18 +51,50 @@ TEST(MeshFileSink, WritesTheAccumulatedMeshAsPlyAndOff) {
   EXPECT_EQ(std::filesystem::file_size(std::filesystem::path(o.dir) / "mesh.off"), OffSizeBytes(off));
 }
 
-TEST(MeshFileSink, UnwritableFolderIsAnErrorNamingThePath) {
+TEST(MeshFileSink, UnwritableFolderIsAnErrorAtConstructionNamingThePath) {
+  // Whatever output.frame_stats says, an unusable folder is reported before the first frame.
   const auto blocker = test::TempDir() / "file";
   std::ofstream(blocker) << "x";
   OutputOptions o;
   o.dir = (blocker / "out").string();
+  try {
+    MeshFileSink sink(o);
+    FAIL() << "expected FileError";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find((blocker / "out").string()), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshFileSink, FolderBecomingUnwritableIsAnErrorNamingThePath) {
+  const auto dir = test::TempDir() / "out";
+  OutputOptions o;
+  o.dir = dir.string();
   MeshFileSink sink(o);
   sink.OnFrame(Stats(0), OneTriangle(1, 10), std::nullopt);
+  std::filesystem::remove_all(dir);
+  std::ofstream(dir) << "x";
   try {
     sink.OnFinish(Stats(0), {});
     FAIL() << "expected FileError";
   } catch (const FileError& e) {
-    EXPECT_NE(std::string(e.what()).find((blocker / "out").string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find((dir / "mesh.ply").string()), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshFileSink, AFailedWriteKeepsThePreviousMeshWhole) {
+  // A mesh.off that cannot be replaced (here: a folder of that name) is an error; mesh.ply written before it
+  // is complete, and no temporary file is left behind.
+  const auto dir = test::TempDir() / "out";
+  std::filesystem::create_directories(dir / "mesh.off" / "x");
+  OutputOptions o;
+  o.dir = dir.string();
+  MeshFileSink sink(o);
+  sink.OnFrame(Stats(0), OneTriangle(1, 10), std::nullopt);
+  EXPECT_THROW(sink.OnFinish(Stats(0), {}), FileError);
+  EXPECT_EQ(ReadMeshPly(dir / "mesh.ply").num_triangles(), 1u);
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "mesh.off" / "x"));
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
   }
 }
 
@@ -100,6 +133,29 @@ TEST(StatsFileSink, UnwritableFolderFailsAtConstructionNamingThePath) {
   OutputOptions o;
   o.dir = (blocker / "stats").string();
   EXPECT_THROW(StatsFileSink{o}, FileError);
+}
+
+TEST(StatsFileSink, AFailedStartLeavesThePreviousRunsFilesAlone) {
+  const std::filesystem::path dir = test::TempDir() / "stats";
+  std::filesystem::create_directories(dir);
+  for (const char* name : {"frames.csv", "frames.jsonl", "errors.jsonl", "summary.json"}) {
+    std::ofstream(dir / name) << "old " << name << "\n";
+  }
+  OutputOptions o;
+  o.dir = dir.string();
+  { StatsFileSink sink(o); }  // constructed, never run (e.g. the LCM URL was refused next)
+  for (const char* name : {"frames.csv", "frames.jsonl", "errors.jsonl", "summary.json"}) {
+    EXPECT_EQ(test::ReadTextFile(dir / name), std::string("old ") + name + "\n") << name;
+  }
+  // The first frame starts the new run: the per-frame files are replaced and the old summary goes (a folder
+  // without summary.json holds an unfinished run).
+  StatsFileSink sink(o);
+  sink.OnFrame(Stats(0), {}, std::nullopt);
+  EXPECT_EQ(test::ReadTextFile(dir / "frames.csv").find("old"), std::string::npos);
+  EXPECT_EQ(test::ReadTextFile(dir / "errors.jsonl"), "");
+  EXPECT_FALSE(std::filesystem::exists(dir / "summary.json"));
+  sink.OnFinish(Stats(0), {});
+  EXPECT_TRUE(std::filesystem::exists(dir / "summary.json"));
 }
 
 }  // namespace

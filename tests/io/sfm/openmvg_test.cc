@@ -159,6 +159,19 @@ TEST(OpenMvg, BadInputIsAClearError) {
                            [](const auto& path) { ReadOpenMvgJson(path); });
 }
 
+TEST(OpenMvg, AMissingArrayIsNamedNotTheEntryReadBeforeIt) {
+  nlohmann::json j = TinySfmData();
+  j.erase("structure");
+  const auto path = test::TempDir() / "sfm_data.json";
+  WriteText(path, j.dump());
+  try {
+    ReadOpenMvgJson(path);
+    FAIL() << "expected a ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() + ": structure: missing") << e.what();
+  }
+}
+
 TEST(OpenMvg, InvalidJsonAndMissingFile) {
   const auto path = test::TempDir() / "sfm_data.json";
   WriteText(path, R"({"sfm_data_version": "0.3", "views": [ NaN ]})");

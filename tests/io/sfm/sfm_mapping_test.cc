@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
 
 #include "engine/map/batch_map.h"
@@ -181,6 +182,45 @@ TEST(SfmMapping, BatchMapIsAClosedManifoldThroughTheObservedPoints) {
   EXPECT_GT(b.mesh.num_triangles(), r.num_points() / 2);
   const auto report = test::CheckManifold(b.mesh, /*allow_boundary=*/false);
   EXPECT_TRUE(report.ok()) << report.Summary();
+}
+
+TEST(SfmMapping, PointsBeyondTheMapsRangeAreLeftOutWithTheirObservations) {
+  SfmReconstruction r = test::SmallStreet();
+  const SfmReconstruction before = r;
+  MapOptions map;
+  const double limit = MaxSfmCoordinateM(map);
+  EXPECT_DOUBLE_EQ(limit, 1e6);  // default steiner_spacing_m 20: 1000 km
+  map.steiner_spacing_m = 0.5;
+  EXPECT_DOUBLE_EQ(MaxSfmCoordinateM(map), 5e4);
+  EXPECT_EQ(DropFarPoints("x", limit, &r).count, 0u);
+  EXPECT_EQ(r.num_points(), before.num_points());
+  r.points_world[3] = {0.0, 1e12, 0.0};
+  r.points_world[7] = {0.0, 0.0, std::numeric_limits<double>::quiet_NaN()};
+  const FarPoints far = DropFarPoints("x", limit, &r);
+  EXPECT_EQ(far.count, 2u);
+  EXPECT_EQ(far.first_id, before.point_ids[3]);
+  ASSERT_EQ(r.num_points(), before.num_points() - 2);
+  r.AssertConsistent();
+  // Every observation left is one of the kept points, by its file id.
+  std::size_t observations_of_dropped = 0;
+  for (const auto& o : before.observations) observations_of_dropped += o.point == 3 || o.point == 7;
+  EXPECT_EQ(r.observations.size(), before.observations.size() - observations_of_dropped);
+  for (const auto& o : r.observations) {
+    EXPECT_NE(r.point_ids[o.point], before.point_ids[3]);
+    EXPECT_NE(r.point_ids[o.point], before.point_ids[7]);
+  }
+  EXPECT_EQ(r.point_ids[3], before.point_ids[4]);
+  EXPECT_EQ(r.point_labels[3], before.point_labels[4]);
+  // A camera that far is an error naming the view.
+  r.views[2].world_from_cam.translation().x() = -2e6;
+  try {
+    DropFarPoints("sfm_data.json", limit, &r);
+    FAIL() << "expected FileError";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("sfm_data.json: view " + std::to_string(r.views[2].id)),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
