@@ -1,5 +1,10 @@
 #include "io/lcm/lcm_publisher.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
 #include <lcm/lcm-cpp.hpp>
 
 #include "engine/core/check.h"
@@ -9,7 +14,16 @@ namespace semap::io {
 
 void LcmOptions::Check() const {
   SEMAP_CHECK_OPTION(!url.empty(), "url", "''", "must not be empty");
-  SEMAP_CHECK_OPTION(snapshot_every >= 0, "snapshot_every", snapshot_every, "must be >= 0 (0 = first only)");
+  SEMAP_CHECK_OPTION(std::isfinite(block_size_m) && block_size_m >= 0.05 && block_size_m <= 1e4, "block_size_m",
+                     block_size_m, "must be in [0.05, 10000] metres");
+  SEMAP_CHECK_OPTION(max_message_bytes >= 1024 && max_message_bytes <= (1 << 24), "max_message_bytes",
+                     max_message_bytes, "must be in [1024, 16777216]");
+  SEMAP_CHECK_OPTION(std::isfinite(resend_bytes_per_s) && resend_bytes_per_s >= 1000.0, "resend_bytes_per_s",
+                     resend_bytes_per_s, "must be >= 1000");
+  SEMAP_CHECK_OPTION(closing_rounds >= 0 && closing_rounds <= 100, "closing_rounds", closing_rounds,
+                     "must be in [0, 100]");
+  SEMAP_CHECK_OPTION(std::isfinite(closing_max_s) && closing_max_s >= 0.0, "closing_max_s", closing_max_s,
+                     "must be >= 0");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
 }
 
@@ -17,11 +31,13 @@ void LcmOptions::Check() const {
 struct LcmPublisher::PendingMesh {
   std::int64_t frame_id = -1;
   std::vector<TriangleId> removed;
+  std::vector<TriangleId> finalised;
   std::unordered_map<TriangleId, std::array<VertexId, 3>> added;
   MeshDelta vertex_store;
 
   void Compose(const MeshDelta& d) {
     frame_id = d.frame_id;
+    finalised.insert(finalised.end(), d.finalised_triangle_ids.begin(), d.finalised_triangle_ids.end());
     for (auto id : d.removed_triangle_ids) {
       if (added.erase(id) == 0) removed.push_back(id);
     }
@@ -39,6 +55,7 @@ struct LcmPublisher::PendingMesh {
     MeshDelta out;
     out.frame_id = frame_id;
     out.removed_triangle_ids = removed;
+    out.finalised_triangle_ids = finalised;
     std::unordered_map<VertexId, size_t> wanted;
     for (const auto& [id, t] : added) {
       out.added_triangle_ids.push_back(id);
@@ -61,7 +78,10 @@ struct LcmPublisher::PendingMesh {
   }
 };
 
-LcmPublisher::LcmPublisher(const LcmOptions& options) : options_(options) {
+LcmPublisher::LcmPublisher(const LcmOptions& options)
+    : options_(options),
+      block_channel_(options.channel_prefix + "MESH_BLOCK"),
+      end_channel_(options.channel_prefix + "MESH_END") {
   options_.Check();
   lcm_ = std::make_unique<lcm::LCM>(options_.url);
   if (!lcm_->good()) throw LcmError("cannot open LCM URL '" + options_.url + "'");
@@ -124,46 +144,113 @@ LcmPublisher::Counters LcmPublisher::counters() const {
   return counters_;
 }
 
-void LcmPublisher::SendMesh(PendingMesh& pending) {
-  const MeshDelta delta = pending.ToDelta();
-  // The first mesh message is a snapshot; then one every snapshot_every messages when enabled. Only then
-  // does the sender keep the whole published mesh (it grows with the map, finalised parts included).
-  const bool keep_all = options_.snapshot_every > 0;
-  if (keep_all) sent_.Apply(delta);
-  int rc = 0;
-  const bool snapshot = sequence_ == 0 || (keep_all && sequence_ % options_.snapshot_every == 0);
-  if (snapshot) {
-    const auto msg = ToLcmSnapshot(keep_all ? sent_.AsSnapshot(delta.frame_id) : delta, sequence_, NowUtime());
-    rc = lcm_->publish(options_.channel_prefix + "MESH_SNAPSHOT", &msg);
-  } else {
-    const auto msg = ToLcmDelta(delta, sequence_, NowUtime());
-    rc = lcm_->publish(options_.channel_prefix + "MESH_DELTA", &msg);
+void LcmPublisher::SendMesh(const std::string& channel, const std::vector<std::uint8_t>& msg, Counters* c) {
+  const int rc = lcm_->publish(channel, msg.data(), static_cast<unsigned int>(msg.size()));
+  c->mesh_bytes += static_cast<std::int64_t>(msg.size());
+  c->largest_message = std::max(c->largest_message, static_cast<std::int64_t>(msg.size()));
+  if (rc != 0) ++c->send_failures;
+}
+
+void LcmPublisher::Merge(const Counters& c) {
+  counters_.mesh_messages += c.mesh_messages;
+  counters_.resent_messages += c.resent_messages;
+  counters_.index_messages += c.index_messages;
+  counters_.mesh_bytes += c.mesh_bytes;
+  counters_.largest_message = std::max(counters_.largest_message, c.largest_message);
+  counters_.other_messages += c.other_messages;
+  counters_.send_failures += c.send_failures;
+}
+
+void LcmPublisher::Close(MeshBlockSender& blocks, Counters* c) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(options_.closing_max_s));
+  auto next = Clock::now();
+  const auto pace = [&](size_t bytes) {
+    std::this_thread::sleep_until(next);
+    next = std::max(next, Clock::now()) + std::chrono::duration_cast<Clock::duration>(
+                                              std::chrono::duration<double>(double(bytes) / options_.resend_bytes_per_s));
+  };
+  for (int round = 0; round < options_.closing_rounds && blocks.num_blocks() > 0; ++round) {
+    blocks.RestartResend();
+    bool end_of_round = false;
+    while (!end_of_round && Clock::now() < deadline) {
+      const auto msg = blocks.NextResend(&end_of_round);
+      pace(msg->size());
+      SendMesh(block_channel_, *msg, c);
+      ++c->resent_messages;
+    }
+    if (!end_of_round) break;  // out of time: the last message follows
+    if (round + 1 == options_.closing_rounds) break;
+    for (const auto& msg : blocks.Index(options_.closing_rounds - 1 - round)) {
+      pace(msg.size());
+      SendMesh(end_channel_, msg, c);
+      ++c->index_messages;
+    }
   }
-  ++sequence_;
-  std::lock_guard<std::mutex> lock(mutex_);
-  ++counters_.mesh_messages;
-  if (rc != 0) ++counters_.send_failures;
+  for (const auto& msg : blocks.Index(0)) {  // the run's last message(s)
+    pace(msg.size());
+    SendMesh(end_channel_, msg, c);
+    ++c->index_messages;
+  }
 }
 
 void LcmPublisher::Run() {
+  using Clock = std::chrono::steady_clock;
+  MeshBlockSender blocks(options_.block_size_m, options_.max_message_bytes,
+                         static_cast<std::int64_t>((std::uint64_t(std::random_device{}()) << 32) ^ std::random_device{}()));
+  auto next_resend = Clock::now();
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
-    wake_.wait(lock, [this] { return stop_ || pending_mesh_ || !queue_.empty(); });
-    if (!pending_mesh_ && queue_.empty()) break;  // stop_ with nothing left
+    const auto ready = [this] { return stop_ || pending_mesh_ || !queue_.empty(); };
+    if (blocks.num_blocks() > 0) {
+      wake_.wait_until(lock, next_resend, ready);
+    } else {
+      wake_.wait(lock, ready);
+    }
+    if (stop_ && !pending_mesh_ && queue_.empty()) break;
     busy_ = true;
     std::unique_ptr<PendingMesh> mesh = std::move(pending_mesh_);
     std::deque<std::function<int(lcm::LCM&)>> batch;
     batch.swap(queue_);
     lock.unlock();
-    if (mesh) SendMesh(*mesh);
-    int failures = 0;
-    for (auto& send : batch) failures += send(*lcm_) != 0 ? 1 : 0;
+    Counters c;
+    if (mesh) {
+      for (const auto& msg : blocks.Apply(mesh->ToDelta())) {
+        SendMesh(block_channel_, msg, &c);
+        ++c.mesh_messages;
+      }
+    }
+    for (auto& send : batch) c.send_failures += send(*lcm_) != 0 ? 1 : 0;
+    c.other_messages += static_cast<std::int64_t>(batch.size());
+    // The steady re-send: one message whenever the budget allows (no catching up after a busy spell).
+    const auto now = Clock::now();
+    if (now >= next_resend && blocks.num_blocks() > 0) {
+      bool end_of_round = false;
+      std::vector<std::vector<std::uint8_t>> out{*blocks.NextResend(&end_of_round)};
+      c.resent_messages += 1;
+      size_t bytes = out.back().size();
+      SendMesh(block_channel_, out.back(), &c);
+      if (end_of_round) {
+        for (const auto& msg : blocks.Index(-1)) {
+          SendMesh(end_channel_, msg, &c);
+          bytes += msg.size();
+          ++c.index_messages;
+        }
+      }
+      next_resend = now + std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(double(bytes) / options_.resend_bytes_per_s));
+    }
     lock.lock();
-    counters_.other_messages += static_cast<std::int64_t>(batch.size());
-    counters_.send_failures += failures;
+    Merge(c);
     busy_ = false;
     idle_.notify_all();
   }
+  lock.unlock();
+  Counters c;
+  Close(blocks, &c);
+  lock.lock();
+  Merge(c);
   busy_ = false;
   idle_.notify_all();
 }
