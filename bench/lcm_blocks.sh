@@ -39,9 +39,16 @@ for ts, ch, d in events:
     if ch.endswith('MESH_END'):
         kind = 'index'
     else:
-        key = (d[44:60], d[64:72], d[73:77])  # block, version + base, part
-        kind = 'resend' if key in seen else ('delta' if struct.unpack('>i', d[68:72])[0] > 0 else 'whole')
-        seen.add(key)
+        # A change is the first message of a block version: its delta, or each part of its whole state
+        # when no delta announced it; anything else is a re-send.
+        block, version, delta = d[44:60], d[64:68], struct.unpack('>i', d[68:72])[0] > 0
+        if delta:
+            kind = 'resend' if (block, version) in seen else 'delta'
+            seen.add((block, version))
+        else:
+            key = (block, version, d[73:77])
+            kind = 'resend' if key in seen or (block, version) in seen else 'whole'
+            seen.add(key)
     during = stats[0] <= ts <= stats[-1]
     k = (kind, 'run' if during else 'closing')
     kinds[k] = kinds.get(k, 0) + len(d)
@@ -66,4 +73,4 @@ print((s[(len(s)-1)//2]-t0)/1e6)")
 "$SEMAP" lcm-mesh "$work/run.lcmlog" --out "$work/all.ply" 2>&1 | grep -E 'events|lacking' | sed 's/^\[[^]]*\] //'
 "$SEMAP" lcm-mesh "$work/run.lcmlog" --join-after "$half" --out "$work/late.ply" 2>&1 | grep -E 'converged|lacking' | sed 's/^\[[^]]*\] //'
 echo "(joined at $half s)"
-rm -rf "$work"
+[ -n "${KEEP:-}" ] && echo "kept $work" || rm -rf "$work"

@@ -111,6 +111,9 @@ void Bind(FieldBinder& b, LcmOptions& o) {
   b.Field("resend_bytes_per_s", &o.resend_bytes_per_s,
           "budget of the round-robin re-send of block states and of the closing rounds (late subscribers "
           "converge in about mesh bytes / budget)");
+  b.Field("max_bytes_per_s", &o.max_bytes_per_s,
+          "ceiling on all mesh traffic: messages are spaced so that a subscriber's socket buffer keeps up; "
+          "changes published meanwhile are coalesced");
   b.Field("closing_rounds", &o.closing_rounds,
           "re-send rounds over every block at the end of the run, before its last message");
   b.Field("closing_max_s", &o.closing_max_s, "at most this long for the closing rounds");

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -11,6 +12,33 @@
 #include "io/lcm/lcm_codec.h"
 
 namespace semap::io {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Spaces messages so that they leave at `bytes_per_s` at most; an idle spell saves up no burst.
+class Pacer {
+ public:
+  explicit Pacer(double bytes_per_s) : bytes_per_s_(bytes_per_s) {}
+  bool Ready(Clock::time_point now) const { return now >= next_; }
+  Clock::time_point next() const { return next_; }
+  // Books a message of `bytes` sent now.
+  void Book(size_t bytes, Clock::time_point now) {
+    next_ = std::max(next_, now) +
+            std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(bytes) / bytes_per_s_));
+  }
+  // Waits until a message may go, then books it.
+  void Wait(size_t bytes) {
+    std::this_thread::sleep_until(next_);
+    Book(bytes, Clock::now());
+  }
+
+ private:
+  double bytes_per_s_;
+  Clock::time_point next_ = Clock::now();
+};
+
+}  // namespace
 
 void LcmOptions::Check() const {
   SEMAP_CHECK_OPTION(!url.empty(), "url", "''", "must not be empty");
@@ -20,6 +48,8 @@ void LcmOptions::Check() const {
                      max_message_bytes, "must be in [1024, 16777216]");
   SEMAP_CHECK_OPTION(std::isfinite(resend_bytes_per_s) && resend_bytes_per_s >= 1000.0, "resend_bytes_per_s",
                      resend_bytes_per_s, "must be >= 1000");
+  SEMAP_CHECK_OPTION(std::isfinite(max_bytes_per_s) && max_bytes_per_s >= resend_bytes_per_s, "max_bytes_per_s",
+                     max_bytes_per_s, "must be >= resend_bytes_per_s (" << resend_bytes_per_s << ")");
   SEMAP_CHECK_OPTION(closing_rounds >= 0 && closing_rounds <= 100, "closing_rounds", closing_rounds,
                      "must be in [0, 100]");
   SEMAP_CHECK_OPTION(std::isfinite(closing_max_s) && closing_max_s >= 0.0, "closing_max_s", closing_max_s,
@@ -162,49 +192,42 @@ void LcmPublisher::Merge(const Counters& c) {
 }
 
 void LcmPublisher::Close(MeshBlockSender& blocks, Counters* c) {
-  using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(options_.closing_max_s));
-  auto next = Clock::now();
-  const auto pace = [&](size_t bytes) {
-    std::this_thread::sleep_until(next);
-    next = std::max(next, Clock::now()) + std::chrono::duration_cast<Clock::duration>(
-                                              std::chrono::duration<double>(double(bytes) / options_.resend_bytes_per_s));
+  Pacer pacer(std::min(options_.resend_bytes_per_s, options_.max_bytes_per_s));
+  const auto send = [&](const std::string& channel, const std::vector<std::uint8_t>& msg) {
+    pacer.Wait(msg.size());
+    SendMesh(channel, msg, c);
   };
   for (int round = 0; round < options_.closing_rounds && blocks.num_blocks() > 0; ++round) {
     blocks.RestartResend();
     bool end_of_round = false;
     while (!end_of_round && Clock::now() < deadline) {
-      const auto msg = blocks.NextResend(&end_of_round);
-      pace(msg->size());
-      SendMesh(block_channel_, *msg, c);
+      send(block_channel_, *blocks.NextResend(&end_of_round));
       ++c->resent_messages;
     }
-    if (!end_of_round) break;  // out of time: the last message follows
-    if (round + 1 == options_.closing_rounds) break;
+    if (!end_of_round || round + 1 == options_.closing_rounds) break;  // the last message follows
     for (const auto& msg : blocks.Index(options_.closing_rounds - 1 - round)) {
-      pace(msg.size());
-      SendMesh(end_channel_, msg, c);
+      send(end_channel_, msg);
       ++c->index_messages;
     }
   }
   for (const auto& msg : blocks.Index(0)) {  // the run's last message(s)
-    pace(msg.size());
-    SendMesh(end_channel_, msg, c);
+    send(end_channel_, msg);
     ++c->index_messages;
   }
 }
 
 void LcmPublisher::Run() {
-  using Clock = std::chrono::steady_clock;
   MeshBlockSender blocks(options_.block_size_m, options_.max_message_bytes,
                          static_cast<std::int64_t>((std::uint64_t(std::random_device{}()) << 32) ^ std::random_device{}()));
-  auto next_resend = Clock::now();
+  Pacer link(options_.max_bytes_per_s);        // every mesh message
+  Pacer resend(options_.resend_bytes_per_s);   // the steady re-sends
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     const auto ready = [this] { return stop_ || pending_mesh_ || !queue_.empty(); };
     if (blocks.num_blocks() > 0) {
-      wake_.wait_until(lock, next_resend, ready);
+      wake_.wait_until(lock, std::max(resend.next(), link.next()), ready);
     } else {
       wake_.wait(lock, ready);
     }
@@ -215,31 +238,31 @@ void LcmPublisher::Run() {
     batch.swap(queue_);
     lock.unlock();
     Counters c;
+    for (auto& send : batch) c.send_failures += send(*lcm_) != 0 ? 1 : 0;
+    c.other_messages += static_cast<std::int64_t>(batch.size());
     if (mesh) {
+      // Spaced at lcm.max_bytes_per_s: deltas published meanwhile coalesce in pending_mesh_.
       for (const auto& msg : blocks.Apply(mesh->ToDelta())) {
+        link.Wait(msg.size());
         SendMesh(block_channel_, msg, &c);
         ++c.mesh_messages;
       }
     }
-    for (auto& send : batch) c.send_failures += send(*lcm_) != 0 ? 1 : 0;
-    c.other_messages += static_cast<std::int64_t>(batch.size());
-    // The steady re-send: one message whenever the budget allows (no catching up after a busy spell).
+    // The steady re-send: one message whenever both budgets allow (no catching up after a busy spell).
     const auto now = Clock::now();
-    if (now >= next_resend && blocks.num_blocks() > 0) {
+    if (blocks.num_blocks() > 0 && resend.Ready(now) && link.Ready(now)) {
       bool end_of_round = false;
       std::vector<std::vector<std::uint8_t>> out{*blocks.NextResend(&end_of_round)};
-      c.resent_messages += 1;
-      size_t bytes = out.back().size();
-      SendMesh(block_channel_, out.back(), &c);
+      ++c.resent_messages;
       if (end_of_round) {
-        for (const auto& msg : blocks.Index(-1)) {
-          SendMesh(end_channel_, msg, &c);
-          bytes += msg.size();
-          ++c.index_messages;
-        }
+        for (auto& msg : blocks.Index(-1)) out.push_back(std::move(msg));
+        c.index_messages += static_cast<std::int64_t>(out.size()) - 1;
       }
-      next_resend = now + std::chrono::duration_cast<Clock::duration>(
-                              std::chrono::duration<double>(double(bytes) / options_.resend_bytes_per_s));
+      for (size_t i = 0; i < out.size(); ++i) {
+        SendMesh(i == 0 ? block_channel_ : end_channel_, out[i], &c);
+        resend.Book(out[i].size(), now);
+        link.Book(out[i].size(), now);
+      }
     }
     lock.lock();
     Merge(c);

@@ -39,6 +39,10 @@ struct LcmOptions {
   // Budget of the steady round-robin re-send of every block's whole state, and of the closing rounds, in
   // bytes per second; a late subscriber converges in about (mesh bytes) / budget.
   double resend_bytes_per_s = 1.0e6;
+  // Ceiling on all mesh traffic (changes and re-sends), bytes per second: messages are spaced so that a
+  // subscriber's socket buffer is not overrun by a burst (a stock kernel's holds about three full
+  // messages); changes published meanwhile are coalesced, never dropped.
+  double max_bytes_per_s = 8.0e6;
   // Re-send rounds over every block at the end of the run (within the budget), each followed by the block
   // index, before the run's last message: what a late or lossy subscriber needs to complete the mesh.
   int closing_rounds = 2;

@@ -139,6 +139,7 @@ TEST(LcmPublisher, OptionsAreChecked) {
   invalid([](LcmOptions& o) { o.block_size_m = 0.0; });
   invalid([](LcmOptions& o) { o.block_size_m = std::numeric_limits<double>::quiet_NaN(); });
   invalid([](LcmOptions& o) { o.resend_bytes_per_s = 0.0; });
+  invalid([](LcmOptions& o) { o.max_bytes_per_s = o.resend_bytes_per_s / 2; });
   invalid([](LcmOptions& o) { o.closing_rounds = -1; });
   invalid([](LcmOptions& o) { o.closing_max_s = -1.0; });
   LcmOptions defaults;
