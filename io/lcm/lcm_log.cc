@@ -178,6 +178,8 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
   MeshMessageSink sink(options.channel_prefix, &out);
   MeshBlockAssembler assembler;  // the subscriber (joining late with join_after_s)
   MeshBlockAssembler early;      // with join_after_s: one that listened from the start
+  MeshReplay early_counts;  // not reported
+  MeshMessageSink early_sink(options.channel_prefix, &early_counts);
   std::int64_t first_us = 0, last_us = 0;
   bool converged = false;
   while (auto e = reader.Next()) {
@@ -190,8 +192,6 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
       continue;
     }
     // Both subscribers see the event (the early one always, the late one once joined); counted once.
-    MeshReplay scratch;
-    MeshMessageSink early_sink(options.channel_prefix, &scratch);
     early_sink.Feed(e->channel, e->data.data(), e->data.size(), where, &early);
     if (t < options.join_after_s) {
       ++out.events;
