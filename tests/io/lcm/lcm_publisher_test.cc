@@ -1,5 +1,6 @@
 #include "io/lcm/lcm_publisher.h"
 
+#include <chrono>
 #include <fstream>
 #include <random>
 #include <set>
@@ -116,6 +117,25 @@ TEST_F(PublishedLog, ABlockNeverReceivedIsNamed) {
   EXPECT_FALSE(replay.index_complete);
   ASSERT_EQ(replay.missing.size(), 1u) << ::testing::PrintToString(replay.missing);
   EXPECT_EQ(replay.missing[0].find(lost + ": never received"), 0u) << replay.missing[0];
+}
+
+// Mesh messages leave no faster than lcm.max_bytes_per_s, so that a burst never overruns a subscriber.
+TEST(LcmPublisher, MeshMessagesAreSpacedAtTheCeiling) {
+  LcmOptions options;
+  options.url = "file://" + (test::TempDir() / "paced.lcmlog").string() + "?mode=w";
+  options.max_message_bytes = 2048;
+  options.max_bytes_per_s = 1.0e5;
+  options.resend_bytes_per_s = 1.0e3;  // no re-send in the time this takes
+  options.closing_rounds = 0;
+  test::EvolvingMesh source(6);
+  LcmPublisher publisher(options);
+  const auto start = std::chrono::steady_clock::now();
+  for (int frame = 0; frame < 8; ++frame) publisher.PublishMeshDelta(source.Step(frame));
+  publisher.Flush();
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto c = publisher.counters();
+  ASSERT_GT(c.mesh_bytes, 5 * 2048);
+  EXPECT_GE(elapsed, 0.9 * double(c.mesh_bytes - 2 * c.largest_message) / options.max_bytes_per_s);
 }
 
 TEST(LcmPublisher, InvalidUrlIsAClearError) {
