@@ -121,7 +121,10 @@ class LcmLogger : public ::testing::Test {
 };
 
 TEST_F(LcmLogger, RunPublishesWithTheKernelsDefaultBuffers) {
-  EXPECT_NE(Text("rmem.txt").find("rmem_default 212992"), std::string::npos) << Text("rmem.txt");
+  // The kernel's default (212992 on a stock Linux), never raised by the test.
+  const std::string rmem = Text("rmem.txt");
+  ASSERT_EQ(rmem.rfind("rmem_default ", 0), 0u) << rmem;
+  EXPECT_LE(std::stol(rmem.substr(13)), 212992) << rmem;
   EXPECT_NE(Text("run.txt").find("0 send failures"), std::string::npos) << Text("run.txt");
   ASSERT_GT(Written().num_triangles(), 1000u);
 }
