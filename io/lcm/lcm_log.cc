@@ -185,7 +185,7 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
   while (auto e = reader.Next()) {
     if (out.events == 0) first_us = e->timestamp_us;
     last_us = e->timestamp_us;
-    const double t = 1e-6 * static_cast<double>(e->timestamp_us - first_us);
+    const double t = 1e-6 * (static_cast<double>(e->timestamp_us) - static_cast<double>(first_us));  // any int64
     const std::string where = "event " + std::to_string(e->eventnum);
     if (options.join_after_s < 0) {
       sink.Feed(e->channel, e->data.data(), e->data.size(), where, &assembler);
@@ -203,7 +203,7 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
       out.converged_after_s = t - options.join_after_s;
     }
   }
-  out.duration_s = 1e-6 * static_cast<double>(last_us - first_us);
+  out.duration_s = 1e-6 * (static_cast<double>(last_us) - static_cast<double>(first_us));
   out.damaged_bytes = reader.damaged_bytes();
   out.log_problem = reader.problem();
   if (out.events == 0) {

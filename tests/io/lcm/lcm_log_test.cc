@@ -2,6 +2,7 @@
 // NaN, empty, truncated and foreign files give a clear error or a skipped and counted message, never a crash.
 #include "io/lcm/lcm_log.h"
 
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -97,6 +98,18 @@ TEST(LcmLog, HugeEventLengthIsSkippedToTheNextEvent) {
   const auto replay = ReplayMeshLog(path);  // the rest is used
   EXPECT_GT(replay.mesh.num_triangles(), 0u);
   EXPECT_FALSE(replay.log_problem.empty());
+}
+
+// Found by fuzz_lcm_log: timestamps far apart overflowed a signed difference.
+TEST(LcmLog, ExtremeTimestampsGiveAFiniteDuration) {
+  auto events = MeshEvents();
+  events.front().timestamp_us = std::numeric_limits<std::int64_t>::min();
+  events.back().timestamp_us = std::numeric_limits<std::int64_t>::max();
+  MeshReplayOptions options;
+  options.join_after_s = 1.0;
+  const auto replay = ReplayMeshLog(WriteLog("far.lcmlog", events), options);
+  EXPECT_TRUE(std::isfinite(replay.duration_s));
+  EXPECT_GT(replay.duration_s, 1e12);
 }
 
 TEST(LcmLog, TruncatedLogKeepsTheCompleteEvents) {
