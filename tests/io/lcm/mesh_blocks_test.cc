@@ -136,8 +136,7 @@ TEST(MeshBlocks, LostPartsAndBasesAreNamedAndRecovered) {
   Feed(round, &a);
   EXPECT_FALSE(a.Complete());
   const auto missing = a.Missing();
-  const std::string key = "(" + std::to_string(lost_msg.block[0]) + "," + std::to_string(lost_msg.block[1]) + "," +
-                          std::to_string(lost_msg.block[2]) + ")#0";
+  const std::string key = BlockKey{lost_msg.block[0], lost_msg.block[1], lost_msg.block[2], 0}.ToString();
   const std::string parts =
       "(parts " + std::to_string(lost_msg.num_parts - 1) + "/" + std::to_string(lost_msg.num_parts) + " received)";
   ASSERT_EQ(missing.size(), 1u) << ::testing::PrintToString(missing);
