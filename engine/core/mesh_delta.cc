@@ -49,7 +49,12 @@ MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, 
   // Frozen triangles: publish those never published, then forget them (they are never removed).
   for (const auto& t : frozen.mesh.triangles) {
     const auto key = KeyOf(frozen, t);
-    if (live_.erase(key) > 0) continue;  // already published while live
+    if (const auto it = live_.find(key); it != live_.end()) {  // already published while live
+      delta.finalised_triangle_ids.push_back(it->second.id);
+      live_.erase(it);
+      continue;
+    }
+    delta.finalised_triangle_ids.push_back(next_id_);
     delta.added_triangle_ids.push_back(next_id_++);
     delta.added_triangles.push_back(key);
     for (auto i : t) AddVertex(frozen, i, &seen_vertices, &delta);

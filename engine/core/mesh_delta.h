@@ -33,6 +33,9 @@ struct MeshDelta {
   std::vector<Eigen::Vector3d> vertex_positions;
   std::vector<std::array<std::uint8_t, 3>> vertex_colors_rgb;  // empty or one per vertex
   std::vector<Label> vertex_labels;                            // empty or one per vertex
+  // Triangles (added by this delta or earlier) that belong to finalised parts of the map: they are never
+  // removed afterwards. Publishers may send them once for good (io/lcm); applying a delta ignores it.
+  std::vector<TriangleId> finalised_triangle_ids;
 
   bool empty() const { return removed_triangle_ids.empty() && added_triangle_ids.empty(); }
 };

@@ -103,10 +103,20 @@ void Bind(FieldBinder& b, LcmOptions& o) {
   b.Field("enabled", &o.enabled, "publish meshes, frame stats and poses over LCM (semap run --lcm-url sets it)");
   b.Field("url", &o.url, "LCM provider URL; ttl=0 keeps multicast on this host");
   b.Field("channel_prefix", &o.channel_prefix,
-          "channel prefix: <prefix>MESH_SNAPSHOT, MESH_DELTA, FRAME_STATS, CAMERA_POSE");
-  b.Field("snapshot_every", &o.snapshot_every,
-          "full mesh snapshot every N mesh messages for late subscribers (0 = first only; N > 0 keeps the whole "
-          "published mesh in memory)");
+          "channel prefix: <prefix>MESH_BLOCK, MESH_END, FRAME_STATS, CAMERA_POSE");
+  b.Field("block_size_m", &o.block_size_m,
+          "edge of the cubic cells that cut the mesh into blocks (a triangle goes to its centroid's cell)");
+  b.Field("max_message_bytes", &o.max_message_bytes,
+          "bound on every mesh message; larger blocks go in parts (<= ~65000: one UDP datagram each)");
+  b.Field("resend_bytes_per_s", &o.resend_bytes_per_s,
+          "budget of the round-robin re-send of block states and of the closing rounds (late subscribers "
+          "converge in about mesh bytes / budget)");
+  b.Field("max_bytes_per_s", &o.max_bytes_per_s,
+          "ceiling on all mesh traffic: messages are spaced so that a subscriber's socket buffer keeps up; "
+          "changes published meanwhile are coalesced");
+  b.Field("closing_rounds", &o.closing_rounds,
+          "re-send rounds over every block at the end of the run, before its last message");
+  b.Field("closing_max_s", &o.closing_max_s, "at most this long for the closing rounds");
   b.Field("queue_capacity", &o.queue_capacity, "stats/pose messages queued at most; more are dropped and counted");
 }
 

@@ -1,15 +1,59 @@
 #include "io/lcm/lcm_publisher.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <thread>
+
 #include <lcm/lcm-cpp.hpp>
 
 #include "engine/core/check.h"
 #include "io/lcm/lcm_codec.h"
 
 namespace semap::io {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Spaces messages so that they leave at `bytes_per_s` at most; an idle spell saves up no burst.
+class Pacer {
+ public:
+  explicit Pacer(double bytes_per_s) : bytes_per_s_(bytes_per_s) {}
+  bool Ready(Clock::time_point now) const { return now >= next_; }
+  Clock::time_point next() const { return next_; }
+  // Books a message of `bytes` sent now.
+  void Book(size_t bytes, Clock::time_point now) {
+    next_ = std::max(next_, now) +
+            std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(bytes) / bytes_per_s_));
+  }
+  // Waits until a message may go, then books it.
+  void Wait(size_t bytes) {
+    std::this_thread::sleep_until(next_);
+    Book(bytes, Clock::now());
+  }
+
+ private:
+  double bytes_per_s_;
+  Clock::time_point next_ = Clock::now();
+};
+
+}  // namespace
 
 void LcmOptions::Check() const {
   SEMAP_CHECK_OPTION(!url.empty(), "url", "''", "must not be empty");
-  SEMAP_CHECK_OPTION(snapshot_every >= 0, "snapshot_every", snapshot_every, "must be >= 0 (0 = first only)");
+  SEMAP_CHECK_OPTION(std::isfinite(block_size_m) && block_size_m >= 0.05 && block_size_m <= 1e4, "block_size_m",
+                     block_size_m, "must be in [0.05, 10000] metres");
+  SEMAP_CHECK_OPTION(max_message_bytes >= 1024 && max_message_bytes <= (1 << 24), "max_message_bytes",
+                     max_message_bytes, "must be in [1024, 16777216]");
+  SEMAP_CHECK_OPTION(std::isfinite(resend_bytes_per_s) && resend_bytes_per_s >= 1000.0, "resend_bytes_per_s",
+                     resend_bytes_per_s, "must be >= 1000");
+  SEMAP_CHECK_OPTION(std::isfinite(max_bytes_per_s) && max_bytes_per_s >= resend_bytes_per_s, "max_bytes_per_s",
+                     max_bytes_per_s, "must be >= resend_bytes_per_s (" << resend_bytes_per_s << ")");
+  SEMAP_CHECK_OPTION(closing_rounds >= 0 && closing_rounds <= 100, "closing_rounds", closing_rounds,
+                     "must be in [0, 100]");
+  SEMAP_CHECK_OPTION(std::isfinite(closing_max_s) && closing_max_s >= 0.0, "closing_max_s", closing_max_s,
+                     "must be >= 0");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
 }
 
@@ -17,11 +61,13 @@ void LcmOptions::Check() const {
 struct LcmPublisher::PendingMesh {
   std::int64_t frame_id = -1;
   std::vector<TriangleId> removed;
+  std::vector<TriangleId> finalised;
   std::unordered_map<TriangleId, std::array<VertexId, 3>> added;
   MeshDelta vertex_store;
 
   void Compose(const MeshDelta& d) {
     frame_id = d.frame_id;
+    finalised.insert(finalised.end(), d.finalised_triangle_ids.begin(), d.finalised_triangle_ids.end());
     for (auto id : d.removed_triangle_ids) {
       if (added.erase(id) == 0) removed.push_back(id);
     }
@@ -39,6 +85,7 @@ struct LcmPublisher::PendingMesh {
     MeshDelta out;
     out.frame_id = frame_id;
     out.removed_triangle_ids = removed;
+    out.finalised_triangle_ids = finalised;
     std::unordered_map<VertexId, size_t> wanted;
     for (const auto& [id, t] : added) {
       out.added_triangle_ids.push_back(id);
@@ -61,7 +108,10 @@ struct LcmPublisher::PendingMesh {
   }
 };
 
-LcmPublisher::LcmPublisher(const LcmOptions& options) : options_(options) {
+LcmPublisher::LcmPublisher(const LcmOptions& options)
+    : options_(options),
+      block_channel_(options.channel_prefix + "MESH_BLOCK"),
+      end_channel_(options.channel_prefix + "MESH_END") {
   options_.Check();
   lcm_ = std::make_unique<lcm::LCM>(options_.url);
   if (!lcm_->good()) throw LcmError("cannot open LCM URL '" + options_.url + "'");
@@ -124,46 +174,106 @@ LcmPublisher::Counters LcmPublisher::counters() const {
   return counters_;
 }
 
-void LcmPublisher::SendMesh(PendingMesh& pending) {
-  const MeshDelta delta = pending.ToDelta();
-  // The first mesh message is a snapshot; then one every snapshot_every messages when enabled. Only then
-  // does the sender keep the whole published mesh (it grows with the map, finalised parts included).
-  const bool keep_all = options_.snapshot_every > 0;
-  if (keep_all) sent_.Apply(delta);
-  int rc = 0;
-  const bool snapshot = sequence_ == 0 || (keep_all && sequence_ % options_.snapshot_every == 0);
-  if (snapshot) {
-    const auto msg = ToLcmSnapshot(keep_all ? sent_.AsSnapshot(delta.frame_id) : delta, sequence_, NowUtime());
-    rc = lcm_->publish(options_.channel_prefix + "MESH_SNAPSHOT", &msg);
-  } else {
-    const auto msg = ToLcmDelta(delta, sequence_, NowUtime());
-    rc = lcm_->publish(options_.channel_prefix + "MESH_DELTA", &msg);
+void LcmPublisher::SendMesh(const std::string& channel, const std::vector<std::uint8_t>& msg, Counters* c) {
+  const int rc = lcm_->publish(channel, msg.data(), static_cast<unsigned int>(msg.size()));
+  c->mesh_bytes += static_cast<std::int64_t>(msg.size());
+  c->largest_message = std::max(c->largest_message, static_cast<std::int64_t>(msg.size()));
+  if (rc != 0) ++c->send_failures;
+}
+
+void LcmPublisher::Merge(const Counters& c) {
+  counters_.mesh_messages += c.mesh_messages;
+  counters_.resent_messages += c.resent_messages;
+  counters_.index_messages += c.index_messages;
+  counters_.mesh_bytes += c.mesh_bytes;
+  counters_.largest_message = std::max(counters_.largest_message, c.largest_message);
+  counters_.other_messages += c.other_messages;
+  counters_.send_failures += c.send_failures;
+}
+
+void LcmPublisher::Close(MeshBlockSender& blocks, Counters* c) {
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(options_.closing_max_s));
+  Pacer pacer(std::min(options_.resend_bytes_per_s, options_.max_bytes_per_s));
+  const auto send = [&](const std::string& channel, const std::vector<std::uint8_t>& msg) {
+    pacer.Wait(msg.size());
+    SendMesh(channel, msg, c);
+  };
+  for (int round = 0; round < options_.closing_rounds && blocks.num_blocks() > 0; ++round) {
+    blocks.RestartResend();
+    bool end_of_round = false;
+    while (!end_of_round && Clock::now() < deadline) {
+      send(block_channel_, *blocks.NextResend(&end_of_round));
+      ++c->resent_messages;
+    }
+    if (!end_of_round || round + 1 == options_.closing_rounds) break;  // the last message follows
+    for (const auto& msg : blocks.Index(options_.closing_rounds - 1 - round)) {
+      send(end_channel_, msg);
+      ++c->index_messages;
+    }
   }
-  ++sequence_;
-  std::lock_guard<std::mutex> lock(mutex_);
-  ++counters_.mesh_messages;
-  if (rc != 0) ++counters_.send_failures;
+  for (const auto& msg : blocks.Index(0)) {  // the run's last message(s)
+    send(end_channel_, msg);
+    ++c->index_messages;
+  }
 }
 
 void LcmPublisher::Run() {
+  MeshBlockSender blocks(options_.block_size_m, options_.max_message_bytes,
+                         static_cast<std::int64_t>((std::uint64_t(std::random_device{}()) << 32) ^ std::random_device{}()));
+  Pacer link(options_.max_bytes_per_s);        // every mesh message
+  Pacer resend(options_.resend_bytes_per_s);   // the steady re-sends
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
-    wake_.wait(lock, [this] { return stop_ || pending_mesh_ || !queue_.empty(); });
-    if (!pending_mesh_ && queue_.empty()) break;  // stop_ with nothing left
+    const auto ready = [this] { return stop_ || pending_mesh_ || !queue_.empty(); };
+    if (blocks.num_blocks() > 0) {
+      wake_.wait_until(lock, std::max(resend.next(), link.next()), ready);
+    } else {
+      wake_.wait(lock, ready);
+    }
+    if (stop_ && !pending_mesh_ && queue_.empty()) break;
     busy_ = true;
     std::unique_ptr<PendingMesh> mesh = std::move(pending_mesh_);
     std::deque<std::function<int(lcm::LCM&)>> batch;
     batch.swap(queue_);
     lock.unlock();
-    if (mesh) SendMesh(*mesh);
-    int failures = 0;
-    for (auto& send : batch) failures += send(*lcm_) != 0 ? 1 : 0;
+    Counters c;
+    for (auto& send : batch) c.send_failures += send(*lcm_) != 0 ? 1 : 0;
+    c.other_messages += static_cast<std::int64_t>(batch.size());
+    if (mesh) {
+      // Spaced at lcm.max_bytes_per_s: deltas published meanwhile coalesce in pending_mesh_.
+      for (const auto& msg : blocks.Apply(mesh->ToDelta())) {
+        link.Wait(msg.size());
+        SendMesh(block_channel_, msg, &c);
+        ++c.mesh_messages;
+      }
+    }
+    // The steady re-send: one message whenever both budgets allow (no catching up after a busy spell).
+    const auto now = Clock::now();
+    if (blocks.num_blocks() > 0 && resend.Ready(now) && link.Ready(now)) {
+      bool end_of_round = false;
+      std::vector<std::vector<std::uint8_t>> out{*blocks.NextResend(&end_of_round)};
+      ++c.resent_messages;
+      if (end_of_round) {
+        for (auto& msg : blocks.Index(-1)) out.push_back(std::move(msg));
+        c.index_messages += static_cast<std::int64_t>(out.size()) - 1;
+      }
+      for (size_t i = 0; i < out.size(); ++i) {
+        SendMesh(i == 0 ? block_channel_ : end_channel_, out[i], &c);
+        resend.Book(out[i].size(), now);
+        link.Book(out[i].size(), now);
+      }
+    }
     lock.lock();
-    counters_.other_messages += static_cast<std::int64_t>(batch.size());
-    counters_.send_failures += failures;
+    Merge(c);
     busy_ = false;
     idle_.notify_all();
   }
+  lock.unlock();
+  Counters c;
+  Close(blocks, &c);
+  lock.lock();
+  Merge(c);
   busy_ = false;
   idle_.notify_all();
 }

@@ -16,6 +16,7 @@
 #include "engine/core/calibration.h"
 #include "engine/core/mesh_delta.h"
 #include "engine/pipeline/frame_stats.h"
+#include "io/lcm/mesh_blocks.h"
 
 namespace lcm {
 class LCM;
@@ -28,12 +29,26 @@ struct LcmOptions {
   bool enabled = false;
   // LCM provider URL; ttl=0 keeps the multicast on this host.
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
-  // Channel names are <prefix>MESH_SNAPSHOT, MESH_DELTA, FRAME_STATS, CAMERA_POSE.
+  // Channel names are <prefix>MESH_BLOCK, MESH_END, FRAME_STATS, CAMERA_POSE.
   std::string channel_prefix = "SEMAP_";
-  // The first mesh message is a snapshot; with N > 0 a full snapshot follows every N mesh messages so that
-  // late subscribers can join, at the cost of keeping the whole published mesh in memory (it grows with the
-  // drive). 0 = first only (bounded memory: the soak setting).
-  int snapshot_every = 0;
+  // Edge of the cubic cells that cut the mesh into blocks (a triangle belongs to the cell of its centroid).
+  double block_size_m = 4.0;
+  // Bound on every mesh message (bytes of the encoded message): larger blocks are sent in parts. Up to ~65000
+  // a message is one UDP datagram, so one lost datagram loses one part only.
+  int max_message_bytes = 60000;
+  // Budget of the steady round-robin re-send of every block's whole state, and of the closing rounds, in
+  // bytes per second; a late subscriber converges in about (mesh bytes) / budget.
+  double resend_bytes_per_s = 1.0e6;
+  // Ceiling on all mesh traffic (changes and re-sends), bytes per second: messages are spaced so that a
+  // subscriber's socket buffer is not overrun by a burst (a stock kernel's holds about three full
+  // messages); changes published meanwhile are coalesced, never dropped.
+  double max_bytes_per_s = 8.0e6;
+  // Re-send rounds over every block at the end of the run (within the budget), each followed by the block
+  // index, before the run's last message: what a late or lossy subscriber needs to complete the mesh.
+  int closing_rounds = 2;
+  // At most this long for the closing rounds (a long drive's mesh at a small budget would take longer); the
+  // run's last message is sent anyway.
+  double closing_max_s = 30.0;
   // Stats/pose messages waiting to be sent at most; further ones are dropped and counted.
   int queue_capacity = 64;
 
@@ -48,20 +63,26 @@ class LcmError : public std::runtime_error {
 
 // Thread-safe: every Publish* may be called from any thread and returns at once. Mesh deltas are never
 // dropped: while the sender thread is busy they are coalesced into one pending delta (bounded by the mesh
-// size). Stats and poses go through a bounded queue; when it is full the message is dropped and counted.
-// Send failures (no route, socket error) are counted, never thrown.
+// size); the sender cuts them into block messages (io/lcm/mesh_blocks.h) and, when idle, re-sends block
+// states round-robin within lcm.resend_bytes_per_s. Stats and poses go through a bounded queue; when it is
+// full the message is dropped and counted. Send failures (no route, socket error) are counted, never thrown.
+// Memory: the live triangles per block, plus the encoded finalised blocks (~40 bytes per finalised triangle).
 class LcmPublisher {
  public:
   struct Counters {
-    std::int64_t mesh_messages = 0;  // snapshots + deltas sent
-    std::int64_t other_messages = 0; // stats + poses sent
+    std::int64_t mesh_messages = 0;   // block messages carrying changes (deltas, new versions, finalised blocks)
+    std::int64_t resent_messages = 0; // block messages re-sent (steady and closing rounds)
+    std::int64_t index_messages = 0;  // mesh_end_t messages
+    std::int64_t mesh_bytes = 0;      // bytes of all mesh messages (block and index, re-sends included)
+    std::int64_t largest_message = 0; // bytes of the largest mesh message
+    std::int64_t other_messages = 0;  // stats + poses sent
     std::int64_t send_failures = 0;
-    std::int64_t dropped = 0;        // stats/poses dropped on a full queue
+    std::int64_t dropped = 0;         // stats/poses dropped on a full queue
   };
 
   // Throws LcmError naming the URL when LCM cannot be initialised with it.
   explicit LcmPublisher(const LcmOptions& options);
-  // Sends everything still pending, then stops the thread.
+  // Sends everything still pending, then the closing rounds and the run's last message; stops the thread.
   ~LcmPublisher();
   LcmPublisher(const LcmPublisher&) = delete;
   LcmPublisher& operator=(const LcmPublisher&) = delete;
@@ -76,21 +97,23 @@ class LcmPublisher {
  private:
   struct PendingMesh;
   void Run();
-  void SendMesh(PendingMesh& pending);
+  // Sends one mesh message on `channel`; counts it in `c`.
+  void SendMesh(const std::string& channel, const std::vector<std::uint8_t>& msg, Counters* c);
+  // The closing rounds and the run's last message (sender thread, after stop).
+  void Close(MeshBlockSender& blocks, Counters* c);
+  void Merge(const Counters& c);  // adds sender-thread counts under mutex_
 
   LcmOptions options_;
+  std::string block_channel_, end_channel_;
   std::unique_ptr<lcm::LCM> lcm_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable idle_;
   std::unique_ptr<PendingMesh> pending_mesh_;  // guarded by mutex_
   std::deque<std::function<int(lcm::LCM&)>> queue_;  // guarded by mutex_
-  bool busy_ = false;
-  bool stop_ = false;
-  Counters counters_;
-  // Sender-thread state.
-  MeshAccumulator sent_;
-  std::int64_t sequence_ = 0;
+  bool busy_ = false;    // guarded by mutex_
+  bool stop_ = false;    // guarded by mutex_
+  Counters counters_;    // guarded by mutex_
   std::thread thread_;
 };
 

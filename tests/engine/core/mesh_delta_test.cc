@@ -76,6 +76,20 @@ TEST(MeshDiffer, FrozenTrianglesAreNeverRemoved) {
   EXPECT_EQ(differ.num_live_triangles(), 1u);
 }
 
+TEST(MeshDiffer, DeltasNameTheFinalisedTriangles) {
+  MeshDiffer differ;
+  const MeshDelta first = differ.Update(0, MakeMesh({{1, 2, 3}, {4, 5, 6}}));
+  EXPECT_TRUE(first.finalised_triangle_ids.empty());
+  // {1,2,3} was published while live and keeps its id; {7,8,9} is finalised before ever being live.
+  const MeshDelta second = differ.Update(1, MakeMesh({{4, 5, 6}}), MakeMesh({{1, 2, 3}, {7, 8, 9}}));
+  ASSERT_EQ(second.added_triangle_ids.size(), 1u);
+  EXPECT_TRUE(second.removed_triangle_ids.empty());
+  const std::set<TriangleId> finalised(second.finalised_triangle_ids.begin(), second.finalised_triangle_ids.end());
+  const TriangleId id_123 = first.added_triangles[0] == std::array<VertexId, 3>{1, 2, 3} ? first.added_triangle_ids[0]
+                                                                                         : first.added_triangle_ids[1];
+  EXPECT_EQ(finalised, (std::set<TriangleId>{id_123, second.added_triangle_ids[0]}));
+}
+
 TEST(MeshDeltaProperty, AccumulatedDeltasEqualLiveMeshPlusFrozen) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 20; ++trial) {
