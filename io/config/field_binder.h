@@ -32,12 +32,15 @@ void CheckFinite(const std::vector<T>& values) {
 }
 
 // A value as YAML; floating-point numbers in their shortest form that reads back exactly (0.3, not
-// 0.29999999999999999).
+// 0.29999999999999999), whole numbers below 10^15 without an exponent (1000000, not 1e+06).
 template <typename T>
 YAML::Node Dump(const T& value) {
   if constexpr (std::is_floating_point_v<T>) {
+    constexpr T kLargestPlain = T(1e15);
     char buf[64];
-    const auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), value);
+    const bool whole = std::abs(value) < kLargestPlain && value == std::trunc(value);
+    const auto [end, ec] = whole ? std::to_chars(buf, buf + sizeof(buf), value, std::chars_format::fixed)
+                                 : std::to_chars(buf, buf + sizeof(buf), value);
     if (ec == std::errc()) return YAML::Node(std::string(buf, end));
   }
   return YAML::Node(value);

@@ -6,7 +6,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
+#include "tests/engine/map/manifold_checker.h"
 #include "tests/tools/cli_run.h"
 #include "tests/tools/small_sequence.h"
 
@@ -29,6 +31,10 @@ TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
   EXPECT_NE(text.find("| 95 | PS | 0.7173 | 1.5434 |"), std::string::npos) << text;
   EXPECT_TRUE(fs::exists(out / "small" / "O" / "mesh.ply"));
   EXPECT_TRUE(fs::exists(out / "small" / "PS" / "mesh.ply"));
+  for (const char* method : {"O", "PS"}) {
+    const test::ManifoldReport m = test::CheckManifold(io::ReadMeshPly(out / "small" / method / "mesh.ply"), true);
+    EXPECT_TRUE(m.ok()) << method << "\n" << m.Summary();
+  }
 
   const nlohmann::json rows = nlohmann::json::parse(std::ifstream(out / "table.json"));
   ASSERT_EQ(rows.size(), 2u);

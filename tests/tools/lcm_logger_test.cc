@@ -14,6 +14,7 @@
 #include "io/lcm/lcm_publisher.h"
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
+#include "tests/engine/map/manifold_checker.h"
 #include "tests/io/lcm/log_filter.h"
 #include "tests/tools/cli_run.h"
 
@@ -134,6 +135,8 @@ TEST_F(LcmLogger, LogFromTheStartRebuildsTheWrittenMesh) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.Has("run ended")) << r.output;
   EXPECT_EQ(Triangles(rebuilt), Triangles(Written()));
+  const test::ManifoldReport manifold = test::CheckManifold(rebuilt, /*allow_boundary=*/true);
+  EXPECT_TRUE(manifold.ok()) << "the rebuilt mesh\n" << manifold.Summary();
   // Finalised blocks were published and every message stayed within the default bound.
   const auto replay = io::ReplayMeshLog(At("early.lcmlog"));
   EXPECT_LE(replay.largest_message, io::LcmOptions{}.max_message_bytes);

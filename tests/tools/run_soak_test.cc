@@ -7,6 +7,7 @@
 //  - no crash, no deadlock: the run ends by itself (bounded by `timeout`) with exit code 0;
 //  - every frame accounted for: processed + failed + dropped = frames of the looped sequence, and on this
 //    intact sequence none failed or was dropped;
+//  - the written mesh is a 2-manifold with boundary (the independent checker on mesh.ply);
 //  - the map's memory bound holds: its live Delaunay size (vertices, cells) after warm-up stays within 1.5× of
 //    its size at the end of warm-up (the finalised parts leave it);
 //  - RSS after warm-up grows by at most 64 MiB + 256 B per published mesh triangle added since: what grows by
@@ -30,7 +31,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
+#include "tests/engine/map/manifold_checker.h"
 #include "tests/tools/cli_run.h"
 
 namespace semap::tools {
@@ -174,6 +177,11 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
   const double late = Median({frame_cpu_ms.end() - std::max<size_t>(q, 1), frame_cpu_ms.end()});
   EXPECT_LE(late, 1.5 * early) << "CPU time per frame grows: " << early << " ms after warm-up, " << late
                                << " ms at the end";
+
+  // The mesh of a run that finalised all the time: one manifold across every seam.
+  const test::ManifoldReport manifold = test::CheckManifold(io::ReadMeshPly(out / "mesh.ply"), /*allow_boundary=*/true);
+  EXPECT_TRUE(manifold.ok()) << manifold.num_nonmanifold_edges << " non-manifold edges, "
+                             << manifold.num_nonmanifold_vertices << " non-manifold vertices\n" << manifold.Summary();
 
   std::ofstream(dir / "soak_summary.json")
       << nlohmann::json{{"frames", frames},

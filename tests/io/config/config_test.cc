@@ -71,14 +71,17 @@ TEST(Config, NumbersAreDumpedInTheirShortestExactForm) {
   c.map.sigma_free_m = 0.3;
   c.depth.max_depth_m = 100.0 / 3.0;
   c.pipeline.cpu_affinity = {0, 1};
+  c.lcm.resend_bytes_per_s = 2e6;
   const std::string text = DumpConfig(c);
   EXPECT_NE(text.find("  sigma_free_m: 0.3\n"), std::string::npos);
+  EXPECT_NE(text.find("  resend_bytes_per_s: 2000000\n"), std::string::npos);  // whole: no exponent
   EXPECT_NE(text.find("  max_depth_m: 33.333333333333336\n"), std::string::npos);
   EXPECT_NE(text.find("  cpu_affinity: [0, 1]\n"), std::string::npos);
   const Config back = LoadConfig(WriteYaml(text));
   EXPECT_EQ(back.map.sigma_free_m, 0.3);  // exact: the shortest form reads back to the same double
   EXPECT_EQ(back.depth.max_depth_m, 100.0 / 3.0);
   EXPECT_EQ(back.pipeline.cpu_affinity, (std::vector<int>{0, 1}));
+  EXPECT_EQ(back.lcm.resend_bytes_per_s, 2e6);
 }
 
 TEST(Config, MissingOrInvalidFileIsAClearError) {
