@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       RegisterEvalCommand,
       RegisterTableCommand,
       RegisterCompareCommand,
+      RegisterRenderCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   try {
