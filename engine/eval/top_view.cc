@@ -147,13 +147,17 @@ TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopView
   view.image_up = proj.image_up;
   view.margin_px = options.margin_px;
 
-  // Extent of the projected mesh (vertices of triangles only).
+  // Extent of the projected mesh (vertices of triangles only) and track.
   double a_min = std::numeric_limits<double>::infinity(), a_max = -a_min, b_min = a_min, b_max = -a_min;
+  const auto extend = [&](const Eigen::Vector3d& p) {
+    const double a = proj.right.dot(p), b = proj.image_up.dot(p);
+    a_min = std::min(a_min, a), a_max = std::max(a_max, a), b_min = std::min(b_min, b), b_max = std::max(b_max, b);
+  };
   for (const auto& t : mesh.triangles) {
-    for (std::uint32_t v : t) {
-      const double a = proj.right.dot(mesh.vertices[v]), b = proj.image_up.dot(mesh.vertices[v]);
-      a_min = std::min(a_min, a), a_max = std::max(a_max, a), b_min = std::min(b_min, b), b_max = std::max(b_max, b);
-    }
+    for (std::uint32_t v : t) extend(mesh.vertices[v]);
+  }
+  if (!mesh.triangles.empty()) {
+    for (const Eigen::Vector3d& c : track) extend(c);
   }
   const int m = options.margin_px;
   const int legend_px = options.legend ? kLegendHeightPx : 0;

@@ -65,7 +65,8 @@ struct TopView {
 // Renders `mesh` (programmer error if inconsistent) as `options` says; `up` need not be unit (non-zero).
 // `distance` (world point → distance to the true surface, thread-safe) is required for kError and unused
 // otherwise. An empty mesh gives a small white image with no covered pixel. `track` (e.g. the camera centres)
-// is drawn as a dark blue line over the mesh when not empty. Throws InvalidOption on bad options or a zero up.
+// is drawn as a dark blue line over the mesh (the view widened to hold it). Throws InvalidOption on bad options
+// or a zero up.
 TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopViewOptions& options,
                       const std::function<double(const Eigen::Vector3d&)>& distance = {},
                       const std::vector<Eigen::Vector3d>& track = {});

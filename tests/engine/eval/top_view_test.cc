@@ -110,6 +110,21 @@ TEST(TopView, ColoursByHeightAndByError) {
   EXPECT_GT(wrong[2], wrong[0]);
 }
 
+TEST(TopView, TheTrackIsDrawnAndKeptInView) {
+  Mesh m;
+  AddQuad(m, {0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0});
+  // A track from (−10, 5) to (5, 5): the view widens to x = −10 and the line crosses the empty part.
+  const TopView v = RenderTopView(m, {0, 0, 1}, NoLegend(200), {}, {{-10, 5, 1}, {5, 5, 1}});
+  EXPECT_NEAR(v.metres_per_px, 20.0 / 180.0, 1e-12);
+  const Eigen::Vector2d start = v.ToPixel({-10, 5, 1});
+  EXPECT_NEAR(start.x(), 10.0, 1e-9);
+  const Eigen::Vector2d empty = v.ToPixel({-5, 5, 1});  // on the track, off the mesh
+  const cv::Vec3b c = v.image.at<cv::Vec3b>(static_cast<int>(empty.y()), static_cast<int>(empty.x()));
+  EXPECT_NE(c, cv::Vec3b(255, 255, 255));
+  EXPECT_EQ(v.triangle.at<int>(static_cast<int>(empty.y()), static_cast<int>(empty.x())), -1);
+  EXPECT_GT(c[0], c[2]);  // dark blue
+}
+
 TEST(TopView, EmptyMeshLegendAndBadOptions) {
   TopViewOptions o;
   const TopView empty = RenderTopView(Mesh(), {0, 0, 1}, o);
