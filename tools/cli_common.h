@@ -48,6 +48,7 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code);
 void RegisterRunCommand(CLI::App& app, int* exit_code);
 void RegisterTableCommand(CLI::App& app, int* exit_code);
 void RegisterCompareCommand(CLI::App& app, int* exit_code);
+void RegisterRenderCommand(CLI::App& app, int* exit_code);
 void RegisterMapSfmCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

@@ -3,11 +3,14 @@
 // one batch map per frame (for the stereo-2015 frames, which have no poses), with depth and labels
 // computed once per frame and shared by the methods. Writes compare.md, compare.csv and compare.png
 // (mesh size vs RMSE, drawn by gnuplot, with the size of the mesh without ground and wall points as a
-// vertical line).
+// vertical line); in incremental mode also the by-area accuracy against the exact scene mesh (generated
+// sequences) and each method's pictures from above (METHOD/top_view*.png).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <map>
 
 #include <spdlog/spdlog.h>
@@ -21,6 +24,7 @@
 #include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
 #include "tools/engine_run.h"
+#include "tools/eval_report.h"
 
 namespace semap::tools {
 namespace {
@@ -42,6 +46,7 @@ struct Row {
   std::size_t triangles = 0;
   DepthAccuracy lidar;
   double seconds = 0.0;
+  std::optional<SurfaceMetrics> scene;  // by area against the exact scene mesh (incremental, generated sequences)
   // Points in / kept per class role (ground, wall, other).
   std::map<ClassRole, std::pair<std::int64_t, std::int64_t>> roles;
 };
@@ -123,6 +128,8 @@ std::vector<Row> CompareIncremental(const CompareArgs& args, const ClassMap& cla
     row.triangles = run.evaluation.triangles;
     row.lidar = run.evaluation.lidar;
     row.seconds = run.summary.final_stats.elapsed_s;
+    row.scene = run.evaluation.scene;
+    WriteTopViews(run.mesh, run.evaluation, config.output.dir);
     rows.push_back(row);
   }
   return rows;
@@ -187,19 +194,38 @@ void WriteOutputs(const CompareArgs& args, const std::vector<Row>& rows) {
   std::filesystem::create_directories(out);
   std::string md =
       "| method | mesh (MB, OFF) | triangles | RMSE (m) | MAE (m) | completeness | kept ground | kept wall | "
-      "kept other | time (s) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+      "kept other | time (s) | area (m²) | area within τ | within 0.5 m | beyond 2 m | mean distance (m) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::ofstream csv(out / "compare.csv");
-  csv << "method,mesh_mb,triangles,rmse_m,mae_m,completeness,kept_ground,kept_wall,kept_other,seconds\n";
-  char line[512];
+  csv << "method,mesh_mb,triangles,rmse_m,mae_m,completeness,kept_ground,kept_wall,kept_other,seconds,"
+         "area_m2,area_accuracy,area_within_near,area_beyond_far,mean_distance_m\n";
+  char line[768];
   for (const Row& r : rows) {
-    std::snprintf(line, sizeof(line), "| %s | %.2f | %zu | %.4f | %.4f | %.1f %% | %.0f %% | %.0f %% | %.0f %% | %.1f |\n",
+    // The by-area figures exist for incremental runs of generated sequences: "–" / nan elsewhere.
+    const auto figure = [&](const char* format, double value) {
+      if (!r.scene) return std::string("–");
+      char text[32];
+      std::snprintf(text, sizeof(text), format, value);
+      return std::string(text);
+    };
+    const SurfaceMetrics s = r.scene.value_or(SurfaceMetrics());
+    std::snprintf(line, sizeof(line),
+                  "| %s | %.2f | %zu | %.4f | %.4f | %.1f %% | %.0f %% | %.0f %% | %.0f %% | %.1f | %s | %s | %s | %s "
+                  "| %s |\n",
                   r.method.c_str(), r.mesh_mb, r.triangles, r.lidar.rmse_m, r.lidar.mae_m,
                   100.0 * r.lidar.completeness, 100.0 * KeptShare(r, ClassRole::kGround),
-                  100.0 * KeptShare(r, ClassRole::kWall), 100.0 * KeptShare(r, ClassRole::kKeep), r.seconds);
+                  100.0 * KeptShare(r, ClassRole::kWall), 100.0 * KeptShare(r, ClassRole::kKeep), r.seconds,
+                  figure("%.0f", s.area_m2).c_str(), figure("%.1f %%", 100.0 * s.accuracy).c_str(),
+                  figure("%.1f %%", 100.0 * s.area_within_near).c_str(),
+                  figure("%.1f %%", 100.0 * s.area_beyond_far).c_str(), figure("%.2f", s.mean_distance_m).c_str());
     md += line;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
     csv << '"' << r.method << '"' << ',' << r.mesh_mb << ',' << r.triangles << ',' << r.lidar.rmse_m << ','
         << r.lidar.mae_m << ',' << r.lidar.completeness << ',' << KeptShare(r, ClassRole::kGround) << ','
-        << KeptShare(r, ClassRole::kWall) << ',' << KeptShare(r, ClassRole::kKeep) << ',' << r.seconds << '\n';
+        << KeptShare(r, ClassRole::kWall) << ',' << KeptShare(r, ClassRole::kKeep) << ',' << r.seconds << ','
+        << (r.scene ? s.area_m2 : nan) << ',' << (r.scene ? s.accuracy : nan) << ','
+        << (r.scene ? s.area_within_near : nan) << ',' << (r.scene ? s.area_beyond_far : nan) << ','
+        << (r.scene ? s.mean_distance_m : nan) << '\n';
   }
   csv.close();
   std::printf("%s", md.c_str());

@@ -20,6 +20,7 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
     std::string path;
     std::string mesh;
     std::string json;
+    std::string pictures;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("eval", "Accuracy of a mesh against the sequence's Velodyne (RMSE, MAE, median, "
@@ -28,6 +29,9 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("PATH", args->path, "dataset folder the mesh was built from")->required();
   cmd->add_option("--mesh", args->mesh, "mesh file (.ply or .off)")->required();
   cmd->add_option("--json", args->json, "also write the figures as JSON to this file");
+  cmd->add_option("--pictures", args->pictures,
+                  "also write the mesh seen from above to this folder: top_view.png, and top_view_error.png "
+                  "(coloured by distance to the true surface) for generated sequences");
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
       const io::Config config = LoadConfigFrom(args->common);
@@ -41,6 +45,10 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
         nlohmann::json j = ToJson(e, /*per_frame=*/true);
         j["mesh"] = args->mesh;
         io::WriteFileAtomically(args->json, j.dump(2) + "\n");
+      }
+      if (!args->pictures.empty()) {
+        std::filesystem::create_directories(args->pictures);
+        for (const auto& f : WriteTopViews(mesh, e, args->pictures)) spdlog::info("wrote {}", f.string());
       }
       if (e.frames_with_lidar == 0 && !e.exact_depth) {
         spdlog::error("{}: no frame with a pose and Velodyne or exact depth to compare with", args->path);

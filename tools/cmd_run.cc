@@ -117,6 +117,7 @@ int Run(const RunArgs& args) {
     WritePerFrameCsv(e, dir / "eval_frames.csv");
     io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
     spdlog::info("wrote {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string());
+    for (const auto& f : WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
   }
   if (summary.sink_errors > 0) {
     spdlog::error("{} output errors; first: {}", summary.sink_errors, summary.first_sink_error);
@@ -156,7 +157,8 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")->capture_default_str();
   cmd->add_flag("--eval", args->eval,
                 "after the run (not counted in the frame rate), evaluate the mesh against every frame's Velodyne "
-                "/ exact depth: totals printed, eval_frames.csv and eval.json in the output folder");
+                "/ exact depth: totals printed, eval_frames.csv, eval.json and top_view*.png (the mesh from above) "
+                "in the output folder");
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Run(*args); }); });
 }
 

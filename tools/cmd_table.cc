@@ -1,16 +1,19 @@
 // `semap table PATH...`: the paper's incremental table. Each sequence is streamed twice through the
 // engine (exhaustive mode), Original (O) and Incremental Simplification (PS); the table gives accuracy
 // against Velodyne (RMSE, the paper's figure), frame rate, completeness, mesh size and the speed-up, with
-// the paper's own figures beside them.
+// the paper's own figures beside them, and for generated sequences the by-area accuracy against the exact
+// scene mesh; each run's folder gets its pictures from above (top_view*.png).
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include "tools/cli_common.h"
 #include "tools/engine_run.h"
+#include "tools/eval_report.h"
 
 namespace semap::tools {
 namespace {
@@ -34,6 +37,7 @@ struct Row {
   std::int64_t frames = 0;
   double exact_rmse_m = -1.0;  // against exact depth maps (generated sequences), < 0 = none
   bool has_lidar = false;      // false: the sequence has no Velodyne, RMSE and completeness are not defined
+  std::optional<SurfaceMetrics> scene;  // against the exact scene mesh (generated sequences), by area
 };
 
 std::string Figure(bool defined, const char* format, double value) {
@@ -66,20 +70,30 @@ std::pair<std::string, std::string> NameAndPath(const std::string& arg) {
 std::string Markdown(const std::vector<Row>& rows) {
   std::string md =
       "| sequence | method | RMSE (m) | f/s | speed-up | completeness | mesh (MB, OFF) | triangles | frames | "
-      "RMSE vs exact depth (m) |\n|---|---|---|---|---|---|---|---|---|---|\n";
-  char line[512];
+      "RMSE vs exact depth (m) | area (m²) | area within τ | within 0.5 m | beyond 2 m | mean distance (m) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  char line[768];
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     double speedup = 1.0;
     for (const Row& o : rows) {
       if (o.sequence == r.sequence && o.method == "O" && o.fps > 0.0) speedup = r.fps / o.fps;
     }
-    std::snprintf(line, sizeof(line), "| %s | %s | %s | %.3f | %.2f× | %s | %.2f | %zu | %lld | %s |\n",
+    const bool scene = r.scene.has_value();
+    const SurfaceMetrics s = r.scene.value_or(SurfaceMetrics());
+    std::snprintf(line, sizeof(line),
+                  "| %s | %s | %s | %.3f | %.2f× | %s | %.2f | %zu | %lld | %s | %s | %s | %s | %s | %s |\n",
                   r.sequence.c_str(), r.method.c_str(), Figure(r.has_lidar, "%.4f", r.rmse_m).c_str(), r.fps,
                   speedup, Figure(r.has_lidar, "%.1f %%", 100.0 * r.completeness).c_str(), r.mesh_mb, r.triangles,
-                  static_cast<long long>(r.frames), Figure(r.exact_rmse_m >= 0.0, "%.4f", r.exact_rmse_m).c_str());
+                  static_cast<long long>(r.frames), Figure(r.exact_rmse_m >= 0.0, "%.4f", r.exact_rmse_m).c_str(),
+                  Figure(scene, "%.0f", s.area_m2).c_str(), Figure(scene, "%.1f %%", 100.0 * s.accuracy).c_str(),
+                  Figure(scene, "%.1f %%", 100.0 * s.area_within_near).c_str(),
+                  Figure(scene, "%.1f %%", 100.0 * s.area_beyond_far).c_str(),
+                  Figure(scene, "%.2f", s.mean_distance_m).c_str());
     md += line;
   }
+  md += "\nArea columns: the mesh's surface sampled uniformly by area against the exact scene mesh (generated "
+        "sequences; τ = eval.surface_threshold_m). Pictures from above: NAME/METHOD/top_view*.png.\n";
   md += "\nThe paper (KITTI, its Table III):\n\n| sequence | method | RMSE (m) | f/s | speed-up |\n|---|---|---|---|---|\n";
   for (const PaperRow& p : kPaper) {
     double o_fps = p.fps;
@@ -117,6 +131,8 @@ int Table(const TableArgs& args) {
       r.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
       r.triangles = run.evaluation.triangles;
       if (run.evaluation.exact_depth) r.exact_rmse_m = run.evaluation.exact_depth->rmse_m;
+      r.scene = run.evaluation.scene;
+      WriteTopViews(run.mesh, run.evaluation, config.output.dir);
       spdlog::info("table: {} {}: RMSE {:.4f} m, {:.3f} f/s, completeness {:.1f} %, {:.2f} MB", name, method,
                    r.rmse_m, r.fps, 100.0 * r.completeness, r.mesh_mb);
       rows.push_back(r);
@@ -134,6 +150,7 @@ int Table(const TableArgs& args) {
                  {"completeness", r.completeness}, {"mesh_mb", r.mesh_mb}, {"triangles", r.triangles},
                  {"frames", r.frames}, {"exact_depth_rmse_m", r.exact_rmse_m},
                  {"has_lidar", r.has_lidar}});
+    if (r.scene) j.back()["scene_mesh"] = ToJson(*r.scene);
   }
   std::ofstream(json_path) << j.dump(2) << "\n";
   if (!std::filesystem::is_regular_file(md_path) || !std::filesystem::is_regular_file(json_path)) {

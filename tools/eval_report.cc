@@ -6,7 +6,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "engine/eval/top_view.h"
 #include "io/atomic_file.h"
+#include "io/image/image_files.h"
+#include "io/mesh/ply_off.h"
 
 namespace semap::tools {
 namespace {
@@ -35,20 +38,31 @@ nlohmann::json ToJson(const DepthAccuracy& a) {
           {"compared_pixels", a.compared_pixels}};
 }
 
+nlohmann::json ToJson(const SurfaceMetrics& s) {
+  return {{"threshold_m", s.threshold_m},
+          {"near_m", s.near_m},
+          {"far_m", s.far_m},
+          {"area_m2", s.area_m2},
+          {"accuracy", s.accuracy},
+          {"area_within_near", s.area_within_near},
+          {"area_beyond_near", s.area_beyond_near},
+          {"area_beyond_far", s.area_beyond_far},
+          {"mean_distance_m", s.mean_distance_m},
+          {"area_samples", s.area_samples},
+          {"vertex_accuracy", s.vertex_accuracy},
+          {"vertex_mean_distance_m", s.vertex_mean_distance_m},
+          {"vertex_samples", s.vertex_samples},
+          {"completeness", s.completeness},
+          {"mean_completeness_m", s.mean_completeness_m},
+          {"truth_samples", s.truth_samples}};
+}
+
 nlohmann::json ToJson(const io::MeshEvaluation& e, bool per_frame) {
   nlohmann::json j{{"vertices", e.vertices}, {"triangles", e.triangles}, {"off_bytes", e.off_bytes},
                    {"frames", e.frames}, {"frames_unreadable", e.frames_unreadable}};
   if (e.frames_with_lidar > 0) j["lidar"] = ToJson(e.lidar);
   if (e.exact_depth) j["exact_depth"] = ToJson(*e.exact_depth);
-  if (e.scene) {
-    j["scene_mesh"] = {{"threshold_m", e.scene_threshold_m},
-                       {"accuracy", e.scene->accuracy},
-                       {"mean_accuracy_m", e.scene->mean_accuracy_m},
-                       {"completeness", e.scene->completeness},
-                       {"mean_completeness_m", e.scene->mean_completeness_m},
-                       {"reconstruction_samples", e.scene->reconstruction_samples},
-                       {"truth_samples", e.scene->truth_samples}};
-  }
+  if (e.scene) j["scene_mesh"] = ToJson(*e.scene);
   if (per_frame) {
     j["per_frame"] = nlohmann::json::array();
     for (const io::FrameAccuracy& f : e.per_frame) {
@@ -74,10 +88,36 @@ void PrintEvaluation(const io::MeshEvaluation& e) {
   if (e.frames_with_lidar > 0) Print("vs Velodyne", e.lidar);
   if (e.exact_depth) Print("vs exact depth", *e.exact_depth);
   if (e.scene) {
-    std::printf("vs scene mesh accuracy %.1f %% (mean %.4f m), completeness %.1f %% (mean %.4f m) at tau = %.2f m\n",
-                100.0 * e.scene->accuracy, e.scene->mean_accuracy_m, 100.0 * e.scene->completeness,
-                e.scene->mean_completeness_m, e.scene_threshold_m);
+    const SurfaceMetrics& s = *e.scene;
+    std::printf("vs scene mesh accuracy %.1f %% of the area within tau = %.2f m (%.1f %% within %.2f m, %.1f %% beyond "
+                "%.2f m, %.1f %% beyond %.2f m, mean %.3f m; area %.0f m2, %lld samples)\n",
+                100.0 * s.accuracy, s.threshold_m, 100.0 * s.area_within_near, s.near_m, 100.0 * s.area_beyond_near,
+                s.near_m, 100.0 * s.area_beyond_far, s.far_m, s.mean_distance_m, s.area_m2,
+                static_cast<long long>(s.area_samples));
+    std::printf("              per vertex and centroid (every triangle once, whatever its size) %.1f %% within tau "
+                "(mean %.3f m)\n",
+                100.0 * s.vertex_accuracy, s.vertex_mean_distance_m);
+    std::printf("              completeness %.1f %% (mean %.4f m) at tau = %.2f m\n", 100.0 * s.completeness,
+                s.mean_completeness_m, s.threshold_m);
   }
+}
+
+std::vector<std::filesystem::path> WriteTopViews(const Mesh& mesh, const io::MeshEvaluation& e,
+                                                 const std::filesystem::path& dir) {
+  const Eigen::Vector3d up = e.camera_up.norm() > 0.0 ? e.camera_up : Eigen::Vector3d::UnitZ();
+  std::vector<std::filesystem::path> written;
+  TopViewOptions options;
+  io::WritePng(dir / "top_view.png", RenderTopView(mesh, up, options, {}, e.camera_centers).image);
+  written.push_back(dir / "top_view.png");
+  if (e.scene && !e.scene_mesh_path.empty()) {
+    const SurfaceDistance to_truth(io::ReadMeshPly(e.scene_mesh_path));
+    options.colour = TopViewColour::kError;
+    options.error_bins_m = {e.scene->threshold_m, e.scene->near_m, e.scene->far_m};
+    const auto distance = [&](const Eigen::Vector3d& p) { return to_truth(p); };
+    io::WritePng(dir / "top_view_error.png", RenderTopView(mesh, up, options, distance, e.camera_centers).image);
+    written.push_back(dir / "top_view_error.png");
+  }
+  return written;
 }
 
 void WritePerFrameCsv(const io::MeshEvaluation& e, const std::filesystem::path& path) {

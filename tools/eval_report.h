@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,14 @@ nlohmann::json ToJson(const DepthAccuracy& accuracy);
 nlohmann::json ToJson(const io::MeshEvaluation& evaluation, bool per_frame);
 // Prints mesh size and the totals on stdout.
 void PrintEvaluation(const io::MeshEvaluation& evaluation);
+// The scene-mesh figures (by area, per vertex, completeness) as JSON.
+nlohmann::json ToJson(const SurfaceMetrics& scene);
+// Pictures of `mesh` from above for a report, along the evaluated cameras' up direction (+z when no frame had
+// a pose), with the camera track: `dir`/top_view.png in the mesh's colours, and, when the evaluation had a
+// scene mesh, `dir`/top_view_error.png coloured by distance to it (the bins of the by-area figures). Returns
+// the files written; throws std::runtime_error naming a file that cannot be read or written.
+std::vector<std::filesystem::path> WriteTopViews(const Mesh& mesh, const io::MeshEvaluation& evaluation,
+                                                 const std::filesystem::path& dir);
 // One line per evaluated frame: frame_id, then RMSE / MAE / median / bias / completeness against Velodyne and
 // against exact depth (empty where the frame has none). Written atomically; throws io::FileError naming the
 // file.

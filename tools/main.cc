@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
       RegisterEvalCommand,
       RegisterTableCommand,
       RegisterCompareCommand,
+      RegisterRenderCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   // A reader that goes away (`semap run … | head -1`) must not kill a run with SIGPIPE: writes to the closed

@@ -32,6 +32,9 @@ struct DepthAccuracyOptions {
   // completeness (m), and the pixel stride at which the exact depth maps give the observed true surface.
   double surface_threshold_m = 0.2;
   int surface_pixel_stride = 8;
+  // Points sampled uniformly by area on the mesh for the by-area accuracy (fixed seed): the shares' standard
+  // sampling error is at most 0.5 / sqrt(n), 0.16 % at 100,000.
+  int surface_area_samples = 100000;
   void Check() const;
 };
 

@@ -5,9 +5,13 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "engine/core/check.h"
+#include "engine/core/parallel.h"
 
 namespace semap {
 namespace {
@@ -16,7 +20,7 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Triangle = Kernel::Triangle_3;
 using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Kernel::Point_3 ToPoint(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
@@ -30,13 +34,19 @@ std::vector<Triangle> Triangles(const Mesh& mesh) {
   return out;
 }
 
-// Share of `samples` within `threshold` of the tree's surface, and their mean distance.
-std::pair<double, double> Coverage(const Tree& tree, const std::vector<Eigen::Vector3d>& samples, double threshold) {
+double TriangleArea(const Mesh& mesh, const std::array<std::uint32_t, 3>& t) {
+  const Eigen::Vector3d& a = mesh.vertices[t[0]];
+  return 0.5 * (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).norm();
+}
+
+// Share of `samples` within `threshold` of the surface, and their mean distance.
+std::pair<double, double> Coverage(const SurfaceDistance& distance, const std::vector<Eigen::Vector3d>& samples,
+                                   double threshold) {
   if (samples.empty()) return {0.0, 0.0};
   std::int64_t within = 0;
   double sum = 0.0;
   for (const Eigen::Vector3d& p : samples) {
-    const double d = std::sqrt(tree.squared_distance(ToPoint(p)));
+    const double d = distance(p);
     sum += d;
     within += d <= threshold ? 1 : 0;
   }
@@ -45,33 +55,115 @@ std::pair<double, double> Coverage(const Tree& tree, const std::vector<Eigen::Ve
 
 }  // namespace
 
+struct SurfaceDistance::Tree {
+  std::vector<Triangle> triangles;
+  AabbTree tree;
+};
+
+SurfaceDistance::SurfaceDistance(const Mesh& surface) : tree_(std::make_unique<Tree>()) {
+  tree_->triangles = Triangles(surface);
+  SEMAP_ASSERT(!tree_->triangles.empty(), "the surface has no triangle");
+  tree_->tree.insert(tree_->triangles.begin(), tree_->triangles.end());
+  // Built here, not lazily on the first query, so that queries from several threads only read.
+  tree_->tree.build();
+  tree_->tree.accelerate_distance_queries();
+}
+
+SurfaceDistance::~SurfaceDistance() = default;
+
+double SurfaceDistance::operator()(const Eigen::Vector3d& p) const {
+  return std::sqrt(tree_->tree.squared_distance(ToPoint(p)));
+}
+
 void SurfaceMetricsOptions::Check() const {
   SEMAP_CHECK_OPTION(std::isfinite(threshold_m) && threshold_m > 0.0, "threshold_m", threshold_m,
                      "must be finite and > 0");
+  SEMAP_CHECK_OPTION(std::isfinite(near_m) && near_m > 0.0, "near_m", near_m, "must be finite and > 0");
+  SEMAP_CHECK_OPTION(std::isfinite(far_m) && far_m > near_m, "far_m", far_m, "must be finite and > near_m");
+  SEMAP_CHECK_OPTION(area_samples >= 1, "area_samples", area_samples, "must be >= 1");
+}
+
+double SurfaceArea(const Mesh& mesh) {
+  double area = 0.0;
+  for (const auto& t : mesh.triangles) area += TriangleArea(mesh, t);
+  return area;
+}
+
+std::vector<Eigen::Vector3d> SampleSurface(const Mesh& mesh, int count, std::uint64_t seed) {
+  std::vector<double> cumulative;  // cumulative[i] = area of triangles 0..i
+  cumulative.reserve(mesh.num_triangles());
+  double total = 0.0;
+  for (const auto& t : mesh.triangles) {
+    total += TriangleArea(mesh, t);
+    cumulative.push_back(total);
+  }
+  std::vector<Eigen::Vector3d> samples;
+  if (!(total > 0.0) || count <= 0) return samples;
+  samples.reserve(static_cast<std::size_t>(count));
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int k = 0; k < count; ++k) {
+    const double target = (double(k) + uniform(rng)) / double(count) * total;
+    const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
+    const std::size_t i = std::min<std::size_t>(it - cumulative.begin(), cumulative.size() - 1);
+    const auto& t = mesh.triangles[i];
+    // A uniform point of the triangle (Osada et al. 2002): sqrt of the first number, or it clusters at a.
+    const double s = std::sqrt(uniform(rng));
+    const double r = uniform(rng);
+    samples.push_back((1.0 - s) * mesh.vertices[t[0]] + s * (1.0 - r) * mesh.vertices[t[1]] +
+                      s * r * mesh.vertices[t[2]]);
+  }
+  return samples;
 }
 
 SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
                                const std::vector<Eigen::Vector3d>& truth_samples,
                                const SurfaceMetricsOptions& options) {
   options.Check();
-  const std::vector<Triangle> truth_triangles = Triangles(truth);
-  SEMAP_ASSERT(!truth_triangles.empty(), "the true surface has no triangle");
+  const SurfaceDistance to_truth(truth);
   SurfaceMetrics m;
+  m.threshold_m = options.threshold_m;
+  m.near_m = options.near_m;
+  m.far_m = options.far_m;
   m.truth_samples = std::int64_t(truth_samples.size());
 
+  // By area.
+  m.area_m2 = SurfaceArea(reconstruction);
+  const std::vector<Eigen::Vector3d> area_samples = SampleSurface(reconstruction, options.area_samples, options.seed);
+  m.area_samples = std::int64_t(area_samples.size());
+  if (!area_samples.empty()) {
+    std::vector<double> distances(area_samples.size());
+    ParallelFor<std::size_t>(0, area_samples.size(), 1024, [&](std::size_t first, std::size_t last) {
+      for (std::size_t i = first; i < last; ++i) distances[i] = to_truth(area_samples[i]);
+    });
+    std::int64_t within = 0, within_near = 0, beyond_far = 0;
+    double sum = 0.0;
+    for (const double d : distances) {
+      sum += d;
+      within += d <= options.threshold_m ? 1 : 0;
+      within_near += d <= options.near_m ? 1 : 0;
+      beyond_far += d > options.far_m ? 1 : 0;
+    }
+    const double n = double(area_samples.size());
+    m.accuracy = double(within) / n;
+    m.area_within_near = double(within_near) / n;
+    m.area_beyond_near = double(m.area_samples - within_near) / n;
+    m.area_beyond_far = double(beyond_far) / n;
+    m.mean_distance_m = sum / n;
+  }
+
+  // Per vertex and centroid.
   std::vector<Eigen::Vector3d> samples(reconstruction.vertices.begin(), reconstruction.vertices.end());
   for (const auto& t : reconstruction.triangles) {
     samples.push_back((reconstruction.vertices[t[0]] + reconstruction.vertices[t[1]] +
                        reconstruction.vertices[t[2]]) / 3.0);
   }
-  m.reconstruction_samples = std::int64_t(samples.size());
-  const Tree truth_tree(truth_triangles.begin(), truth_triangles.end());
-  std::tie(m.accuracy, m.mean_accuracy_m) = Coverage(truth_tree, samples, options.threshold_m);
+  m.vertex_samples = std::int64_t(samples.size());
+  std::tie(m.vertex_accuracy, m.vertex_mean_distance_m) = Coverage(to_truth, samples, options.threshold_m);
 
-  const std::vector<Triangle> reconstruction_triangles = Triangles(reconstruction);
-  if (!reconstruction_triangles.empty()) {
-    const Tree tree(reconstruction_triangles.begin(), reconstruction_triangles.end());
-    std::tie(m.completeness, m.mean_completeness_m) = Coverage(tree, truth_samples, options.threshold_m);
+  if (!Triangles(reconstruction).empty()) {
+    const SurfaceDistance to_reconstruction(reconstruction);
+    std::tie(m.completeness, m.mean_completeness_m) = Coverage(to_reconstruction, truth_samples, options.threshold_m);
   }
   return m;
 }

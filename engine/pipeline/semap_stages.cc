@@ -7,7 +7,11 @@
 namespace semap {
 
 StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map)
-    : depth_(depth), semantics_(semantics), class_map_(std::move(class_map)), segmenter_(MakeSegmenter(semantics)) {}
+    : depth_(depth),
+      semantics_(semantics),
+      class_map_(std::move(class_map)),
+      sky_label_(SkyLabel(class_map_)),
+      segmenter_(MakeSegmenter(semantics)) {}
 
 LabelledCloud StereoLabelStage::Process(const Frame& frame) {
   LabelledCloud cloud = depth_.Process(frame);
@@ -19,6 +23,9 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame) {
   const cv::Mat labels = FrameLabels(frame, semantics_, segmenter_.get());
   ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), class_map_.unlabelled_id(),
                          semantics_.size_mismatch);
+  if (semantics_.drop_sky && sky_label_ && RemoveLabel(cloud, *sky_label_) > 0 && cloud.size() == 0) {
+    throw std::runtime_error("frame " + std::to_string(frame.id) + ": every point is sky (semantics.drop_sky)");
+  }
   return cloud;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "engine/core/class_map.h"
 #include "engine/depth/stereo_depth.h"
@@ -15,8 +16,9 @@
 namespace semap {
 
 // SGBM depth, then the paper's labelling rule: the frame's points are labelled from the frame's own label
-// image (its camera is their first camera). One instance per depth worker (owns its segmenter). A frame that
-// gives no point at all (no valid disparity) throws: the pipeline skips and counts it.
+// image (its camera is their first camera); points labelled sky are dropped (semantics.drop_sky). One
+// instance per depth worker (owns its segmenter). A frame that gives no point at all (no valid disparity, or
+// only sky) throws: the pipeline skips and counts it.
 class StereoLabelStage : public DepthStage {
  public:
   StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map);
@@ -26,6 +28,7 @@ class StereoLabelStage : public DepthStage {
   StereoDepth depth_;
   SemanticsOptions semantics_;
   ClassMap class_map_;
+  std::optional<Label> sky_label_;        // points of this label are dropped when semantics.drop_sky
   std::unique_ptr<Segmenter> segmenter_;  // only for the ENet source
 };
 

@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "engine/core/check.h"
 
@@ -59,6 +60,24 @@ LabellingReport ApplyFirstCameraLabels(LabelledCloud& cloud, std::int64_t frame_
     ++report.labelled;
   }
   return report;
+}
+
+std::optional<Label> SkyLabel(const ClassMap& class_map) {
+  const int id = class_map.FindByName("sky");
+  if (id < 0) return std::nullopt;
+  return static_cast<Label>(id);
+}
+
+std::size_t RemoveLabel(LabelledCloud& cloud, Label label) {
+  SEMAP_ASSERT(cloud.labels.size() == cloud.size(), "removing a label needs the label of every point");
+  std::vector<std::uint32_t> keep;
+  keep.reserve(cloud.size());
+  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.labels[i] != label) keep.push_back(i);
+  }
+  const std::size_t removed = cloud.size() - keep.size();
+  if (removed > 0) cloud = cloud.Subset(keep);
+  return removed;
 }
 
 cv::Mat ColorizeLabels(const cv::Mat& label_image, const ClassMap& class_map) {

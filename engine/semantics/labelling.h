@@ -49,6 +49,13 @@ LabellingReport ApplyFirstCameraLabels(LabelledCloud& cloud, std::int64_t frame_
                                        const cv::Mat& label_image, cv::Size image_size, Label unlabelled_id,
                                        LabelSizePolicy policy = LabelSizePolicy::kResizeNearest);
 
+// The sky class of `class_map`: the class named "sky" (case-insensitive), or nullopt when it has none.
+std::optional<Label> SkyLabel(const ClassMap& class_map);
+
+// Removes the points of `cloud` labelled `label` (requires labels, programmer error otherwise); returns how
+// many were removed. The other points keep their order and every attribute.
+std::size_t RemoveLabel(LabelledCloud& cloud, Label label);
+
 // `label_image` as a colour image (BGR) using the class map's display colours; unknown ids are black.
 cv::Mat ColorizeLabels(const cv::Mat& label_image, const ClassMap& class_map);
 

@@ -35,6 +35,11 @@ struct SemanticsOptions {
   // A label image of another size than the left image: resize with nearest neighbour (and report it) or
   // refuse (error).
   LabelSizePolicy size_mismatch = LabelSizePolicy::kResizeNearest;
+  // Points whose pixel is labelled sky (the class map's class named "sky", e.g. Cityscapes 11, the label of
+  // the generated sequences' pixels without surface) give no point: texture-less sky matched by SGBM is no
+  // surface, and its points close the map with a ceiling over the street. Nothing happens with a class map
+  // without a sky class or with unlabelled frames.
+  bool drop_sky = true;
 
   void Check() const;
 };

@@ -164,6 +164,7 @@ void Bind(FieldBinder& b, SemanticsOptions& o) {
   b.Enum("size_mismatch", &o.size_mismatch,
          {{"resize", LabelSizePolicy::kResizeNearest}, {"refuse", LabelSizePolicy::kRefuse}},
          "label image of another size than the image: resize with nearest neighbour (warned) or refuse");
+  b.Field("drop_sky", &o.drop_sky, "pixels labelled sky (the class map's class named sky) give no point");
 }
 
 void Bind(FieldBinder& b, SimplifyOptions& o) {
@@ -210,6 +211,8 @@ void Bind(FieldBinder& b, DepthAccuracyOptions& o) {
           "generated sequences: distance τ of accuracy / completeness against the exact scene mesh");
   b.Field("surface_pixel_stride", &o.surface_pixel_stride,
           "generated sequences: exact depth maps sampled every this many pixels give the observed true surface");
+  b.Field("surface_area_samples", &o.surface_area_samples,
+          "generated sequences: points sampled uniformly by area on the mesh for the by-area accuracy (fixed seed)");
 }
 
 void Bind(FieldBinder& b, MapOptions& o) {

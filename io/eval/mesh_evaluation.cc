@@ -42,6 +42,8 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     if (!frame) break;
     if (!frame->world_from_cam) continue;
     ++result.frames;
+    result.camera_centers.push_back(frame->world_from_cam->translation());
+    result.camera_up -= frame->world_from_cam->linear().col(1);
     const cv::Mat mesh_depth = RenderDepth(mesh, frame->calibration, *frame->world_from_cam);
     FrameAccuracy frame_accuracy;
     frame_accuracy.frame_id = frame->id;
@@ -70,14 +72,17 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     }
     result.per_frame.push_back(frame_accuracy);
   }
+  if (result.camera_up.norm() > 0.0) result.camera_up.normalize();
   result.lidar = lidar.Result();
   if (result.frames_with_exact_depth > 0) result.exact_depth = exact.Result();
   const auto scene_mesh = info.root / "scene_mesh.ply";
   if (result.frames_with_exact_depth > 0 && std::filesystem::is_regular_file(scene_mesh)) {
     SurfaceMetricsOptions surface;
     surface.threshold_m = accuracy.surface_threshold_m;
+    surface.area_samples = accuracy.surface_area_samples;
     result.scene = CompareSurfaces(mesh, ReadMeshPly(scene_mesh), truth_samples, surface);
     result.scene_threshold_m = surface.threshold_m;
+    result.scene_mesh_path = scene_mesh;
   }
   return result;
 }

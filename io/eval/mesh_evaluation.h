@@ -36,10 +36,15 @@ struct MeshEvaluation {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
   std::vector<FrameAccuracy> per_frame;       // every evaluated frame, in order
-  // Generated sequences with scene_mesh.ply: accuracy / completeness in the MVS sense at
-  // accuracy.surface_threshold_m, the truth samples being the exact depth maps' points.
+  // Generated sequences with scene_mesh.ply: accuracy (by area, and per vertex) / completeness in the MVS
+  // sense at accuracy.surface_threshold_m, the truth samples being the exact depth maps' points.
   std::optional<SurfaceMetrics> scene;
   double scene_threshold_m = 0.0;
+  std::filesystem::path scene_mesh_path;        // the scene mesh compared with (empty when none)
+  // The evaluated frames' left cameras in the world frame: their centres in order, and their mean up
+  // direction (−y of the camera, unit; zero when no frame had a pose). Pictures from above use them.
+  std::vector<Eigen::Vector3d> camera_centers;
+  Eigen::Vector3d camera_up = Eigen::Vector3d::Zero();
 };
 
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;

@@ -1,6 +1,7 @@
 // `semap compare` run as a user would, on a tiny generated sequence: both modes, the plot, bad methods.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -64,6 +65,14 @@ TEST(SemapCompare, IncrementalModeWritesTableCsvAndPlot) {
   const CliRun r = RunSemap("compare " + seq.string() + " --methods O PS voxel --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ExpectComparison(out);
+  // Incremental runs of a generated sequence: the by-area figures and each method's picture from above.
+  const auto rows = ReadCsv(out / "compare.csv");
+  for (const char* m : {"O", "PS", "voxel"}) {
+    EXPECT_GT(rows.at(m).at("area_m2"), 0.0) << m;
+    EXPECT_GT(rows.at(m).at("area_accuracy"), 0.0) << m;
+    EXPECT_LE(rows.at(m).at("area_beyond_far"), 1.0 - rows.at(m).at("area_accuracy")) << m;
+    EXPECT_TRUE(IsPng(out / m / "top_view.png")) << m;
+  }
 }
 
 TEST(SemapCompare, SingleFrameModeBuildsOneMapPerFrame) {
@@ -74,6 +83,7 @@ TEST(SemapCompare, SingleFrameModeBuildsOneMapPerFrame) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.Has("compare: frame 1")) << r.output;
   ExpectComparison(out);
+  EXPECT_TRUE(std::isnan(ReadCsv(out / "compare.csv").at("PS").at("area_accuracy")));  // batch maps: not measured
 }
 
 TEST(SemapCompare, UnknownMethodOrModeIsAUsageError) {

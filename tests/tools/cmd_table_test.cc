@@ -48,7 +48,16 @@ TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
     EXPECT_GT(row["completeness"].get<double>(), 0.5);
     EXPECT_TRUE(std::isfinite(row["rmse_m"].get<double>()));
     EXPECT_GT(row["exact_depth_rmse_m"].get<double>(), 0.0);  // a generated sequence has exact depth
+    // ... and a scene mesh: the by-area figures.
+    ASSERT_TRUE(row.contains("scene_mesh")) << row.dump();
+    EXPECT_GT(row["scene_mesh"]["area_m2"].get<double>(), 0.0);
+    EXPECT_GT(row["scene_mesh"]["accuracy"].get<double>(), 0.0);
+    EXPECT_LE(row["scene_mesh"]["accuracy"].get<double>(), 1.0);
+    EXPECT_TRUE(fs::exists(out / "small" / row["method"].get<std::string>() / "top_view.png"));
+    EXPECT_TRUE(fs::exists(out / "small" / row["method"].get<std::string>() / "top_view_error.png"));
   }
+  EXPECT_NE(text.find("| area (m²) | area within τ | within 0.5 m | beyond 2 m | mean distance (m) |"), std::string::npos)
+      << text;
   // PS keeps fewer points, so its mesh is smaller.
   EXPECT_LT(ps["mesh_mb"].get<double>(), o["mesh_mb"].get<double>());
 }

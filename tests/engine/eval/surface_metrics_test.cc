@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "engine/core/check.h"
 
 namespace semap {
@@ -29,9 +31,13 @@ TEST(SurfaceMetrics, AnalyticPlanes) {
   // Half of the plane, 0.1 m above it: every reconstruction sample is right, half the truth is covered.
   const SurfaceMetrics half = CompareSurfaces(Square(0, 5, 0.1), truth, TruthSamples());
   EXPECT_DOUBLE_EQ(half.accuracy, 1.0);
-  EXPECT_NEAR(half.mean_accuracy_m, 0.1, 1e-12);
+  EXPECT_NEAR(half.mean_distance_m, 0.1, 1e-12);
+  EXPECT_NEAR(half.area_m2, 50.0, 1e-12);
+  EXPECT_DOUBLE_EQ(half.vertex_accuracy, 1.0);
+  EXPECT_NEAR(half.vertex_mean_distance_m, 0.1, 1e-12);
   EXPECT_DOUBLE_EQ(half.completeness, 0.5);
-  EXPECT_EQ(half.reconstruction_samples, 4 + 2);
+  EXPECT_EQ(half.vertex_samples, 4 + 2);
+  EXPECT_EQ(half.area_samples, SurfaceMetricsOptions().area_samples);
   EXPECT_EQ(half.truth_samples, 400);
   // The truth samples beyond x = 5 are at sqrt(dx² + 0.1²) from the half plane.
   double expected = 0.0;
@@ -44,6 +50,9 @@ TEST(SurfaceMetrics, AnalyticPlanes) {
   // The whole plane 0.3 m off: nothing within τ = 0.2 m, everything within τ = 0.5 m.
   const SurfaceMetrics off = CompareSurfaces(Square(0, 10, 0.3), truth, TruthSamples());
   EXPECT_DOUBLE_EQ(off.accuracy, 0.0);
+  EXPECT_DOUBLE_EQ(off.vertex_accuracy, 0.0);
+  EXPECT_DOUBLE_EQ(off.area_within_near, 1.0);
+  EXPECT_DOUBLE_EQ(off.area_beyond_far, 0.0);
   EXPECT_DOUBLE_EQ(off.completeness, 0.0);
   SurfaceMetricsOptions loose;
   loose.threshold_m = 0.5;
@@ -52,10 +61,117 @@ TEST(SurfaceMetrics, AnalyticPlanes) {
   EXPECT_DOUBLE_EQ(ok.completeness, 1.0);
 }
 
+// Appends triangle (a, b, c) to `m` as a separate piece.
+void AddTriangle(Mesh& m, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.insert(m.vertices.end(), {a, b, c});
+  m.triangles.push_back({base, base + 1, base + 2});
+}
+
+// The truth for the by-area tests: the plane z = 0 over [-50, 50]², far wider than the reconstructions, so
+// that a point's distance to it is its height.
+Mesh GroundTruth() {
+  Mesh m;
+  AddTriangle(m, {-50, -50, 0}, {50, -50, 0}, {50, 50, 0});
+  AddTriangle(m, {-50, -50, 0}, {50, 50, 0}, {-50, 50, 0});
+  return m;
+}
+
+// Binomial standard error of a share p measured on n independent samples (stratified samples do better).
+double ShareError(double p, int n) { return std::sqrt(p * (1.0 - p) / n); }
+
+TEST(SurfaceMetrics, ByAreaAUnitSquareAndALidWeighByTheirArea) {
+  // A unit square 0.1 m above the plane (accurate: 1 m²) and a lid 3 m above it (wrong: 9 m²).
+  Mesh m;
+  AddTriangle(m, {0, 0, 0.1}, {1, 0, 0.1}, {1, 1, 0.1});
+  AddTriangle(m, {0, 0, 0.1}, {1, 1, 0.1}, {0, 1, 0.1});
+  AddTriangle(m, {10, 0, 3}, {16, 0, 3}, {10, 3, 3});
+  const SurfaceMetrics s = CompareSurfaces(m, GroundTruth(), {});
+  const int n = SurfaceMetricsOptions().area_samples;
+  EXPECT_NEAR(s.area_m2, 10.0, 1e-12);
+  EXPECT_NEAR(s.accuracy, 0.1, 4 * ShareError(0.1, n));
+  EXPECT_NEAR(s.area_within_near, 0.1, 4 * ShareError(0.1, n));
+  EXPECT_NEAR(s.area_beyond_near, 0.9, 4 * ShareError(0.1, n));
+  EXPECT_NEAR(s.area_beyond_far, 0.9, 4 * ShareError(0.1, n));
+  EXPECT_NEAR(s.mean_distance_m, 0.1 * 0.1 + 0.9 * 3.0, 4 * 2.9 * ShareError(0.1, n));
+  // One sample per vertex and centroid: the square's 6 + 2 are right, the lid's 3 + 1 wrong: 2/3 "accurate".
+  EXPECT_EQ(s.vertex_samples, 9 + 3);
+  EXPECT_DOUBLE_EQ(s.vertex_accuracy, 8.0 / 12.0);
+}
+
+TEST(SurfaceMetrics, ByAreaATinyRightTriangleCannotHideAHugeWrongOne) {
+  Mesh m;
+  AddTriangle(m, {0, 0, 0.05}, {0.1, 0, 0.05}, {0, 0.1, 0.05});  // 0.005 m², right
+  AddTriangle(m, {-20, -20, 4}, {0, -20, 4}, {-20, 0, 4});        // 200 m², 4 m off
+  const SurfaceMetrics s = CompareSurfaces(m, GroundTruth(), {});
+  EXPECT_LT(s.accuracy, 0.001);
+  EXPECT_GT(s.area_beyond_far, 0.999);
+  EXPECT_NEAR(s.mean_distance_m, 4.0, 0.01);
+  EXPECT_DOUBLE_EQ(s.vertex_accuracy, 0.5);  // what the per-vertex figure says about the same mesh
+}
+
+TEST(SurfaceMetrics, ByAreaOnASlopeMatchesTheUniformDistribution) {
+  // A rectangle rising from z = 0 to z = 4 over x in [0, 10]: the distance is uniform on [0, 4] by area.
+  Mesh m;
+  AddTriangle(m, {0, 0, 0}, {10, 0, 4}, {10, 5, 4});
+  AddTriangle(m, {0, 0, 0}, {10, 5, 4}, {0, 5, 0});
+  SurfaceMetricsOptions options;
+  options.seed = 7;
+  const SurfaceMetrics s = CompareSurfaces(m, GroundTruth(), {}, options);
+  const int n = options.area_samples;
+  EXPECT_NEAR(s.area_m2, 5.0 * std::sqrt(116.0), 1e-9);
+  EXPECT_NEAR(s.accuracy, 0.2 / 4.0, 4 * ShareError(0.05, n));
+  EXPECT_NEAR(s.area_within_near, 0.5 / 4.0, 4 * ShareError(0.125, n));
+  EXPECT_NEAR(s.area_beyond_far, 0.5, 4 * ShareError(0.5, n));
+  EXPECT_NEAR(s.mean_distance_m, 2.0, 4 * 4.0 / std::sqrt(12.0 * n));
+  // Another threshold and bins move the figures where the distribution says.
+  options.threshold_m = 1.0;
+  options.near_m = 2.0;
+  options.far_m = 3.0;
+  const SurfaceMetrics t = CompareSurfaces(m, GroundTruth(), {}, options);
+  EXPECT_NEAR(t.accuracy, 0.25, 4 * ShareError(0.25, n));
+  EXPECT_NEAR(t.area_within_near, 0.5, 4 * ShareError(0.5, n));
+  EXPECT_NEAR(t.area_beyond_far, 0.25, 4 * ShareError(0.25, n));
+}
+
+TEST(SampleSurface, IsUniformByAreaInsideTheTrianglesAndDeterministic) {
+  Mesh m;
+  AddTriangle(m, {0, 0, 0}, {1, 0, 0}, {0, 2, 0});    // 1 m², in the plane z = 0
+  AddTriangle(m, {0, 0, 5}, {3, 0, 5}, {0, 2, 5});    // 3 m², in the plane z = 5
+  AddTriangle(m, {0, 0, 9}, {1, 0, 9}, {2, 0, 9});    // degenerate: no area, never sampled
+  const std::vector<Eigen::Vector3d> a = SampleSurface(m, 1000, 3);
+  ASSERT_EQ(a.size(), 1000u);
+  int upper = 0;
+  double below_half = 0;  // samples of the upper triangle with y < 1: 3/4 of its area
+  for (const Eigen::Vector3d& p : a) {
+    const bool on_upper = p.z() > 2.5;
+    EXPECT_NEAR(p.z(), on_upper ? 5.0 : 0.0, 1e-12);
+    const double width = on_upper ? 3.0 : 1.0;  // the triangle is x >= 0, y >= 0, x / width + y / 2 <= 1
+    EXPECT_GE(p.x(), -1e-12);
+    EXPECT_GE(p.y(), -1e-12);
+    EXPECT_LE(p.x() / width + p.y() / 2.0, 1.0 + 1e-12);
+    if (on_upper) {
+      ++upper;
+      below_half += p.y() < 1.0 ? 1 : 0;
+    }
+  }
+  // Stratified by cumulative area: the 3 m² triangle gets 750 samples, give or take the one straddling.
+  EXPECT_NEAR(upper, 750, 1);
+  EXPECT_NEAR(below_half / upper, 0.75, 4 * ShareError(0.75, upper));
+  const std::vector<Eigen::Vector3d> b = SampleSurface(m, 1000, 3);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(SampleSurface(m, 1000, 4), a);
+  EXPECT_TRUE(SampleSurface(Mesh(), 10, 1).empty());
+  EXPECT_NEAR(SurfaceArea(m), 4.0, 1e-12);
+}
+
 TEST(SurfaceMetrics, EmptyReconstructionIsIncompleteAndBadThresholdThrows) {
   const SurfaceMetrics empty = CompareSurfaces(Mesh(), Square(0, 10, 0), TruthSamples());
   EXPECT_EQ(empty.completeness, 0.0);
-  EXPECT_EQ(empty.reconstruction_samples, 0);
+  EXPECT_EQ(empty.accuracy, 0.0);
+  EXPECT_EQ(empty.area_m2, 0.0);
+  EXPECT_EQ(empty.area_samples, 0);
+  EXPECT_EQ(empty.vertex_samples, 0);
   SurfaceMetricsOptions bad;
   bad.threshold_m = 0.0;
   EXPECT_THROW(CompareSurfaces(Square(0, 1, 0), Square(0, 10, 0), TruthSamples(), bad), InvalidOption);

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "engine/depth/stereo_depth.h"
+#include "engine/pipeline/semap_stages.h"
 #include "engine/semantics/segmenter.h"
 
 namespace semap {
@@ -161,6 +162,57 @@ TEST(StereoThenFirstCameraLabels, LabelImageOfAnotherSizeIsResizedOrRefused) {
   SemanticsOptions refuse;
   refuse.size_mismatch = LabelSizePolicy::kRefuse;
   EXPECT_THROW(DepthThenLabels(f, refuse, nullptr), std::invalid_argument);
+}
+
+TEST(SkyLabel, IsTheClassNamedSky) {
+  EXPECT_EQ(SkyLabel(ClassMap::Cityscapes()), Label(11));
+  const ClassMap no_sky("two", {{1, "road", {0, 0, 0}, ClassRole::kGround}, {2, "tree", {0, 0, 0}, ClassRole::kKeep}},
+                        0);
+  EXPECT_FALSE(SkyLabel(no_sky).has_value());
+  const ClassMap other_id("mine", {{5, "SKY", {0, 0, 0}, ClassRole::kKeep}}, 0);
+  EXPECT_EQ(SkyLabel(other_id), Label(5));
+}
+
+TEST(RemoveLabel, RemovesExactlyThatLabelAndKeepsTheRestInOrder) {
+  LabelledCloud c = TwoFrames();
+  c.labels = {11, 3, 11, 7};
+  EXPECT_EQ(RemoveLabel(c, 11), 2u);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c.labels, (std::vector<Label>{3, 7}));
+  EXPECT_EQ(c.positions_world[0], Eigen::Vector3d(1, 0, 1));
+  EXPECT_EQ(c.positions_world[1], Eigen::Vector3d(3, 0, 1));
+  EXPECT_EQ(c.camera_index, (std::vector<std::uint32_t>{0, 1}));
+  EXPECT_EQ(RemoveLabel(c, 11), 0u);
+  EXPECT_EQ(c.size(), 2u);
+}
+
+// The pipeline's depth stage on a plane whose upper half is labelled sky (Cityscapes 11): with
+// semantics.drop_sky (the default) those pixels give no point, and the others are exactly the points the
+// stage gives without it.
+TEST(StereoLabelStage, SkyPixelsGiveNoPoint) {
+  Frame f = LabelledPlane();
+  f.labels.rowRange(0, 60).setTo(11);
+  DepthOptions depth;
+  depth.num_disparities = 32;
+  depth.max_points_per_frame = 0;
+  SemanticsOptions keep_sky;
+  keep_sky.drop_sky = false;
+  const LabelledCloud all = StereoLabelStage(depth, keep_sky, ClassMap::Cityscapes()).Process(f);
+  std::size_t sky_points = 0;
+  for (size_t i = 0; i < all.size(); ++i) sky_points += all.pixels_px[i].y() < 59.5 ? 1 : 0;
+  ASSERT_GT(sky_points, 1000u);
+  ASSERT_LT(sky_points, all.size());
+
+  ASSERT_TRUE(SemanticsOptions().drop_sky);
+  const LabelledCloud no_sky = StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f);
+  EXPECT_EQ(no_sky.size(), all.size() - sky_points);
+  for (size_t i = 0; i < no_sky.size(); ++i) {
+    EXPECT_NE(no_sky.labels[i], 11);
+    EXPECT_GE(no_sky.pixels_px[i].y(), 59.5);
+  }
+  // Only sky in the frame: nothing to map, the frame is refused (the pipeline skips and counts it).
+  f.labels.setTo(11);
+  EXPECT_THROW(StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f), std::runtime_error);
 }
 
 }  // namespace

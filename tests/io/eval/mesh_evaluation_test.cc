@@ -53,6 +53,11 @@ TEST(EvaluateMesh, GroundTruthDisparityMeshAgreesWithVelodyneAndHolesLowerComple
   EXPECT_EQ(e.frames, 1);
   EXPECT_EQ(e.frames_with_lidar, 1);
   EXPECT_FALSE(e.exact_depth.has_value());
+  // Its one camera at the identity pose (stereo-2015 has no poses): a camera frame's up is −y.
+  ASSERT_EQ(e.camera_centers.size(), 1u);
+  EXPECT_EQ(e.camera_centers[0], Eigen::Vector3d::Zero());
+  EXPECT_EQ(e.camera_up, Eigen::Vector3d(0, -1, 0));
+  EXPECT_FALSE(e.scene.has_value());
   std::printf("GT-disparity mesh vs Velodyne: RMSE %.3f m, median %.3f m, completeness %.3f (%lld px)\n",
               e.lidar.rmse_m, e.lidar.median_abs_m, e.lidar.completeness,
               static_cast<long long>(e.lidar.reference_pixels));
