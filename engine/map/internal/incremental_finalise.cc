@@ -51,7 +51,28 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
     }
   }
   CollectBoundary(removing);
-  EmitFinalisedFacets(removed, cell_mark);
+  // The seam: the staying vertices of the surface facets the change touches (emitted, or kept by a sealed
+  // cell), and of the hole's boundary facets with carved space behind (a sealed cell keeps it carved across
+  // them). Only their cells must never change again; the rest of the hole's boundary stays free.
+  std::vector<VertexHandle> seam;
+  {
+    const std::uint32_t seam_mark = NewMark();
+    for (const CellHandle d : destroyed_) {
+      for (int i = 0; i < 4; ++i) {
+        // A surface facet, or a boundary facet the hole is carved behind (a sealed cell will keep that).
+        const bool surface = d->info().CarvedAcross(i) != NeighbourCarved(d, i);
+        const bool carved_behind = d->neighbor(i)->info().stamp != cell_mark && d->info().CarvedAcross(i);
+        if (!surface && !carved_behind) continue;
+        for (int k = 0; k < 4; ++k) {
+          const VertexHandle v = d->vertex(k);
+          if (k == i || dt_.is_infinite(v) || v->info().stamp == removing || v->info().stamp == seam_mark) continue;
+          v->info().stamp = seam_mark;
+          seam.push_back(v);
+        }
+      }
+    }
+  }
+  EmitFinalisedFacets(removed, seam, cell_mark);
   // The carving seen across each facet of the hole's boundary, from inside the hole: the cells that will
   // fill the hole keep it (SealHole).
   std::unordered_map<FacetHandles, bool, FacetHandlesHash> hole_side;
@@ -100,7 +121,10 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   for (std::uint32_t id : finalised) points_.erase(id);
   created_mark_ = NewMark();
   MarkCreatedCells(boundary_, old_mark);
-  SealHole(hole_side);
+  // Removing nearly everything can leave a flat or empty triangulation: no cells to seal then.
+  if (dt_.dimension() == 3) SealHole(hole_side);
+  // The seam's fans, part emitted and part live, stay whole: every cell around them keeps its carving.
+  for (const VertexHandle v : seam) v->info().frozen = true;
   result->points_finalised = finalised.size();
   result->vertices_removed = removed.size();
 
@@ -139,9 +163,6 @@ void IncrementalState::SealHole(
       h->info().carved = false;
     }
   }
-  // Every cell around the hole's vertices keeps its carving from now on (IsPinned): their surface fans,
-  // whose other part was just emitted, stay whole.
-  for (const VertexHandle v : boundary_) v->info().frozen = true;
 }
 
 void IncrementalState::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* around) {
@@ -161,11 +182,12 @@ void IncrementalState::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* arou
   }
 }
 
-void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& removed, std::uint32_t destroyed_mark) {
+void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& removed,
+                                           const std::vector<VertexHandle>& seam, std::uint32_t destroyed_mark) {
   // The copies of every vertex of the emitted facets, fixed from its whole cycle while the whole surface is
-  // still here: the seam's vertices (boundary_) keep them while they stay live and pinned.
+  // still here: the seam's vertices keep them while they stay live and pinned.
   std::vector<SurfaceFacet> around;
-  for (const VertexHandle v : boundary_) {
+  for (const VertexHandle v : seam) {
     if (!v->info().frozen) RecordFan(v, &around);
   }
   for (const VertexHandle v : removed) {

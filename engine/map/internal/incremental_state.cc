@@ -217,8 +217,14 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
     dt_.find_conflicts(p, c, CGAL::Emptyset_iterator(), std::back_inserter(conflict_scratch_));
     // A cell is destroyed by the insertion of the pending set iff one of them conflicts with it in the old
     // triangulation, so leaving out the vertices that conflict with a pinned cell keeps every seam intact.
-    if (std::any_of(conflict_scratch_.begin(), conflict_scratch_.end(),
-                    [](CellHandle cc) { return IsPinned(cc); })) {
+    // A pinned cell carved across none of its facets may go: the cells replacing it are uncarved as it was
+    // (and pinned where they touch a frozen vertex), so no surface changes. Without that, frozen vertices on
+    // the convex hull, or big sealed cells, would keep the map from growing (a drive's new ground lies
+    // outside the hull).
+    const auto blocks = [&](CellHandle cc) {
+      return IsPinned(cc) && (cc->info().carved || (cc->info().sealed & ~CellInfo::kSealed) != 0);
+    };
+    if (std::any_of(conflict_scratch_.begin(), conflict_scratch_.end(), blocks)) {
       (*conflicts_pinned)[k] = 1;
       continue;
     }

@@ -89,7 +89,7 @@ class IncrementalState {
   std::size_t Regrow();
   void Finalise(MapUpdateResult* result);
   // Seals the cells that refilled the hole of a finalisation (created_mark_, around boundary_) with the
-  // carving `hole_side` recorded across the hole's boundary facets, and freezes boundary_.
+  // carving `hole_side` recorded across the hole's boundary facets.
   void SealHole(const std::unordered_map<FacetHandles, bool, FacetHandlesHash>& hole_side);
   // Drops the pending vertices whose insertion would destroy a pinned cell (a seam of finalisation): their
   // points are dropped (counted in `result`) with their rays. Returns the number dropped.
@@ -97,9 +97,10 @@ class IncrementalState {
                                   std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays,
                                   MapUpdateResult* result);
   // Emits the surface facets inside the hole that removing `removed` will leave (between two cells of
-  // destroyed_, stamped `destroyed_mark`; boundary_ is the seam) as finalised triangles, with the copies of
-  // pinched vertices fixed in fan_copies_.
-  void EmitFinalisedFacets(const std::vector<VertexHandle>& removed, std::uint32_t destroyed_mark);
+  // destroyed_, stamped `destroyed_mark`) as finalised triangles, with the copies of pinched vertices fixed
+  // in fan_copies_ (for the removed vertices and the `seam`, the staying vertices of the touched surface).
+  void EmitFinalisedFacets(const std::vector<VertexHandle>& removed, const std::vector<VertexHandle>& seam,
+                           std::uint32_t destroyed_mark);
   // Moves the vertices the carver could not repair to irregular_.
   void TakeIrregular();
   // Fixes in fan_copies_ the copy of `v` in each emitted facet of its cycle (`around`: scratch).

@@ -197,6 +197,7 @@ void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets, const s
       const auto it = frozen->find(f.id);
       if (it == frozen->end()) continue;
       for (int k = 0; k < 3; ++k) {
+        if (!f.vertices[k]->info().frozen) continue;  // copies of the others: from their runs now
         const std::size_t slot = std::find(f.id.begin(), f.id.end(), VertexKey(f.vertices[k])) - f.id.begin();
         if (it->second[slot] != kUnassigned) f.copy[k] = it->second[slot];
       }

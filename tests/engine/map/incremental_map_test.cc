@@ -292,5 +292,28 @@ TEST(IncrementalMap, PublishedMeshIsManifoldAcrossFinalisationSeams) {
   }
 }
 
+// A drive that jumps onto new ground (as a looped soak does) after its old part was finalised: the new points
+// lie outside the convex hull, whose vertices are partly frozen seams; they are still inserted (the soak
+// once lost every point there, and finalisation then emptied the map), and the published mesh stays manifold.
+TEST(IncrementalMap, DriveJumpingPastTheHullKeepsMapping) {
+  MapOptions options;
+  options.finalise_age_frames = 3;
+  options.finalise_every_frames = 2;
+  IncrementalMap map(options);
+  RandomStream stream(21);
+  PublishedMesh published;
+  for (int f = 0; f < 24; ++f) {
+    std::vector<Observation> extra;
+    stream.known_ids.clear();
+    const int place = f < 12 ? f : f + 120;  // 120 frames further on (144 m) from frame 12
+    const MapUpdateResult r = map.Update(stream.Frame(place, 200, &extra));
+    if (f >= 12) EXPECT_GT(r.inserted, 100u) << "frame " << f << ": " << r.points_rejected_at_seam << " rejected";
+    published.Update(&map, f);
+    const auto report = test::CheckManifold(published.accumulator.ToMesh(), /*allow_boundary=*/true);
+    ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
+  }
+  EXPECT_GT(map.Statistics().num_points, 200u);
+}
+
 }  // namespace
 }  // namespace semap
