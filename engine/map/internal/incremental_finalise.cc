@@ -200,10 +200,9 @@ void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& remo
   for (const CellHandle c : destroyed_) {
     if (dt_.is_infinite(c)) continue;
     for (int i = 0; i < 4; ++i) {
-      const CellHandle n = c->neighbor(i);
-      if (n->info().stamp != destroyed_mark || c->info().CarvedAcross(i) == NeighbourCarved(c, i)) continue;
-      if (!c->info().CarvedAcross(i) && !dt_.is_infinite(n)) continue;  // found from its carved side
-      around.push_back(OrientedSurfaceFacet(c, i));
+      if (c->neighbor(i)->info().stamp == destroyed_mark && TakenFrom(dt_, c, i)) {
+        around.push_back(OrientedSurfaceFacet(c, i));
+      }
     }
   }
   {

@@ -47,17 +47,8 @@ bool LeftOut(const SurfaceFacet& f, bool drop_steiner) {
 void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets,
                     std::vector<VertexHandle>* open) {
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
-    const bool sealed = c->info().IsSealed();
-    if (!sealed && !c->info().carved) {
-      // Only a sealed infinite neighbour can be carved across a facet of an uncarved plain cell here.
-      bool any = false;
-      for (int i = 0; i < 4 && !any; ++i) any = CarvedFromInfiniteSide(dt, c, i);
-      if (!any) continue;
-    }
     for (int i = 0; i < 4; ++i) {
-      const bool carved_here = c->info().CarvedAcross(i);
-      if (carved_here == NeighbourCarved(c, i)) continue;
-      if (!carved_here && !dt.is_infinite(c->neighbor(i))) continue;  // found from the finite carved side
+      if (!TakenFrom(dt, c, i)) continue;
       SurfaceFacet f = OrientedSurfaceFacet(c, i);
       if (LeftOut(f, drop_steiner)) {
         if (open) open->insert(open->end(), f.vertices.begin(), f.vertices.end());
@@ -74,10 +65,7 @@ void SurfaceAround(const Delaunay& dt, VertexHandle v, std::vector<SurfaceFacet>
   for (const CellHandle c : star) {
     if (dt.is_infinite(c)) continue;
     for (int i = 0; i < 4; ++i) {
-      // Each facet through v once: from its carved side, or from its finite side when that is infinite.
-      if (c->vertex(i) == v || c->info().CarvedAcross(i) == NeighbourCarved(c, i)) continue;
-      if (!c->info().CarvedAcross(i) && !dt.is_infinite(c->neighbor(i))) continue;
-      facets->push_back(OrientedSurfaceFacet(c, i));
+      if (c->vertex(i) != v && TakenFrom(dt, c, i)) facets->push_back(OrientedSurfaceFacet(c, i));
     }
   }
 }

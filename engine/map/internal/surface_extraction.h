@@ -74,11 +74,13 @@ inline bool NeighbourCarved(CellHandle c, int i) {
   return n->info().IsSealed() ? n->info().CarvedAcross(n->index(c)) : n->info().carved;
 }
 
-// Whether the facet of finite `c` opposite vertex `i` is a surface facet whose carved side is `c`'s neighbour
-// and that neighbour is infinite (possible beside a sealed hole at the hull); such a facet is oriented from
-// `c` and flipped.
-inline bool CarvedFromInfiniteSide(const Delaunay& dt, CellHandle c, int i) {
-  return !c->info().CarvedAcross(i) && dt.is_infinite(c->neighbor(i)) && NeighbourCarved(c, i);
+// Whether the facet of finite `c` opposite vertex `i` is a surface facet to be taken from `c`, so that each is
+// taken once: from its carved side, or from its finite side when the carved side is infinite (possible beside
+// a sealed hole at the hull; OrientedSurfaceFacet flips it).
+inline bool TakenFrom(const Delaunay& dt, CellHandle c, int i) {
+  const bool carved_here = c->info().CarvedAcross(i);
+  if (!carved_here && !dt.is_infinite(c->neighbor(i))) return false;  // taken from the finite carved side
+  return carved_here != NeighbourCarved(c, i);
 }
 
 // The surface facet of finite `c` opposite vertex `i` (carved on exactly one side; the infinite vertex not in
