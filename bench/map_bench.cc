@@ -69,6 +69,7 @@ void BM_IncrementalDrive(benchmark::State& state) {
   std::vector<LabelledCloud> input;
   for (int f = 0; f < frames; ++f) input.push_back(StreetFrame(scene, f, kDriveRaysX, kDriveRaysZ));
   MapOptions options;
+  options.visibility = Visibility::kRays;  // point clouds without depth maps
   options.finalise_age_frames = 20;
   for (auto _ : state) {
     IncrementalMap map(options);
@@ -116,7 +117,9 @@ BENCHMARK(BM_IncrementalDrive)->Arg(500)->Iterations(1)->Unit(benchmark::kSecond
 // Full mesh extraction of a live map of 20 frames.
 void BM_MeshExtraction(benchmark::State& state) {
   const test::StreetScene scene = LongStreet();
-  IncrementalMap map(MapOptions{});
+  MapOptions options;
+  options.visibility = Visibility::kRays;  // point clouds without depth maps
+  IncrementalMap map(options);
   for (int f = 0; f < 20; ++f) map.Update(StreetFrame(scene, f, 60, 40));
   std::size_t triangles = 0;
   for (auto _ : state) {

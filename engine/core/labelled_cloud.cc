@@ -38,6 +38,7 @@ void LabelledCloud::AssertConsistent() const {
   AssertOptional(confidence, n, "confidence");
   AssertOptional(camera_index, n, "camera_index");
   SEMAP_ASSERT(camera_frame_ids.empty() || camera_frame_ids.size() == camera_centers_world.size());
+  SEMAP_ASSERT(camera_views.empty() || camera_views.size() == camera_centers_world.size());
   for (auto c : camera_index) SEMAP_ASSERT(c < camera_centers_world.size(), "camera index " << c);
 }
 
@@ -51,6 +52,7 @@ LabelledCloud LabelledCloud::Subset(const std::vector<std::uint32_t>& indices) c
   CopySubset(camera_index, indices, &out.camera_index);
   out.camera_centers_world = camera_centers_world;
   out.camera_frame_ids = camera_frame_ids;
+  out.camera_views = camera_views;
   return out;
 }
 
@@ -70,6 +72,12 @@ void LabelledCloud::Append(const LabelledCloud& other) {
   camera_centers_world.insert(camera_centers_world.end(), other.camera_centers_world.begin(),
                               other.camera_centers_world.end());
   camera_frame_ids.insert(camera_frame_ids.end(), other.camera_frame_ids.begin(), other.camera_frame_ids.end());
+  // Views are kept only while every camera has one.
+  if (camera_views.size() + other.camera_views.size() == camera_centers_world.size()) {
+    camera_views.insert(camera_views.end(), other.camera_views.begin(), other.camera_views.end());
+  } else {
+    camera_views.clear();
+  }
 }
 
 }  // namespace semap

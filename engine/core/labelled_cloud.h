@@ -3,11 +3,13 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "engine/core/class_map.h"
+#include "engine/core/depth_view.h"
 
 namespace semap {
 
@@ -25,6 +27,9 @@ struct LabelledCloud {
   // Cameras (one per observing frame).
   std::vector<Eigen::Vector3d> camera_centers_world;
   std::vector<std::int64_t> camera_frame_ids;
+  // Optional, per camera: its depth map, for the map's visibility votes (every valid pixel votes, not only
+  // the points kept here). Shared, never modified.
+  std::vector<std::shared_ptr<const DepthView>> camera_views;
 
   size_t size() const { return positions_world.size(); }
   bool empty() const { return positions_world.empty(); }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -152,6 +153,7 @@ void DepthOptions::Check() const {
   SEMAP_CHECK_OPTION(std::isfinite(max_depth_m) && max_depth_m > min_depth_m, "max_depth_m", max_depth_m,
                      "must be finite and greater than min_depth_m");
   SEMAP_CHECK_OPTION(pixel_stride >= 1, "pixel_stride", pixel_stride, "must be >= 1");
+  SEMAP_CHECK_OPTION(vote_stride_px >= 1, "vote_stride_px", vote_stride_px, "must be >= 1");
   SEMAP_CHECK_OPTION(max_points_per_frame >= 0, "max_points_per_frame", max_points_per_frame,
                      "must be >= 0 (0 = no bound)");
   SEMAP_CHECK_OPTION(min_point_confidence >= 0.0f && min_point_confidence <= 1.0f, "min_point_confidence",
@@ -257,9 +259,52 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   return cloud;
 }
 
+DepthView StereoDepth::ToDepthView(const Frame& frame, const cv::Mat& disparity_px, const cv::Mat& confidence) const {
+  const DepthOptions& o = options_;
+  if (disparity_px.empty() || disparity_px.type() != CV_32FC1 ||
+      (!confidence.empty() && (confidence.size() != disparity_px.size() || confidence.type() != CV_32FC1))) {
+    throw std::invalid_argument("ToDepthView: expected a CV_32F disparity (and confidence of its size), got " +
+                                Describe(disparity_px));
+  }
+  if (!frame.calibration.IsValid()) {
+    throw std::invalid_argument("ToDepthView: frame " + std::to_string(frame.id) + " has an invalid calibration");
+  }
+  const StereoCalibration& calib = frame.calibration;
+  const int s = o.vote_stride_px;
+  DepthView view;
+  view.world_from_cam = frame.world_from_cam.value_or(Pose3d::Identity());
+  view.rays_per_pixel = double(s) * double(s);
+  view.max_depth_m = o.max_depth_m;
+  view.depth_m = cv::Mat::zeros((disparity_px.rows + s - 1) / s, (disparity_px.cols + s - 1) / s, CV_32F);
+  // View pixel (i, j) is full-resolution pixel (i·s, j·s): u_full = s · u_view, so the intrinsics scale by
+  // 1/s with the principal point at c / s.
+  view.intrinsics = calib;
+  view.intrinsics.fx_px = calib.fx_px / s;
+  view.intrinsics.fy_px = calib.fy_px / s;
+  view.intrinsics.cx_px = calib.cx_px / s;
+  view.intrinsics.cy_px = calib.cy_px / s;
+  view.intrinsics.width_px = view.depth_m.cols;
+  view.intrinsics.height_px = view.depth_m.rows;
+  for (int j = 0; j < view.depth_m.rows; ++j) {
+    float* out = view.depth_m.ptr<float>(j);
+    const float* d_row = disparity_px.ptr<float>(j * s);
+    const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(j * s);
+    for (int i = 0; i < view.depth_m.cols; ++i) {
+      const float d = d_row[i * s];
+      if (!std::isfinite(d) || d <= 0.0f) continue;
+      if (c_row && !(c_row[i * s] >= o.min_point_confidence)) continue;
+      const double z = calib.DepthFromDisparity(d);
+      if (z >= o.min_depth_m && z <= o.max_depth_m) out[i] = float(z);
+    }
+  }
+  return view;
+}
+
 LabelledCloud StereoDepth::Process(const Frame& frame) const {
   const DisparityResult r = Compute(frame.left, frame.right);
-  return ToCloud(frame, r.disparity_px, r.confidence);
+  LabelledCloud cloud = ToCloud(frame, r.disparity_px, r.confidence);
+  cloud.camera_views = {std::make_shared<const DepthView>(ToDepthView(frame, r.disparity_px, r.confidence))};
+  return cloud;
 }
 
 }  // namespace semap

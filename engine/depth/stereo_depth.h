@@ -69,6 +69,10 @@ struct DepthOptions {
   // Pixels whose confidence is below this give no point. The default 1 keeps matched pixels only: the filled
   // pixels improve the disparity map (D1) but are guesses, kept out of the map.
   float min_point_confidence = 1.0f;
+  // The depth map handed to the map's visibility votes keeps one pixel in vote_stride_px on every
+  // vote_stride_px-th row (full-resolution px; each stands for vote_stride_px² rays). Every valid pixel there
+  // votes, whatever the point budget above.
+  int vote_stride_px = 1;
 
   // Throws InvalidOption naming the field on a value out of range.
   void Check() const;
@@ -106,7 +110,11 @@ class StereoDepth {
   LabelledCloud ToCloud(const Frame& frame, const cv::Mat& disparity_px,
                         const cv::Mat& confidence = cv::Mat()) const;
 
-  // Compute() then ToCloud().
+  // The depth map of the map's visibility votes: every vote_stride_px-th pixel of `disparity_px`, as
+  // camera-frame depth; pixels that would give no point (invalid, out of range, low confidence) are 0.
+  DepthView ToDepthView(const Frame& frame, const cv::Mat& disparity_px, const cv::Mat& confidence = cv::Mat()) const;
+
+  // Compute(), then ToCloud() with the ToDepthView() of its camera.
   LabelledCloud Process(const Frame& frame) const;
 
  private:

@@ -30,6 +30,7 @@ struct MapUpdateResult {
   std::size_t cells_destroyed = 0;  // cells with votes replaced by the insertion
   std::size_t rays_retraced = 0;    // existing rays untraced and traced again
   std::size_t rays_traced = 0;      // new rays
+  std::size_t cells_voted = 0;      // map.visibility: depth: cells that got votes from the frame's views
   std::size_t cells_uncarved = 0;   // local shrink
   std::size_t cells_carved = 0;     // local growth
   std::size_t points_finalised = 0;
@@ -37,7 +38,8 @@ struct MapUpdateResult {
   // Wall time of the update's steps.
   double locate_ms = 0.0;    // merging, conflict regions and the rays through them
   double insert_ms = 0.0;    // vertex insertion into the triangulation
-  double trace_ms = 0.0;     // retracing the affected rays and tracing the new ones
+  double trace_ms = 0.0;     // the votes: retracing the affected rays and tracing the new ones (rays), or
+                             // voting the cells from the views (depth)
   double carve_ms = 0.0;     // shrinking and regrowing the manifold free space
   double finalise_ms = 0.0;  // finalising and releasing old parts (every finalise_every_frames frames)
 };

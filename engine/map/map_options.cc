@@ -14,6 +14,13 @@ void MapOptions::Check() const {
                      "must be >= 0");
   SEMAP_CHECK_OPTION(max_ray_length_m >= 0.0, "max_ray_length_m", max_ray_length_m, "must be >= 0");
   SEMAP_CHECK_OPTION(merge_distance_m >= 0.0, "merge_distance_m", merge_distance_m, "must be >= 0");
+  SEMAP_CHECK_OPTION(vote_window_frames >= 1, "vote_window_frames", vote_window_frames, "must be >= 1");
+  SEMAP_CHECK_OPTION(std::isfinite(merge_radius_px) && merge_radius_px > 0.0, "merge_radius_px", merge_radius_px,
+                     "must be finite and > 0");
+  SEMAP_CHECK_OPTION(std::isfinite(merge_depth_fraction) && merge_depth_fraction >= 0.0 && merge_depth_fraction < 1.0,
+                     "merge_depth_fraction", merge_depth_fraction, "must be in [0, 1)");
+  SEMAP_CHECK_OPTION(std::isfinite(disparity_sigma_px) && disparity_sigma_px >= 0.0, "disparity_sigma_px",
+                     disparity_sigma_px, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(grow_passes >= 1, "grow_passes", grow_passes, "must be >= 1");
   SEMAP_CHECK_OPTION(std::isfinite(repair_fill_cost) && repair_fill_cost >= 0.0, "repair_fill_cost",
                      repair_fill_cost, "must be finite and >= 0");

@@ -20,15 +20,39 @@ enum class SurfaceExtraction {
   kCarveAndRepair,
 };
 
+// Where the visibility votes come from.
+enum class Visibility {
+  // Each frame's depth map (every valid pixel is a ray): cells in the view are voted by sampling them
+  // against it (engine/map/internal/depth_votes.h); cells created by an insertion are voted from the views
+  // of the last vote_window_frames frames. No per-ray records: nothing is retraced. Needs a depth view per
+  // camera (LabelledCloud::camera_views). Default.
+  kDepth,
+  // One exact walk per point ray through the triangulation (the paper's votes, the reference): rays are
+  // recorded in the cells they cross and retraced when those cells change. Any input (SfM tracks too).
+  kRays,
+};
+
 struct MapOptions {
+  Visibility visibility = Visibility::kDepth;
+  // kDepth: views kept to vote the cells an insertion creates (≥ 1).
+  int vote_window_frames = 8;
+  // kDepth: a new point whose projection lies within merge_radius_px (full-resolution px) of a live vertex's
+  // in its own view, at a depth within merge_depth_fraction of that vertex's, is that vertex seen again: it
+  // adds to the vertex's support instead of becoming a vertex.
+  double merge_radius_px = 3.0;
+  double merge_depth_fraction = 0.03;
+  // kDepth: σ of the stereo disparity (px). A pixel's depth z is uncertain by σ_z = z²·σ/(f·B): a cell is
+  // voted free only before that band, matter within it (0 = the paper's votes, exact points).
+  double disparity_sigma_px = 0.5;
+
   double sigma_free_m = 0.05;    // σ_free of the free-space weight (paper: 0.05 m)
   double sigma_matter_m = 0.01;  // σ_matter of the matter weight (paper: 0.01 m)
   // The ray is extended behind its point by ray_extension_factor · σ_matter (paper: 10).
   double ray_extension_factor = 10.0;
   // Rays longer than this (camera to point) are not traced and their point is not inserted; 0 = no limit.
   double max_ray_length_m = 0.0;
-  // A new point closer than this to an existing point (or an earlier point of the same frame) is merged into
-  // it: only its ray is added. 0 = never merge.
+  // kRays: a new point closer than this to an existing point (or an earlier point of the same frame) is
+  // merged into it: only its ray is added. 0 = never merge.
   double merge_distance_m = 0.05;
 
   SurfaceExtraction extraction = SurfaceExtraction::kCarveAndRepair;

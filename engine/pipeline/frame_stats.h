@@ -19,7 +19,7 @@ struct StageTiming {
   int queue_occupancy = 0;  // items waiting in the queue in front of the stage (a step has none: 0)
 };
 
-// A step inside a stage is named "stage.step" (e.g. "map.trace"): it has a time but no queue of its own.
+// A step inside a stage is named "stage.step" (e.g. "map.votes"): it has a time but no queue of its own.
 inline bool IsStageStep(const std::string& name) { return name.find('.') != std::string::npos; }
 
 struct ClassPointCount {

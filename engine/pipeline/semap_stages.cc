@@ -13,8 +13,25 @@ StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOpt
       sky_label_(SkyLabel(class_map_)),
       segmenter_(MakeSegmenter(semantics)) {}
 
+namespace {
+
+// Marks the view's pixels labelled `sky` as free up to the far range: no point, but their rays carve.
+void MarkSky(const cv::Mat& labels, Label sky, int stride_px, DepthView* view) {
+  for (int j = 0; j < view->depth_m.rows; ++j) {
+    float* row = view->depth_m.ptr<float>(j);
+    const std::uint8_t* l = labels.ptr<std::uint8_t>(j * stride_px);
+    for (int i = 0; i < view->depth_m.cols; ++i) {
+      if (l[i * stride_px] == sky) row[i] = kFreeToFarRange;
+    }
+  }
+}
+
+}  // namespace
+
 LabelledCloud StereoLabelStage::Process(const Frame& frame) {
-  LabelledCloud cloud = depth_.Process(frame);
+  const DisparityResult disparity = depth_.Compute(frame.left, frame.right);
+  LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
+  DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
   if (cloud.size() == 0) {
     // Nothing to map (uniform, black or unmatched images): the frame is skipped and counted, not mapped empty.
     throw std::runtime_error("frame " + std::to_string(frame.id) + ": no valid disparity (no point in the depth "
@@ -26,6 +43,10 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame) {
   if (semantics_.drop_sky && sky_label_ && RemoveLabel(cloud, *sky_label_) > 0 && cloud.size() == 0) {
     throw std::runtime_error("frame " + std::to_string(frame.id) + ": every point is sky (semantics.drop_sky)");
   }
+  if (semantics_.drop_sky && sky_label_ && labels.size() == frame.left.size() && labels.type() == CV_8UC1) {
+    MarkSky(labels, *sky_label_, depth_.options().vote_stride_px, &view);
+  }
+  cloud.camera_views = {std::make_shared<const DepthView>(std::move(view))};
   return cloud;
 }
 
@@ -47,7 +68,7 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   const auto t0 = std::chrono::steady_clock::now();
   MapUpdate u = Report();
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"trace", r.trace_ms},
+  u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"votes", r.trace_ms},
              {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"mesh", mesh_ms}};
   return u;
 }

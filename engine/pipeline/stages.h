@@ -40,7 +40,7 @@ class SimplifyStage {
   virtual LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>* counts) = 0;
 };
 
-// The time of one step inside a stage (reported as stage "<stage>.<name>", e.g. "map.trace").
+// The time of one step inside a stage (reported as stage "<stage>.<name>", e.g. "map.votes").
 struct StepTime {
   std::string name;
   double ms = 0.0;

@@ -148,6 +148,9 @@ void Bind(FieldBinder& b, DepthOptions& o) {
   b.Field("pixel_stride", &o.pixel_stride, "one point every pixel_stride px on every pixel_stride-th row");
   b.Field("max_points_per_frame", &o.max_points_per_frame, "point budget per frame after the stride (0 = none)");
   b.Field("min_point_confidence", &o.min_point_confidence, "pixels below this confidence give no point");
+  b.Field("vote_stride_px", &o.vote_stride_px,
+          "the map's visibility votes read one pixel in vote_stride_px on every vote_stride_px-th row of the "
+          "depth map (map.visibility: depth); every valid one votes, whatever max_points_per_frame");
 }
 
 void Bind(FieldBinder& b, SemanticsOptions& o) {
@@ -216,6 +219,18 @@ void Bind(FieldBinder& b, DepthAccuracyOptions& o) {
 }
 
 void Bind(FieldBinder& b, MapOptions& o) {
+  b.Enum("visibility", &o.visibility, {{"depth", Visibility::kDepth}, {"rays", Visibility::kRays}},
+         "where the visibility votes come from: depth (each frame's depth map, every valid pixel a ray; "
+         "cells sampled against it) | rays (one exact walk per point ray, the paper's votes; also for SfM input)");
+  b.Field("vote_window_frames", &o.vote_window_frames,
+          "depth: the views of this many last frames vote the cells an insertion creates");
+  b.Field("merge_radius_px", &o.merge_radius_px,
+          "depth: a new point projecting within this many px of a live vertex (and within merge_depth_fraction "
+          "of its depth) adds to that vertex's support instead of becoming a vertex");
+  b.Field("merge_depth_fraction", &o.merge_depth_fraction, "depth: see merge_radius_px");
+  b.Field("disparity_sigma_px", &o.disparity_sigma_px,
+          "depth: σ of the stereo disparity, px; a pixel's depth z is uncertain by z²σ/(f·B): cells are voted "
+          "free only before that band, matter within it (0 = exact points, the paper's votes)");
   b.Field("sigma_free_m", &o.sigma_free_m, "σ_free of the free-space weight 1 - exp(-d²/(2σ²)), metres");
   b.Field("sigma_matter_m", &o.sigma_matter_m, "σ_matter of the matter weight 1 - exp(-d²/(2σ²)), metres");
   b.Field("ray_extension_factor", &o.ray_extension_factor,
@@ -223,8 +238,8 @@ void Bind(FieldBinder& b, MapOptions& o) {
   b.Field("max_ray_length_m", &o.max_ray_length_m,
           "points farther than this from their camera are dropped; 0 = no limit");
   b.Field("merge_distance_m", &o.merge_distance_m,
-          "a new point this close to an existing one is merged into it (only its ray is added); 0 = exact "
-          "duplicates only");
+          "rays: a new point this close to an existing one is merged into it (only its ray is added); 0 = "
+          "exact duplicates only");
   b.Enum("extraction", &o.extraction,
          {{"carve_and_repair", SurfaceExtraction::kCarveAndRepair},
           {"greedy_growth", SurfaceExtraction::kGreedyGrowth}},

@@ -92,7 +92,7 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
   OpenOnce();
   if (!header_written_) {
     csv_ << "frame_id,timestamp_s,elapsed_s,fps,frames_processed,frames_dropped,frames_failed";
-    // A step of a stage ("map.trace") has a time and no queue of its own.
+    // A step of a stage ("map.votes") has a time and no queue of its own.
     for (const auto& st : s.stages) {
       csv_ << "," << st.name << "_ms";
       if (!IsStageStep(st.name)) csv_ << "," << st.name << "_queue";

@@ -184,11 +184,20 @@ SfmBatchResult MapSfmBatch(const SfmReconstruction& r, const MapOptions& map, co
   return out;
 }
 
+namespace {
+// SfM tracks come without depth maps: their visibility is always the exact rays (a point per track, a ray
+// per observation).
+MapOptions WithRayVisibility(MapOptions map) {
+  map.visibility = Visibility::kRays;
+  return map;
+}
+}  // namespace
+
 SfmIncrementalMapper::SfmIncrementalMapper(const SfmReconstruction& reconstruction, const MapOptions& map,
                                            const SimplifyOptions& simplify, ClassMap class_map)
     : reconstruction_(&reconstruction),
       keyframes_(MakeKeyframes(reconstruction)),
-      map_(map),
+      map_(WithRayVisibility(map)),
       simplify_(SimplifiesSfm(reconstruction, simplify)),
       map_id_(reconstruction.num_points(), kUnseen) {
   simplify.Check();

@@ -23,7 +23,13 @@ std::int64_t VoxelKey(const Eigen::Vector3d& p, double size) {
          (std::int64_t(c.z()) + kOffset);
 }
 
-// Sorts `pending` along a space-filling curve so consecutive insertions are neighbours (cheap locate).
+// Margin added on both sides of a retraced ray's span (see CollectAffectedRays): relative to the distances
+// (double rounding) and absolute.
+constexpr double kSpanMarginFraction = 1e-9;
+constexpr double kSpanMarginM = 1e-9;
+
+}  // namespace
+
 void SpatialSort(std::vector<PendingVertex>* pending) {
   std::vector<Point> points;
   points.reserve(pending->size());
@@ -38,12 +44,6 @@ void SpatialSort(std::vector<PendingVertex>* pending) {
   *pending = std::move(sorted);
 }
 
-// Margin added on both sides of a retraced ray's span (see CollectAffectedRays): relative to the distances
-// (double rounding) and absolute.
-constexpr double kSpanMarginFraction = 1e-9;
-constexpr double kSpanMarginM = 1e-9;
-
-// Milliseconds since `*since`, which is moved to now.
 double Lap(std::chrono::steady_clock::time_point* since) {
   const auto now = std::chrono::steady_clock::now();
   const double ms = std::chrono::duration<double, std::milli>(now - *since).count();
@@ -51,16 +51,22 @@ double Lap(std::chrono::steady_clock::time_point* since) {
   return ms;
 }
 
-}  // namespace
 
 IncrementalState::IncrementalState(const MapOptions& options)
     : options_(options),
       geometry_{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()},
+      depth_geometry_{geometry_, options.disparity_sigma_px},
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
       lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
 
 MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::vector<Observation>& extra) {
   frame.AssertConsistent();
+  if (options_.visibility == Visibility::kDepth) {
+    if (!extra.empty()) {
+      throw std::invalid_argument("map update: extra observations need map.visibility: rays");
+    }
+    return UpdateFromDepth(frame);
+  }
   SEMAP_ASSERT(frame.empty() || frame.camera_index.size() == frame.size(), "every point needs its camera");
   ++frame_;
   MapUpdateResult result;
@@ -211,6 +217,7 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
     int li, lj;
     const CellHandle c = dt_.locate(p, lt, li, lj, hint);
     hint = c;
+    if (lt == Delaunay::VERTEX && options_.visibility == Visibility::kDepth) continue;  // merged on insertion
     SEMAP_ASSERT(lt != Delaunay::VERTEX,
                  "a new vertex coincides with an existing one at " << pv.position.transpose());
     conflict_scratch_.clear();
@@ -337,6 +344,20 @@ std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* 
   return mark;
 }
 
+void IncrementalState::RecordInserted(const PendingVertex& pv, VertexHandle v, MapUpdateResult* result) {
+  if (pv.point_id != kNoId) {
+    v->info() = VertexInfo{pv.point_id, false, false, 0, pv.attributes};
+    points_.at(pv.point_id).vertex = v;
+    arrival_.push_back(pv.point_id);
+    ++result->inserted;
+  } else {
+    v->info() = VertexInfo{next_steiner_id_++, true, false, 0, {}};
+    steiner_[pv.node] = v;
+    ++result->steiner_inserted;
+  }
+  inserted_.push_back(v);
+}
+
 void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result) {
   inserted_.clear();
   VertexHandle previous;
@@ -346,18 +367,8 @@ void IncrementalState::InsertVertices(std::vector<PendingVertex>* pending, MapUp
         dt_.insert(ToPoint(pv.position), previous == VertexHandle() ? CellHandle() : previous->cell());
     SEMAP_ASSERT(dt_.number_of_vertices() == before + 1,
                  "vertex at an occupied position " << pv.position.transpose());
-    if (pv.point_id != kNoId) {
-      v->info() = VertexInfo{pv.point_id, false, false, 0, pv.attributes};
-      points_.at(pv.point_id).vertex = v;
-      arrival_.push_back(pv.point_id);
-      ++result->inserted;
-    } else {
-      v->info() = VertexInfo{next_steiner_id_++, true, false, 0, {}};
-      steiner_[pv.node] = v;
-      ++result->steiner_inserted;
-    }
+    RecordInserted(pv, v, result);
     previous = v;
-    inserted_.push_back(v);
   }
 }
 

@@ -2,12 +2,14 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <deque>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
 #include "engine/map/incremental_map.h"
+#include "engine/map/internal/depth_votes.h"
 #include "engine/map/internal/manifold_carver.h"
 #include "engine/map/internal/ray_registry.h"
 #include "engine/map/internal/ray_tracer.h"
@@ -45,6 +47,11 @@ struct PendingVertex {
   PointAttributes attributes;
 };
 
+// Sorts `pending` along a space-filling curve so consecutive insertions are neighbours (cheap locate).
+void SpatialSort(std::vector<PendingVertex>* pending);
+// Milliseconds since `*since`, which is moved to now.
+double Lap(std::chrono::steady_clock::time_point* since);
+
 class IncrementalState {
  public:
   explicit IncrementalState(const MapOptions& options);
@@ -58,6 +65,24 @@ class IncrementalState {
   MapStatistics Sizes() const;
 
  private:
+  // map.visibility: depth. One frame: its points merged into the live vertices they land on (by projection
+  // into their view) or inserted; the cells in its view voted from its depth map, the cells the insertion
+  // created from the window of stored views; the manifold carved where a cell's free/matter state changed.
+  MapUpdateResult UpdateFromDepth(const LabelledCloud& frame);
+  // The frame's points that no live vertex explains (see MapOptions::merge_radius_px) go to `pending`; the
+  // others add to the support of the vertex they land on.
+  void ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result, std::vector<PendingVertex>* pending);
+  // InsertVertices, each cell the insertion creates starting with the votes of the destroyed cell it was
+  // built on (the one inside the hole across its facet opposite the new vertex): what the map knew there.
+  void InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result);
+  // A pending data point exactly at `existing`: its frame points become that point (or are dropped, on a
+  // Steiner vertex).
+  void MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result);
+  // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
+  // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells whose free/matter state changed, and the created ones, go to
+  // touched_. Returns the number of cells that got a vote.
+  std::size_t VoteFromViews();
+
   // Update steps.
   void ClassifyPoints(const LabelledCloud& frame, const std::vector<std::uint32_t>& camera_ids,
                       MapUpdateResult* result, std::vector<PendingVertex>* pending,
@@ -75,6 +100,8 @@ class IncrementalState {
   // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
   void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
+  // The bookkeeping of a vertex just inserted for `pv` (appended to inserted_).
+  void RecordInserted(const PendingVertex& pv, VertexHandle v, MapUpdateResult* result);
   // Ray votes: sign +1 traces `rays` (adds votes and cell entries), -1 untraces them (and lists the cells in
   // decreased_; the rays' epochs move on, so their cell entries become stale). The walks run in parallel
   // (they only read the triangulation) and the votes are applied in the order of `rays`, so the result does
@@ -113,10 +140,12 @@ class IncrementalState {
 
   MapOptions options_;
   RayGeometry geometry_;
+  DepthVoteGeometry depth_geometry_;
   Delaunay dt_;
   ManifoldCarver carver_;
   SteinerLattice lattice_;
   RayRegistry rays_;
+  std::deque<VotingView> views_;  // kDepth: the last vote_window_frames views, newest last
   std::unordered_map<std::uint32_t, PointRecord> points_;
   std::unordered_map<std::uint32_t, CameraRecord> cameras_;
   std::unordered_map<LatticeKey, VertexHandle> steiner_;

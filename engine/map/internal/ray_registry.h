@@ -15,7 +15,8 @@ struct PointRecord {
   VertexHandle vertex;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   std::int64_t frame = 0;           // frame of insertion
-  std::vector<std::uint32_t> rays;  // its rays, the first one from its first camera
+  std::vector<std::uint32_t> rays;  // kRays: its rays, the first one from its first camera
+  std::uint32_t support = 1;        // kDepth: the observations merged into it, its own included
 };
 
 struct CameraRecord {

@@ -17,6 +17,14 @@ namespace {
 
 using VoteKey = std::array<double, 12>;
 
+// The exact ray map (these streams have no depth maps, and some tests add extra rays or compare with the
+// batch map, which only the ray map has).
+MapOptions RayOptions() {
+  MapOptions options;
+  options.visibility = Visibility::kRays;
+  return options;
+}
+
 VoteKey KeyOf(const std::array<Eigen::Vector3d, 4>& v) {
   VoteKey k;
   for (int i = 0; i < 4; ++i)
@@ -110,7 +118,7 @@ void ExpectVotesEqualBatch(const IncrementalMap& map, const MapOptions& options,
 }
 
 TEST(IncrementalMap, VotesEqualBatchOnRandomStreams) {
-  MapOptions options;
+  MapOptions options = RayOptions();
   options.drop_steiner_triangles = false;
   for (unsigned seed = 1; seed <= 4; ++seed) {
     IncrementalMap map(options);
@@ -138,7 +146,7 @@ TEST(IncrementalMap, VotesEqualBatchOnRandomStreams) {
 // Mesh vertices carry the label of the point they are (the first observation's label, kept on merges), and
 // the cheap per-frame sizes equal the full statistics.
 TEST(IncrementalMap, MeshVerticesCarryTheirPointsLabelsAndSizesMatchStatistics) {
-  MapOptions options;
+  MapOptions options = RayOptions();
   IncrementalMap map(options);
   RandomStream stream(5);
   std::map<std::uint32_t, Label> label_of;
@@ -167,7 +175,7 @@ TEST(IncrementalMap, MeshVerticesCarryTheirPointsLabelsAndSizesMatchStatistics) 
 }
 
 TEST(IncrementalMap, MergesNearbyPointsAndRejectsUnknownIds) {
-  MapOptions options;
+  MapOptions options = RayOptions();
   options.merge_distance_m = 0.1;
   IncrementalMap map(options);
   LabelledCloud a;
@@ -191,7 +199,7 @@ TEST(IncrementalMap, MergesNearbyPointsAndRejectsUnknownIds) {
 
 // The live mesh and the finalised pieces, streamed through core's MeshDiffer, rebuild the published mesh.
 TEST(IncrementalMap, DeltasReproduceTheMesh) {
-  MapOptions options;
+  MapOptions options = RayOptions();
   options.finalise_age_frames = 3;
   options.finalise_every_frames = 1;
   IncrementalMap map(options);
@@ -227,7 +235,7 @@ struct PublishedMesh {
 };
 
 TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
-  MapOptions options;
+  MapOptions options = RayOptions();
   options.finalise_age_frames = 8;
   options.finalise_every_frames = 4;
   // The whole surface (Steiner triangles kept) is a closed 2-manifold: the finalised pieces and the live
@@ -268,7 +276,7 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
 // and no triangle is degenerate or repeated.
 TEST(IncrementalMap, PublishedMeshIsManifoldAcrossFinalisationSeams) {
   for (const int every : {1, 3}) {
-    MapOptions options;
+    MapOptions options = RayOptions();
     options.finalise_age_frames = 5;
     options.finalise_every_frames = every;
     IncrementalMap map(options);
@@ -296,7 +304,7 @@ TEST(IncrementalMap, PublishedMeshIsManifoldAcrossFinalisationSeams) {
 // lie outside the convex hull, whose vertices are partly frozen seams; they are still inserted (the soak
 // once lost every point there, and finalisation then emptied the map), and the published mesh stays manifold.
 TEST(IncrementalMap, DriveJumpingPastTheHullKeepsMapping) {
-  MapOptions options;
+  MapOptions options = RayOptions();
   options.finalise_age_frames = 3;
   options.finalise_every_frames = 2;
   IncrementalMap map(options);
@@ -313,6 +321,99 @@ TEST(IncrementalMap, DriveJumpingPastTheHullKeepsMapping) {
     ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
   }
   EXPECT_GT(map.Statistics().num_points, 200u);
+}
+
+// One frame of the analytic street seen by a pinhole camera at y_m looking +y (±45° wide): its depth view
+// (rays that hit nothing are sky: free to the far range) and a point at every stride-th pixel.
+LabelledCloud StreetDepthFrame(const test::StreetScene& scene, double y_m, int stride) {
+  constexpr int kWidth = 96, kHeight = 64;
+  constexpr double kFocal = 48.0, kMaxDepth = 30.0;
+  auto view = std::make_shared<DepthView>();
+  view->intrinsics.fx_px = view->intrinsics.fy_px = kFocal;
+  view->intrinsics.cx_px = kWidth / 2.0;
+  view->intrinsics.cy_px = kHeight / 2.0;
+  view->intrinsics.baseline_m = 0.5;
+  view->intrinsics.width_px = kWidth;
+  view->intrinsics.height_px = kHeight;
+  view->max_depth_m = kMaxDepth;
+  view->depth_m = cv::Mat::zeros(kHeight, kWidth, CV_32F);
+  Eigen::Matrix3d world_from_cam_rotation;  // camera x right, y down, z forward → world x, −z, y
+  world_from_cam_rotation << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  view->world_from_cam.linear() = world_from_cam_rotation;
+  view->world_from_cam.translation() = scene.CameraCenter(y_m);
+  LabelledCloud cloud;
+  cloud.camera_centers_world.push_back(scene.CameraCenter(y_m));
+  for (int v = 0; v < kHeight; ++v) {
+    for (int u = 0; u < kWidth; ++u) {
+      const Eigen::Vector3d ray_cam((u - view->intrinsics.cx_px) / kFocal, (v - view->intrinsics.cy_px) / kFocal, 1.0);
+      const Eigen::Vector3d dir = (world_from_cam_rotation * ray_cam).normalized();
+      const auto hit = scene.Cast(scene.CameraCenter(y_m), dir);
+      const double depth = hit ? hit->first / ray_cam.norm() : 0.0;
+      if (!hit || depth > kMaxDepth) {
+        view->depth_m.at<float>(v, u) = kFreeToFarRange;
+        continue;
+      }
+      view->depth_m.at<float>(v, u) = float(depth);
+      if (u % stride || v % stride) continue;
+      cloud.positions_world.push_back(scene.CameraCenter(y_m) + hit->first * dir);
+      cloud.labels.push_back(hit->second);
+      cloud.camera_index.push_back(0);
+    }
+  }
+  cloud.camera_views.push_back(std::move(view));
+  return cloud;
+}
+
+// map.visibility: depth on a drive down the analytic street with exact depth maps: the frames' points are
+// merged into the vertices they land on, the published mesh stays a 2-manifold across finalisation seams
+// after every frame, and it lies on the street about as well as the exact ray map's built from the same
+// points (each point a ray).
+TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
+  const test::StreetScene scene;
+  const auto distance = [&](const Eigen::Vector3d& p) { return scene.Distance(p); };
+  MapOptions options;
+  options.finalise_age_frames = 10;
+  options.finalise_every_frames = 3;
+  options.disparity_sigma_px = 0.0;  // exact depth
+  MapOptions rays_options = options;
+  rays_options.visibility = Visibility::kRays;
+  options.visibility = Visibility::kDepth;
+  IncrementalMap depth_map(options), rays_map(rays_options);
+  PublishedMesh depth_published, rays_published;
+  std::size_t points = 0, inserted = 0;
+  for (int f = 0; f < 30; ++f) {
+    LabelledCloud frame = StreetDepthFrame(scene, 1.0 * f, 2);
+    points += frame.size();
+    inserted += depth_map.Update(frame).inserted;
+    frame.camera_views.clear();
+    rays_map.Update(frame);
+    depth_published.Update(&depth_map, f);
+    rays_published.Update(&rays_map, f);
+    const auto report = test::CheckManifold(depth_published.accumulator.ToMesh(), /*allow_boundary=*/true);
+    ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
+  }
+  depth_published.accumulator.Apply(depth_published.differ.Update(30, depth_map.ExtractIdentifiedMesh(), depth_map.TakeFinalisedMesh()));
+  const Mesh depth_mesh = depth_published.accumulator.ToMesh();
+  const Mesh rays_mesh = rays_published.accumulator.ToMesh();
+  const test::SurfaceError depth_error = test::MeshError(depth_mesh, distance);
+  const test::SurfaceError rays_error = test::MeshError(rays_mesh, distance);
+  std::cout << "depth votes: " << inserted << " of " << points << " points inserted, " << depth_mesh.num_triangles()
+            << " triangles, median " << depth_error.median_m << " m, RMSE " << depth_error.rmse_m
+            << " m; rays: " << rays_mesh.num_triangles() << " triangles, median " << rays_error.median_m
+            << " m, RMSE " << rays_error.rmse_m << " m\n";
+  EXPECT_LT(double(inserted), 0.5 * double(points)) << "re-observed points should merge";
+  EXPECT_GT(depth_mesh.num_triangles(), 1000u);
+  EXPECT_LT(depth_error.median_m, 0.05);
+  EXPECT_LT(depth_error.rmse_m, 1.05 * rays_error.rmse_m + 0.02);
+}
+
+TEST(IncrementalMap, DepthVotesNeedADepthViewPerCamera) {
+  MapOptions options;
+  options.visibility = Visibility::kDepth;
+  IncrementalMap map(options);
+  LabelledCloud frame = StreetDepthFrame(test::StreetScene(), 0.0, 4);
+  frame.camera_views.clear();
+  EXPECT_THROW(map.Update(frame), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,0 +1,115 @@
+#include "engine/map/internal/depth_votes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/core/check.h"
+#include "engine/map/internal/vote_weights.h"
+
+namespace semap::map_internal {
+namespace {
+
+constexpr int kSamplesPerCell = 5;
+// A cell with a vertex this close to the camera plane (or behind it) may contain the camera: its footprint
+// is taken as the whole image.
+constexpr double kNearPlaneM = 0.05;
+
+double TriangleArea2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+}
+
+// Area of the convex hull of four points: each hull point is in two of the four triangles and an inner point
+// in none, so the four triangles cover the hull exactly twice (either shape): hull = Σ / 2 (Σ of doubled
+// areas / 4).
+double HullArea(const std::array<Eigen::Vector2d, 4>& p) {
+  return 0.25 * (TriangleArea2(p[0], p[1], p[2]) + TriangleArea2(p[0], p[1], p[3]) +
+                 TriangleArea2(p[0], p[2], p[3]) + TriangleArea2(p[1], p[2], p[3]));
+}
+
+// Whether the origin lies inside the tetrahedron (the same side of each face as the opposite vertex).
+bool ContainsOrigin(const std::array<Eigen::Vector3d, 4>& t) {
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d& a = t[(i + 1) % 4];
+    const Eigen::Vector3d n = (t[(i + 2) % 4] - a).cross(t[(i + 3) % 4] - a);
+    if (n.dot(t[i] - a) * n.dot(-a) < 0.0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+VotingView::VotingView(std::shared_ptr<const DepthView> v) : view(std::move(v)) {
+  SEMAP_ASSERT(view && !view->empty(), "a voting view needs a depth map");
+  const Pose3d cam_from_world = view->world_from_cam.inverse();
+  cam_from_world_rotation = cam_from_world.linear();
+  cam_from_world_translation = cam_from_world.translation();
+  image_area_px = double(view->depth_m.cols) * double(view->depth_m.rows);
+  focal_baseline_m_px = view->intrinsics.fx_px * std::sqrt(view->rays_per_pixel) * view->intrinsics.baseline_m;
+}
+
+VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, const VotingView& view,
+                       const DepthVoteGeometry& geometry) {
+  const DepthView& v = *view.view;
+  const StereoCalibration& k = v.intrinsics;
+  std::array<Eigen::Vector3d, 4> cam;
+  bool near = false;
+  double max_z = -1.0;
+  for (int i = 0; i < 4; ++i) {
+    cam[i] = view.cam_from_world_rotation * vertices_world[i] + view.cam_from_world_translation;
+    near = near || cam[i].z() < kNearPlaneM;
+    max_z = std::max(max_z, cam[i].z());
+  }
+  if (max_z <= 0.0) return {};  // wholly behind the camera
+  if (near && ContainsOrigin(cam)) {
+    // Every ray of the view starts in this cell, far before its point: one full free vote per ray (the
+    // view's valid pixels, counted as the whole image).
+    return {QuantiseWeight(view.image_area_px * v.rays_per_pixel), 0};
+  }
+  double footprint_px = view.image_area_px;
+  if (!near) {
+    std::array<Eigen::Vector2d, 4> uv;
+    Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+    for (int i = 0; i < 4; ++i) {
+      uv[i] = k.Project(cam[i]);
+      lo = lo.cwiseMin(uv[i]);
+      hi = hi.cwiseMax(uv[i]);
+    }
+    if (hi.x() < 0.0 || hi.y() < 0.0 || lo.x() >= k.width_px || lo.y() >= k.height_px) return {};
+    footprint_px = std::min(HullArea(uv), view.image_area_px);
+  }
+  const Eigen::Vector3d centroid = 0.25 * (cam[0] + cam[1] + cam[2] + cam[3]);
+  const double free_saturation_m = SaturationDistance(geometry.ray.sigma_free_m);
+  double free = 0.0, matter = 0.0;
+  for (int s = 0; s < kSamplesPerCell; ++s) {
+    const Eigen::Vector3d x = s == 0 ? centroid : Eigen::Vector3d(0.5 * (centroid + cam[s - 1]));
+    if (x.z() <= 0.0) continue;
+    const Eigen::Vector2d uv = k.Project(x);
+    const float depth = v.At(uv.x(), uv.y());
+    if (depth == 0.0f) continue;
+    double depth_m = depth;
+    if (depth == kFreeToFarRange) {
+      if (x.z() >= v.max_depth_m) continue;  // beyond the far range: unknown
+      depth_m = v.max_depth_m;
+    }
+    const double range = x.norm();
+    const double d = range * (depth_m / x.z() - 1.0);  // the sample is d before the pixel's point
+    if (depth == kFreeToFarRange) {
+      free += GaussianComplement(d, geometry.ray.sigma_free_m);
+      continue;
+    }
+    // The pixel's point is uncertain by ± noise along the ray: no vote within that band; free before it,
+    // matter up to the ray's extension behind it.
+    const double noise = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px * range / x.z();
+    if (d - noise > free_saturation_m) {
+      free += 1.0;  // the Gaussian term is below a quarter of a fixed-point unit
+    } else if (d > noise) {
+      free += GaussianComplement(d - noise, geometry.ray.sigma_free_m);
+    } else if (d < -noise && -d - noise <= geometry.ray.extension_m) {
+      matter += GaussianComplement(-d - noise, geometry.ray.sigma_matter_m);
+    }
+  }
+  const double rays_per_sample = footprint_px * v.rays_per_pixel / kSamplesPerCell;
+  return {QuantiseWeight(free * rays_per_sample), QuantiseWeight(matter * rays_per_sample)};
+}
+
+}  // namespace semap::map_internal

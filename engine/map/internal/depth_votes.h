@@ -1,0 +1,71 @@
+// Visibility votes from depth maps (map.visibility: depth): a cell's votes from one camera view, read off the
+// view's depth map instead of walking one ray per point.
+//
+// How each vote relates to the paper's formula (engine/map/internal/vote_weights.h). A ray camera → p adds
+// w_free(d) = 1 − exp(−d²/2σ_free²) to each cell it crosses before p and w_matter(d) = 1 − exp(−d²/2σ_matter²)
+// to each cell its extension crosses within ray_extension_m behind p, d the distance from p to the cell. With
+// a dense depth map every pixel is such a ray, so the free vote a cell C gets from one view is
+//   Σ over the pixels x whose ray crosses C in front of its point  w_free(d(x, C)),
+// and likewise for matter. Here that sum is estimated by sampling C instead of rasterising it:
+//   - the rays crossing C are the pixels of its footprint, the convex hull of its projected vertices: A(C)
+//     pixels of the view, each standing for rays_per_pixel full-resolution rays (the vote unit is one
+//     full-resolution ray, as one point's ray was in the exact map);
+//   - K = 5 sample points of C (its centroid and the midpoints between the centroid and each vertex) each
+//     stand for A(C) / K of those rays. A sample s on the ray of pixel x, whose point lies at range
+//     r_p = |s| · D(x) / z(s) (D the pixel's depth), is before the point by d = r_p − |s|:
+//       d > 0                  → A(C)/K · w_free(d)    free
+//       −ray_extension_m ≤ d ≤ 0 → A(C)/K · w_matter(−d) matter
+//       otherwise (farther behind) nothing, as for a ray's extension.
+// Where this is approximate, and how much:
+//   - d is measured from the sample, not from the point to the cell's closest facet: far from the point
+//     (d beyond a few σ_free, where w_free saturates, most of the volume) both give weight 1; near the point
+//     the sample's d is larger than the exact one (the closest facet is nearer than an interior sample), so a
+//     cell touching a surface point gets a larger free weight than the paper's. The decision free vs matter
+//     compares the two sums of one cell, and both are sampled the same way.
+//   - A(C) counts every pixel of the footprint, including those whose ray ends in front of C (they cross
+//     nothing) or has no depth: the samples decide which kind of ray the footprint holds, K = 5 at a time.
+//     A footprint that crosses the image border is counted whole; samples outside the image give nothing.
+//   - A cell within 5 cm of the camera plane is given the whole image as its footprint; the cell that
+//     contains the camera gets one full free vote per ray of the view (every ray starts there).
+//   - Pixels the view marks kFreeToFarRange (sky) vote free up to the view's far range, and no matter: a
+//     semantic vote the paper does not have (rays that met nothing within range carve what they crossed).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "engine/core/depth_view.h"
+#include "engine/map/internal/ray_tracer.h"
+
+namespace semap::map_internal {
+
+// A view with its world → camera transform precomputed. Immutable; shared by the threads that vote.
+struct VotingView {
+  explicit VotingView(std::shared_ptr<const DepthView> v);
+  std::shared_ptr<const DepthView> view;
+  Eigen::Matrix3d cam_from_world_rotation;
+  Eigen::Vector3d cam_from_world_translation;
+  double image_area_px = 0.0;  // width · height of the view's depth map
+  double focal_baseline_m_px = 0.0;  // f·B at full resolution: depth z has disparity f·B / z
+};
+
+// The depth-vote geometry: the paper's ray geometry and the stereo depth noise.
+struct DepthVoteGeometry {
+  RayGeometry ray;
+  // σ of the disparity (px): a pixel's depth z is uncertain by σ_z = z² · σ / (f·B).
+  double disparity_sigma_px = 0.5;
+};
+
+struct VoteIncrement {
+  std::int64_t free_q = 0;
+  std::int64_t matter_q = 0;
+};
+
+// The votes of the (finite) cell with these vertices from one view (see above). Thread-safe (reads only).
+VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, const VotingView& view,
+                       const DepthVoteGeometry& geometry);
+
+}  // namespace semap::map_internal

@@ -1,0 +1,293 @@
+// The incremental map's update with visibility votes from depth maps (map.visibility: depth).
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include "engine/core/check.h"
+#include "engine/core/parallel.h"
+#include "engine/map/internal/incremental_state.h"
+
+namespace semap::map_internal {
+namespace {
+
+// Live vertices by where they project in one view, on a grid of merge_radius_px cells: per cell the nearest
+// vertex (smallest depth), the one a pixel of that cell sees.
+class ProjectionGrid {
+ public:
+  ProjectionGrid(const VotingView& view, double merge_radius_px)
+      : view_(view),
+        // View pixels are vote_stride_px full-resolution pixels wide: grid cells per view pixel.
+        cells_per_px_(std::sqrt(view.view->rays_per_pixel) / merge_radius_px),
+        width_(std::max(1, int(std::ceil(view.view->depth_m.cols * cells_per_px_)))),
+        height_(std::max(1, int(std::ceil(view.view->depth_m.rows * cells_per_px_)))),
+        cells_(std::size_t(width_) * height_) {}
+
+  struct Entry {
+    float depth_m = std::numeric_limits<float>::infinity();
+    std::uint32_t id = kNoId;
+  };
+
+  // The grid cell of a world point and its camera-frame depth, or false outside the view.
+  bool Locate(const Eigen::Vector3d& p_world, int* gu, int* gv, double* depth_m) const {
+    const Eigen::Vector3d p = view_.cam_from_world_rotation * p_world + view_.cam_from_world_translation;
+    if (!(p.z() > 0.0)) return false;
+    const Eigen::Vector2d uv = view_.view->intrinsics.Project(p) * cells_per_px_;
+    if (!(uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() < width_ && uv.y() < height_)) return false;
+    *gu = int(uv.x());
+    *gv = int(uv.y());
+    *depth_m = p.z();
+    return true;
+  }
+  // Keeps `id` in its cell when it is nearer than what the cell holds.
+  void Offer(int gu, int gv, double depth_m, std::uint32_t id) {
+    Entry& e = cells_[std::size_t(gv) * width_ + gu];
+    if (depth_m < e.depth_m) e = {float(depth_m), id};
+  }
+  // The vertex of the 3×3 cells around (gu, gv) whose depth is closest to depth_m, within `tolerance_m`.
+  std::uint32_t Match(int gu, int gv, double depth_m, double tolerance_m) const {
+    std::uint32_t best = kNoId;
+    double best_gap = tolerance_m;
+    for (int v = std::max(0, gv - 1); v <= std::min(height_ - 1, gv + 1); ++v) {
+      for (int u = std::max(0, gu - 1); u <= std::min(width_ - 1, gu + 1); ++u) {
+        const Entry& e = cells_[std::size_t(v) * width_ + u];
+        const double gap = std::abs(double(e.depth_m) - depth_m);
+        if (e.id != kNoId && gap <= best_gap) {
+          best_gap = gap;
+          best = e.id;
+        }
+      }
+    }
+    return best;
+  }
+
+ private:
+  const VotingView& view_;
+  double cells_per_px_;
+  int width_, height_;
+  std::vector<Entry> cells_;
+};
+
+}  // namespace
+
+MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
+  if (frame.camera_views.size() != frame.camera_centers_world.size() ||
+      std::any_of(frame.camera_views.begin(), frame.camera_views.end(),
+                  [](const auto& v) { return v == nullptr || v->empty(); })) {
+    throw std::invalid_argument(
+        "map update: map.visibility: depth needs the depth map of every camera (point input without depth "
+        "maps, such as SfM tracks, needs map.visibility: rays)");
+  }
+  ++frame_;
+  MapUpdateResult result;
+  auto lap = std::chrono::steady_clock::now();
+  std::vector<LatticeKey> nodes;
+  for (std::size_t c = 0; c < frame.camera_centers_world.size(); ++c) {
+    lattice_.Use(frame.camera_centers_world[c], frame_, &nodes);
+    last_camera_ = frame.camera_centers_world[c];
+    views_.emplace_back(frame.camera_views[c]);
+  }
+  while (views_.size() > std::size_t(options_.vote_window_frames) * std::max<std::size_t>(1, frame.camera_views.size())) {
+    views_.pop_front();
+  }
+
+  std::vector<PendingVertex> pending;
+  ClassifyByProjection(frame, &result, &pending);
+  for (const PendingVertex& p : pending) lattice_.Use(p.position, frame_, &nodes);
+  for (LatticeKey node : nodes) pending.push_back({lattice_.Position(node), kNoId, node, {}});
+  SpatialSort(&pending);
+
+  destroyed_.clear();
+  std::vector<char> conflicts_pinned;
+  CollectConflicts(pending, &conflicts_pinned);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> no_rays;
+  result.points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, &pending, &no_rays, &result);
+  result.cells_destroyed = destroyed_.size();
+  result.locate_ms = Lap(&lap);
+
+  InsertVerticesInheriting(&pending, &result);
+  created_mark_ = NewMark();
+  MarkCreatedCells(inserted_, kNoMark);
+  result.insert_ms = Lap(&lap);
+
+  touched_.clear();
+  touch_mark_ = NewMark();
+  result.cells_voted = VoteFromViews();
+  result.trace_ms = Lap(&lap);
+  result.cells_uncarved += ShrinkNonFree();
+  result.cells_carved = Regrow();
+  result.carve_ms = Lap(&lap);
+  Finalise(&result);
+  TakeIrregular();
+  result.finalise_ms = Lap(&lap);
+  return result;
+}
+
+void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result,
+                                            std::vector<PendingVertex>* pending) {
+  // One grid per camera of the frame (a stream frame has one), over the live vertices seen from it.
+  const std::size_t first_view = views_.size() - frame.camera_views.size();
+  std::vector<ProjectionGrid> grids;
+  grids.reserve(frame.camera_views.size());
+  for (std::size_t c = 0; c < frame.camera_views.size(); ++c) {
+    grids.emplace_back(views_[first_view + c], options_.merge_radius_px);
+    ProjectionGrid& grid = grids.back();
+    if (dt_.dimension() < 0) continue;
+    for (auto v = dt_.finite_vertices_begin(); v != dt_.finite_vertices_end(); ++v) {
+      if (v->info().steiner) continue;
+      int gu, gv;
+      double depth;
+      if (grid.Locate(ToEigen(v->point()), &gu, &gv, &depth)) grid.Offer(gu, gv, depth, v->info().id);
+    }
+  }
+  result->point_ids.assign(frame.size(), kDroppedPoint);
+  for (std::uint32_t i = 0; i < frame.size(); ++i) {
+    const Eigen::Vector3d& p = frame.positions_world[i];
+    const std::uint32_t camera = frame.camera_index[i];
+    const double range = (p - frame.camera_centers_world[camera]).norm();
+    if (!(range > 0.0) || (options_.max_ray_length_m > 0.0 && range > options_.max_ray_length_m)) {
+      ++result->dropped;
+      continue;
+    }
+    ProjectionGrid& grid = grids[camera];
+    int gu = 0, gv = 0;
+    double depth = 0.0;
+    const bool in_view = grid.Locate(p, &gu, &gv, &depth);
+    std::uint32_t target = in_view ? grid.Match(gu, gv, depth, options_.merge_depth_fraction * depth) : kNoId;
+    if (target != kNoId) {
+      ++result->merged;
+      ++points_.at(target).support;
+    } else {
+      target = next_point_id_++;
+      PointRecord& record = points_[target];
+      record.position = p;
+      record.frame = frame_;
+      PointAttributes attributes;
+      if (!frame.labels.empty()) attributes.label = frame.labels[i];
+      if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
+      pending->push_back({p, target, 0, attributes});
+      if (in_view) grid.Offer(gu, gv, depth, target);
+    }
+    result->point_ids[i] = target;
+  }
+}
+
+void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result) {
+  if (dt_.dimension() < 3) {
+    InsertVertices(pending, result);  // nothing to inherit yet
+    return;
+  }
+  inserted_.clear();
+  std::vector<CellHandle> hole;
+  std::vector<Delaunay::Facet> boundary;
+  struct Parent {
+    CellHandle outside;
+    int facet;  // of `outside`, facing the hole
+    std::int64_t free_q, matter_q;
+  };
+  std::vector<Parent> parents;
+  CellHandle hint;
+  for (const PendingVertex& pv : *pending) {
+    const Point p = ToPoint(pv.position);
+    Delaunay::Locate_type lt;
+    int li, lj;
+    const CellHandle c = dt_.locate(p, lt, li, lj, hint);
+    if (lt == Delaunay::VERTEX) {
+      // Exactly where a vertex already is (exact synthetic data can do that): the point is that vertex.
+      MergeCoincident(pv, c->vertex(li), result);
+      continue;
+    }
+    hole.clear();
+    boundary.clear();
+    dt_.find_conflicts(p, c, std::back_inserter(boundary), std::back_inserter(hole));
+    parents.clear();
+    for (const Delaunay::Facet& f : boundary) {
+      const CellHandle inside = f.first;
+      const CellHandle outside = inside->neighbor(f.second);
+      parents.push_back({outside, outside->index(inside), inside->info().free_q, inside->info().matter_q});
+    }
+    const VertexHandle v = dt_.insert_in_hole(p, hole.begin(), hole.end(), boundary.front().first,
+                                              boundary.front().second);
+    for (const Parent& parent : parents) {
+      CellInfo& info = parent.outside->neighbor(parent.facet)->info();
+      info.free_q = parent.free_q;
+      info.matter_q = parent.matter_q;
+    }
+    RecordInserted(pv, v, result);
+    hint = v->cell();
+  }
+}
+
+void IncrementalState::MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result) {
+  if (pv.point_id == kNoId) return;  // a Steiner node on a point: not needed there
+  const bool onto_point = !existing->info().steiner;
+  for (std::uint32_t& id : result->point_ids) {
+    if (id != pv.point_id) continue;
+    if (onto_point) {
+      id = existing->info().id;
+      ++result->merged;
+    } else {
+      id = kDroppedPoint;
+      ++result->dropped;
+    }
+  }
+  if (onto_point) ++points_.at(existing->info().id).support;
+  points_.erase(pv.point_id);
+}
+
+std::size_t IncrementalState::VoteFromViews() {
+  if (dt_.dimension() < 3 || views_.empty()) return 0;
+  std::vector<CellHandle> cells;
+  cells.reserve(dt_.number_of_finite_cells());
+  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+    if (!c->info().IsSealed()) cells.push_back(c);  // a sealed cell never changes: its votes do not matter
+  }
+  const VotingView& newest = views_.back();
+  std::vector<VoteIncrement> votes(cells.size());
+  constexpr std::size_t kGrainCells = 4096;
+  // Reads only: the votes are applied below, in cell order, so the result does not depend on the threads.
+  ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
+    std::array<Eigen::Vector3d, 4> vertices;
+    for (std::size_t i = first; i != last; ++i) {
+      const CellHandle c = cells[i];
+      for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
+      if (c->info().created == created_mark_) {
+        VoteIncrement fresh;
+        for (const VotingView& view : views_) {
+          const VoteIncrement v = VoteCell(vertices, view, depth_geometry_);
+          fresh.free_q += v.free_q;
+          fresh.matter_q += v.matter_q;
+        }
+        // Seen by the window: its own votes replace the inherited ones (the increment cancels them).
+        if (fresh.free_q != 0 || fresh.matter_q != 0) {
+          votes[i] = {fresh.free_q - c->info().free_q, fresh.matter_q - c->info().matter_q};
+        }
+      } else {
+        votes[i] = VoteCell(vertices, newest, depth_geometry_);
+      }
+    }
+  });
+  std::size_t voted = 0;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const CellHandle c = cells[i];
+    CellInfo& info = c->info();
+    const bool was_free = info.IsFree();
+    if (votes[i].free_q != 0 || votes[i].matter_q != 0) {
+      ++voted;
+      info.free_q += votes[i].free_q;
+      info.matter_q += votes[i].matter_q;
+    }
+    // Changed, or free and still outside the carved region (the manifold test refused it before: retried
+    // while the view sees it, as the exact map retries the cells each new ray crosses).
+    const bool retry = info.IsFree() && !info.carved && (votes[i].free_q != 0 || votes[i].matter_q != 0);
+    if ((info.created == created_mark_ || was_free != info.IsFree() || retry) && info.stamp != touch_mark_) {
+      info.stamp = touch_mark_;
+      touched_.push_back(c);
+    }
+  }
+  counters_.cells_visited += voted;
+  return voted;
+}
+
+}  // namespace semap::map_internal

@@ -1,0 +1,161 @@
+// The depth-map votes of one cell against a brute-force reference: every pixel's ray cast through the cell.
+#include "engine/map/internal/depth_votes.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "engine/map/internal/vote_weights.h"
+
+namespace semap::map_internal {
+namespace {
+
+constexpr int kWidthPx = 160;
+constexpr int kHeightPx = 120;
+constexpr double kFocalPx = 100.0;
+
+// A camera at the origin looking along +z (world = camera frame), seeing a wall at z = wall_m (0 = no depth,
+// kFreeToFarRange = sky) over the whole image.
+std::shared_ptr<const DepthView> WallView(float wall_m, double max_depth_m = 40.0) {
+  auto view = std::make_shared<DepthView>();
+  view->intrinsics.fx_px = view->intrinsics.fy_px = kFocalPx;
+  view->intrinsics.cx_px = kWidthPx / 2.0;
+  view->intrinsics.cy_px = kHeightPx / 2.0;
+  view->intrinsics.baseline_m = 0.5;
+  view->intrinsics.width_px = kWidthPx;
+  view->intrinsics.height_px = kHeightPx;
+  view->depth_m = cv::Mat(kHeightPx, kWidthPx, CV_32F, cv::Scalar(wall_m));
+  view->rays_per_pixel = 4.0;  // as from a depth map at stride 2
+  view->max_depth_m = max_depth_m;
+  return view;
+}
+
+// Whether the segment a → b crosses the tetrahedron (clipped against its four half-spaces).
+bool SegmentCrossesTet(const std::array<Eigen::Vector3d, 4>& t, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d& p0 = t[(i + 1) % 4];
+    Eigen::Vector3d n = (t[(i + 2) % 4] - p0).cross(t[(i + 3) % 4] - p0);
+    if (n.dot(t[i] - p0) < 0) n = -n;  // inward
+    const double fa = n.dot(a - p0), fb = n.dot(b - p0);
+    if (fa < 0 && fb < 0) return false;
+    if (fa < 0) lo = std::max(lo, fa / (fa - fb));
+    if (fb < 0) hi = std::min(hi, fa / (fa - fb));
+  }
+  return lo < hi;
+}
+
+// The rays (pixel centres) whose segment camera → end_depth crosses the tetrahedron, × rays_per_pixel.
+double CrossingRays(const std::array<Eigen::Vector3d, 4>& tet, double end_depth_m, const DepthView& view) {
+  int n = 0;
+  for (int v = 0; v < kHeightPx; ++v) {
+    for (int u = 0; u < kWidthPx; ++u) {
+      const Eigen::Vector3d dir((u + 0.5 - view.intrinsics.cx_px) / kFocalPx, (v + 0.5 - view.intrinsics.cy_px) / kFocalPx, 1.0);
+      n += SegmentCrossesTet(tet, Eigen::Vector3d::Zero(), dir * end_depth_m) ? 1 : 0;
+    }
+  }
+  return n * view.rays_per_pixel;
+}
+
+std::array<Eigen::Vector3d, 4> RandomTet(std::mt19937* rng, double z_lo, double z_hi, double xy_m) {
+  std::uniform_real_distribution<double> xy(-xy_m, xy_m), z(z_lo, z_hi);
+  std::array<Eigen::Vector3d, 4> t;
+  for (auto& p : t) p = {xy(*rng), xy(*rng), z(*rng)};
+  return t;
+}
+
+double Rays(std::int64_t q) { return DequantiseVote(q); }
+
+DepthVoteGeometry PaperGeometry() { return {{0.05, 0.01, 0.1}, 0.0}; }
+
+TEST(DepthVotes, FreeVoteOfACellBeforeAWallCountsTheRaysCrossingIt) {
+  const VotingView view(WallView(10.0f));
+  std::mt19937 rng(3);
+  int checked = 0;
+  double total_estimate = 0.0, total_reference = 0.0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const auto tet = RandomTet(&rng, 3.0, 8.0, 1.5);
+    const double reference = CrossingRays(tet, 10.0, *view.view);
+    if (reference < 200.0) continue;  // too small a footprint to compare
+    const VoteIncrement v = VoteCell(tet, view, PaperGeometry());
+    EXPECT_EQ(v.matter_q, 0);
+    // The footprint (the hull of the projected vertices) is exact up to the pixel grid; the weight is 1
+    // for every sample (2 m or more before the wall).
+    EXPECT_NEAR(Rays(v.free_q), reference, 0.15 * reference + 60.0) << "trial " << trial;
+    total_estimate += Rays(v.free_q);
+    total_reference += reference;
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+  EXPECT_NEAR(total_estimate / total_reference, 1.0, 0.03);
+}
+
+TEST(DepthVotes, MatterOnlyWithinTheExtensionBehindTheWall) {
+  const VotingView view(WallView(10.0f));
+  // Just behind the wall (within σ_matter·10 = 0.1 m): matter; farther behind: nothing.
+  const std::array<Eigen::Vector3d, 4> behind{Eigen::Vector3d(-1, -1, 10.03), Eigen::Vector3d(1, -1, 10.03),
+                                              Eigen::Vector3d(0, 1, 10.03), Eigen::Vector3d(0, 0, 10.09)};
+  const VoteIncrement v = VoteCell(behind, view, PaperGeometry());
+  EXPECT_EQ(v.free_q, 0);
+  EXPECT_GT(Rays(v.matter_q), 0.5 * CrossingRays(behind, 10.2, *view.view));
+  const std::array<Eigen::Vector3d, 4> far{Eigen::Vector3d(-1, -1, 11), Eigen::Vector3d(1, -1, 11),
+                                           Eigen::Vector3d(0, 1, 11), Eigen::Vector3d(0, 0, 12)};
+  const VoteIncrement none = VoteCell(far, view, PaperGeometry());
+  EXPECT_EQ(none.free_q, 0);
+  EXPECT_EQ(none.matter_q, 0);
+}
+
+TEST(DepthVotes, NoVoteWithinTheDepthNoiseBand) {
+  // σ_z at 10 m with f·B = 100 px · 2 (stride) · 0.5 m and σ = 1 px: 100 / 100 = 1 m.
+  const VotingView view(WallView(10.0f));
+  DepthVoteGeometry noisy = PaperGeometry();
+  noisy.disparity_sigma_px = 1.0;
+  const std::array<Eigen::Vector3d, 4> near_wall{Eigen::Vector3d(-1, -1, 9.6), Eigen::Vector3d(1, -1, 9.6),
+                                                 Eigen::Vector3d(0, 1, 9.6), Eigen::Vector3d(0, 0, 10.4)};
+  const VoteIncrement v = VoteCell(near_wall, view, noisy);
+  EXPECT_EQ(v.free_q, 0);
+  EXPECT_EQ(v.matter_q, 0);
+  // Without the band the same cell is voted (free in front of the wall, matter just behind it).
+  const VoteIncrement exact = VoteCell(near_wall, view, PaperGeometry());
+  EXPECT_GT(exact.free_q, 0);
+}
+
+TEST(DepthVotes, SkyVotesFreeUpToTheFarRangeAndNoMatter) {
+  const VotingView view(WallView(kFreeToFarRange, /*max_depth_m=*/20.0));
+  std::mt19937 rng(4);
+  const auto near = RandomTet(&rng, 5.0, 12.0, 2.0);
+  const VoteIncrement v = VoteCell(near, view, PaperGeometry());
+  EXPECT_NEAR(Rays(v.free_q), CrossingRays(near, 20.0, *view.view), 0.15 * CrossingRays(near, 20.0, *view.view) + 60);
+  EXPECT_EQ(v.matter_q, 0);
+  const auto beyond = RandomTet(&rng, 25.0, 30.0, 2.0);
+  const VoteIncrement none = VoteCell(beyond, view, PaperGeometry());
+  EXPECT_EQ(none.free_q, 0);
+  EXPECT_EQ(none.matter_q, 0);
+}
+
+TEST(DepthVotes, NothingBehindTheCameraOutsideTheImageOrWithoutDepth) {
+  const VotingView view(WallView(10.0f));
+  std::mt19937 rng(5);
+  const auto behind = RandomTet(&rng, -8.0, -3.0, 2.0);
+  EXPECT_EQ(VoteCell(behind, view, PaperGeometry()).free_q, 0);
+  std::array<Eigen::Vector3d, 4> aside = RandomTet(&rng, 3.0, 5.0, 0.5);
+  for (auto& p : aside) p.x() += 20.0;  // far right of a ±39° view
+  const VoteIncrement v = VoteCell(aside, view, PaperGeometry());
+  EXPECT_EQ(v.free_q, 0);
+  EXPECT_EQ(v.matter_q, 0);
+  const VotingView blind(WallView(0.0f));
+  const auto tet = RandomTet(&rng, 3.0, 8.0, 1.5);
+  EXPECT_EQ(VoteCell(tet, blind, PaperGeometry()).free_q, 0);
+}
+
+TEST(DepthVotes, TheCellHoldingTheCameraGetsEveryRay) {
+  const VotingView view(WallView(10.0f));
+  const std::array<Eigen::Vector3d, 4> around{Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, -1, -1),
+                                              Eigen::Vector3d(0, 1, -1), Eigen::Vector3d(0, 0, 2)};
+  const VoteIncrement v = VoteCell(around, view, PaperGeometry());
+  EXPECT_EQ(Rays(v.free_q), double(kWidthPx) * kHeightPx * view.view->rays_per_pixel);
+  EXPECT_EQ(v.matter_q, 0);
+}
+
+}  // namespace
+}  // namespace semap::map_internal
