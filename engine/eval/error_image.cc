@@ -21,6 +21,7 @@ const cv::Scalar kBand(235, 235, 235);
 // The background image is dimmed into a narrow grey band around mid grey so that colours stand out.
 constexpr double kBackgroundContrast = 0.35;
 constexpr double kBackgroundOffset = 0.5 * (1.0 - kBackgroundContrast) * 255.0;
+constexpr int kBackgroundLevelStep = 8;
 constexpr double kFontScale = 0.45;
 
 std::string Metres(double m) {
@@ -78,6 +79,10 @@ cv::Mat RenderErrorImage(const cv::Mat& reference, const cv::Mat& mesh, const cv
     cv::Mat grey = background;
     if (background.channels() == 3) cv::cvtColor(background, grey, cv::COLOR_BGR2GRAY);
     grey.convertTo(grey, CV_8U, kBackgroundContrast, kBackgroundOffset);
+    // A few grey levels are enough to recognise the scene and keep the PNG small (a third of the size).
+    grey.forEach<std::uint8_t>([](std::uint8_t& g, const int*) {
+      g = static_cast<std::uint8_t>(g / kBackgroundLevelStep * kBackgroundLevelStep + kBackgroundLevelStep / 2);
+    });
     cv::cvtColor(grey, picture, cv::COLOR_GRAY2BGR);
   }
   // Reference pixels: holes first, then errors from small to large, so that the large ones stay visible.
