@@ -2,7 +2,6 @@
 // the disparity (KITTI uint16 PNG), a false-colour disparity PNG and the labelled point cloud (PLY).
 // `semap depth PATH --all --out DIR`: the same depth stage as `semap run` on every selected frame, written as
 // depth maps with the poses and intrinsics, for other fusion tools (bench/tsdf_compare.sh).
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -11,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
 
 #include "engine/depth/stereo_depth.h"
 #include "engine/pipeline/semap_stages.h"
@@ -37,12 +37,12 @@ std::string Stem(const char* what, std::int64_t id) {
   return buf;
 }
 
-// Depth maps are written as 16-bit PNGs in millimetres (the convention of generated sequences' exact depth and
-// of Open3D's depth_scale = 1000): up to 65.535 m.
+// Depth maps are written as 16-bit PNGs in millimetres (the convention of generated sequences' exact depth
+// and of Open3D's depth_scale = 1000): up to 65.535 m.
 constexpr double kDepthPngUnitsPerMetre = 1000.0;
 
-// The depth map (camera-frame z, 16-bit mm, 0 = none) of the points of `cloud` seen from `world_from_cam`, each
-// at its pixel (the nearest wins where two share one).
+// The depth map (camera-frame z, 16-bit mm, 0 = none) of the points of `cloud` seen from `world_from_cam`,
+// each at its pixel (the nearest wins where two share one).
 cv::Mat DepthMapOfCloud(const LabelledCloud& cloud, const Pose3d& world_from_cam, const cv::Size& size) {
   cv::Mat depth_mm(size, CV_16U, cv::Scalar(0));
   const Pose3d cam_from_world = world_from_cam.inverse();
@@ -60,9 +60,9 @@ cv::Mat DepthMapOfCloud(const LabelledCloud& cloud, const Pose3d& world_from_cam
 }
 
 // `semap depth --all`: every selected frame through the engine's depth stage (SGBM, point filters, labels and
-// sky removal as `semap run` does), densely (depth.max_points_per_frame is not applied: fusion tools take whole
-// depth maps). Writes DIR/depth/NNNNNN.png, DIR/poses.txt ("id" then world_from_cam as 3×4 row-major, one line
-// per frame) and DIR/camera.txt ("width_px height_px fx_px fy_px cx_px cy_px").
+// sky removal as `semap run` does), densely (depth.max_points_per_frame is not applied: fusion tools take
+// whole depth maps). Writes DIR/depth/NNNNNN.png, DIR/poses.txt ("id" then world_from_cam as 3×4 row-major,
+// one line per frame) and DIR/camera.txt ("width_px height_px fx_px fy_px cx_px cy_px").
 int WriteAllDepthMaps(const io::Config& config, const std::string& path, const std::filesystem::path& out) {
   io::FrameSourceOptions input = config.input;
   input.load_velodyne = false;
@@ -97,7 +97,8 @@ int WriteAllDepthMaps(const io::Config& config, const std::string& path, const s
     char name[32];
     std::snprintf(name, sizeof(name), "%06lld.png", static_cast<long long>(frame->id));
     const auto depth_png = out / "depth" / name;
-    if (!cv::imwrite(depth_png.string(), DepthMapOfCloud(cloud, *frame->world_from_cam, frame->left.size()))) {
+    if (!cv::imwrite(depth_png.string(),
+                     DepthMapOfCloud(cloud, *frame->world_from_cam, frame->left.size()))) {
       throw io::FileError(depth_png, "cannot write the depth PNG");
     }
     const Eigen::Matrix<double, 3, 4> m = frame->world_from_cam->matrix().topRows<3>();
@@ -110,16 +111,17 @@ int WriteAllDepthMaps(const io::Config& config, const std::string& path, const s
   }
   poses.Commit();
   if (!calibration) throw std::runtime_error(path + ": no frame selected");
-  io::WriteFileAtomically(out / "camera.txt", std::to_string(calibration->width_px) + " " +
-                                                  std::to_string(calibration->height_px) + " " +
-                                                  Fixed17(calibration->fx_px) + " " + Fixed17(calibration->fy_px) +
-                                                  " " + Fixed17(calibration->cx_px) + " " +
-                                                  Fixed17(calibration->cy_px) + "\n");
+  io::WriteFileAtomically(out / "camera.txt",
+                          std::to_string(calibration->width_px) + " " +
+                              std::to_string(calibration->height_px) + " " + Fixed17(calibration->fx_px) +
+                              " " + Fixed17(calibration->fy_px) + " " + Fixed17(calibration->cx_px) + " " +
+                              Fixed17(calibration->cy_px) + "\n");
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("depth maps: %lld frames (%lld empty), depth stage %.3f s (%.2f f/s), %.3f s with reading and "
-              "writing\n",
-              static_cast<long long>(frames), static_cast<long long>(empty), stage_s,
-              stage_s > 0.0 ? frames / stage_s : 0.0, wall_s);
+  std::printf(
+      "depth maps: %lld frames (%lld empty), depth stage %.3f s (%.2f f/s), %.3f s with reading and "
+      "writing\n",
+      static_cast<long long>(frames), static_cast<long long>(empty), stage_s,
+      stage_s > 0.0 ? frames / stage_s : 0.0, wall_s);
   std::printf("wrote %s/depth/*.png (16-bit, mm), %s/poses.txt, %s/camera.txt\n", out.c_str(), out.c_str(),
               out.c_str());
   return kExitOk;
@@ -149,10 +151,11 @@ void RegisterDepthCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--colour,--color", args->colour, "point colours in the PLY: image or label")
       ->check(CLI::IsMember({"image", "label"}));
   cmd->add_flag("--ascii", args->ascii, "write ASCII PLY instead of binary");
-  cmd->add_flag("--all", args->all,
-                "every selected frame (input.first_frame, --frames) through the depth stage of `semap run`, densely "
-                "(no point budget): OUT/depth/NNNNNN.png (16-bit depth in mm, 0 = none), OUT/poses.txt, "
-                "OUT/camera.txt, for other fusion tools");
+  cmd->add_flag(
+      "--all", args->all,
+      "every selected frame (input.first_frame, --frames) through the depth stage of `semap run`, densely "
+      "(no point budget): OUT/depth/NNNNNN.png (16-bit depth in mm, 0 = none), OUT/poses.txt, "
+      "OUT/camera.txt, for other fusion tools");
   cmd->add_option("--frames", args->frames, "with --all: frames to write, 0 = all (input.max_frames)")
       ->check(FrameCountCheck());
   cmd->callback([=]() {

@@ -37,16 +37,19 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--pictures", args->pictures,
                   "also write the mesh seen from above to this folder: top_view.png, and top_view_error.png "
                   "(coloured by distance to the true surface) for generated sequences");
-  cmd->add_option("--out", args->out,
-                  "report folder (created): eval.json, eval.md (both protocols; error by class, distance and "
-                  "triangle size), error_*.png (per-pixel |error| of --error-images frames), top_view*.png");
+  auto* out_option = cmd->add_option(
+      "--out", args->out,
+      "report folder (created): eval.json, eval.md (both protocols; error by class, distance and "
+      "triangle size), error_*.png (per-pixel |error| of --error-images frames), top_view*.png");
   cmd->add_option(
          "--error-images", args->error_images,
          "with --out: per-pixel error images of this many frames spread over the sequence (0 = none)")
       ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(out_option);
   cmd->add_option("--error-frames", args->error_frames,
-                  "with --out: error images of these frames (ids as on disk) instead of --error-images");
+                  "with --out: error images of these frames (ids as on disk) instead of --error-images")
+      ->needs(out_option);
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
       const io::Config config = LoadConfigFrom(args->common);

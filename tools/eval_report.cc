@@ -72,7 +72,11 @@ std::string BinsMarkdown(const char* what, const std::vector<ErrorBin>& bins, bo
 std::string BreakdownMarkdown(const char* reference, const ErrorBreakdown& b,
                               const std::string& class_source) {
   std::string md = std::string("\n### Against ") + reference + "\n\n";
-  md += "By class of the pixel (classes from: " + class_source + "):\n\n";
+  md += "By class of the pixel (classes from: " + class_source + ")";
+  if (class_source.find("mesh labels") != std::string::npos) {
+    md += " (with mesh labels a hole has no triangle: its pixels are \"no class\")";
+  }
+  md += ":\n\n";
   md += BinsMarkdown("class", b.by_class, true, b.large_error_m);
   md += "\nBy reference distance (camera-frame z of the reference):\n\n";
   md += BinsMarkdown("distance", b.by_distance, true, b.large_error_m);

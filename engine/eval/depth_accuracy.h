@@ -12,10 +12,9 @@
 #pragma once
 
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "engine/core/calibration.h"
 #include "engine/core/frame.h"
@@ -62,7 +61,8 @@ cv::Mat LidarDepthImage(const VelodyneScan& scan, const StereoCalibration& calib
 struct DepthAccuracy {
   std::int64_t reference_pixels = 0;
   std::int64_t compared_pixels = 0;
-  std::int64_t excluded_pixels = 0;  // compared pixels left out of the error figures (|error| > max_abs_error_m)
+  std::int64_t excluded_pixels =
+      0;  // compared pixels left out of the error figures (|error| > max_abs_error_m)
   double rmse_m = 0.0;
   double mae_m = 0.0;
   double median_abs_m = 0.0;

@@ -1,11 +1,10 @@
 #include "engine/eval/error_breakdown.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-
-#include <Eigen/Geometry>
 
 #include "engine/core/check.h"
 
@@ -34,12 +33,13 @@ std::string RangeName(double low, double high, const char* unit) {
 void ErrorBreakdownOptions::Check() const {
   SEMAP_CHECK_OPTION(Increasing(distance_edges_m), "distance_edges_m", distance_edges_m.size(),
                      "must be a non-empty list of increasing finite values");
-  SEMAP_CHECK_OPTION(Increasing(triangle_area_edges_m2), "triangle_area_edges_m2", triangle_area_edges_m2.size(),
-                     "must be a non-empty list of increasing finite values");
+  SEMAP_CHECK_OPTION(Increasing(triangle_area_edges_m2), "triangle_area_edges_m2",
+                     triangle_area_edges_m2.size(), "must be a non-empty list of increasing finite values");
   SEMAP_CHECK_OPTION(large_error_m > 0.0, "large_error_m", large_error_m, "must be > 0");
   SEMAP_CHECK_OPTION(median_resolution_m > 0.0, "median_resolution_m", median_resolution_m, "must be > 0");
-  SEMAP_CHECK_OPTION(median_range_m / median_resolution_m >= 1.0 && median_range_m / median_resolution_m <= 1e7,
-                     "median_range_m", median_range_m, "must hold 1 to 10^7 cells of median_resolution_m");
+  SEMAP_CHECK_OPTION(
+      median_range_m / median_resolution_m >= 1.0 && median_range_m / median_resolution_m <= 1e7,
+      "median_range_m", median_range_m, "must hold 1 to 10^7 cells of median_resolution_m");
 }
 
 std::vector<double> TriangleAreas(const Mesh& mesh) {
@@ -63,7 +63,8 @@ std::vector<int> TriangleLabels(const Mesh& mesh) {
   return labels;
 }
 
-cv::Mat PixelClasses(const cv::Mat& frame_labels, const cv::Mat& triangle, const std::vector<int>& triangle_labels) {
+cv::Mat PixelClasses(const cv::Mat& frame_labels, const cv::Mat& triangle,
+                     const std::vector<int>& triangle_labels) {
   SEMAP_ASSERT(triangle.type() == CV_32S);
   cv::Mat classes(triangle.size(), CV_32S, cv::Scalar(-1));
   if (!frame_labels.empty() && frame_labels.size() == triangle.size() && frame_labels.type() == CV_8U) {
@@ -102,7 +103,8 @@ void ErrorBreakdownAccumulator::AddError(Cell& cell, double error) const {
   cell.sum += error;
   const double magnitude = std::abs(error);
   if (magnitude > options_.large_error_m) ++cell.large;
-  const auto cells = static_cast<std::size_t>(std::ceil(options_.median_range_m / options_.median_resolution_m));
+  const auto cells =
+      static_cast<std::size_t>(std::ceil(options_.median_range_m / options_.median_resolution_m));
   if (cell.histogram.empty()) cell.histogram.assign(cells + 1, 0);  // + the overflow cell
   const double k = std::floor(magnitude / options_.median_resolution_m);
   ++cell.histogram[k >= static_cast<double>(cells) ? cells : static_cast<std::size_t>(k)];
@@ -112,7 +114,11 @@ void ErrorBreakdownAccumulator::Add(const cv::Mat& reference, const cv::Mat& mes
                                     const std::vector<double>& triangle_area_m2, const cv::Mat& pixel_class) {
   SEMAP_ASSERT(reference.type() == CV_32F && mesh.type() == CV_32F && triangle.type() == CV_32S);
   SEMAP_ASSERT(reference.size() == mesh.size() && reference.size() == triangle.size());
-  SEMAP_ASSERT(pixel_class.empty() || (pixel_class.type() == CV_32S && pixel_class.size() == reference.size()));
+  SEMAP_ASSERT(pixel_class.empty() ||
+               (pixel_class.type() == CV_32S && pixel_class.size() == reference.size()));
+  // Neighbouring pixels mostly share a class: one map look-up per change of class.
+  int last_class = std::numeric_limits<int>::min();
+  Cell* last_class_cell = nullptr;
   for (int y = 0; y < reference.rows; ++y) {
     const float* r = reference.ptr<float>(y);
     const float* m = mesh.ptr<float>(y);
@@ -120,7 +126,12 @@ void ErrorBreakdownAccumulator::Add(const cv::Mat& reference, const cv::Mat& mes
     const int* c = pixel_class.empty() ? nullptr : pixel_class.ptr<int>(y);
     for (int x = 0; x < reference.cols; ++x) {
       if (!(r[x] >= accuracy_.min_depth_m && r[x] <= accuracy_.max_depth_m)) continue;
-      Cell& by_class = by_class_[c ? c[x] : -1];
+      const int label = c ? c[x] : -1;
+      if (label != last_class) {
+        last_class = label;
+        last_class_cell = &by_class_[label];
+      }
+      Cell& by_class = *last_class_cell;
       Cell& by_distance = by_distance_[static_cast<std::size_t>(BinOf(options_.distance_edges_m, r[x]))];
       ++by_class.reference;
       ++by_distance.reference;
@@ -144,7 +155,8 @@ ErrorBin ErrorBreakdownAccumulator::Figures(const Cell& cell) const {
   b.reference_pixels = cell.reference;
   b.compared_pixels = cell.compared;
   b.large_pixels = cell.large;
-  if (cell.reference > 0) b.completeness = static_cast<double>(cell.compared) / static_cast<double>(cell.reference);
+  if (cell.reference > 0)
+    b.completeness = static_cast<double>(cell.compared) / static_cast<double>(cell.reference);
   if (cell.compared == 0) return b;
   const auto n = static_cast<double>(cell.compared);
   b.rmse_m = std::sqrt(cell.sum_sq / n);
@@ -156,8 +168,9 @@ ErrorBin ErrorBreakdownAccumulator::Figures(const Cell& cell) const {
   for (std::size_t k = 0; k < cell.histogram.size(); ++k) {
     seen += cell.histogram[k];
     if (seen > wanted) {
-      b.median_abs_m = k + 1 == cell.histogram.size() ? options_.median_range_m
-                                                      : (static_cast<double>(k) + 0.5) * options_.median_resolution_m;
+      b.median_abs_m = k + 1 == cell.histogram.size()
+                           ? options_.median_range_m
+                           : (static_cast<double>(k) + 0.5) * options_.median_resolution_m;
       break;
     }
   }
@@ -182,7 +195,8 @@ ErrorBreakdown ErrorBreakdownAccumulator::Result(const ClassMap& class_map) cons
     b.name = "no class";
     result.by_class.push_back(b);
   }
-  const auto ranges = [&](const std::vector<double>& edges, const std::vector<Cell>& cells, const char* unit) {
+  const auto ranges = [&](const std::vector<double>& edges, const std::vector<Cell>& cells,
+                          const char* unit) {
     std::vector<ErrorBin> bins;
     for (std::size_t i = 0; i < cells.size(); ++i) {
       ErrorBin b = Figures(cells[i]);

@@ -4,10 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <tuple>
 #include <vector>
-
-#include <opencv2/imgproc.hpp>
 
 #include "engine/core/check.h"
 
@@ -81,7 +80,8 @@ cv::Mat RenderErrorImage(const cv::Mat& reference, const cv::Mat& mesh, const cv
     grey.convertTo(grey, CV_8U, kBackgroundContrast, kBackgroundOffset);
     // A few grey levels are enough to recognise the scene and keep the PNG small (a third of the size).
     grey.forEach<std::uint8_t>([](std::uint8_t& g, const int*) {
-      g = static_cast<std::uint8_t>(g / kBackgroundLevelStep * kBackgroundLevelStep + kBackgroundLevelStep / 2);
+      g = static_cast<std::uint8_t>(g / kBackgroundLevelStep * kBackgroundLevelStep +
+                                    kBackgroundLevelStep / 2);
     });
     cv::cvtColor(grey, picture, cv::COLOR_GRAY2BGR);
   }
@@ -105,7 +105,8 @@ cv::Mat RenderErrorImage(const cv::Mat& reference, const cv::Mat& mesh, const cv
   const int r = options.point_radius_px;
   const auto paint = [&](int x, int y, const cv::Vec3b& colour) {
     for (int v = std::max(0, y - r); v <= std::min(rows - 1, y + r); ++v) {
-      for (int u = std::max(0, x - r); u <= std::min(cols - 1, x + r); ++u) picture.at<cv::Vec3b>(v, u) = colour;
+      for (int u = std::max(0, x - r); u <= std::min(cols - 1, x + r); ++u)
+        picture.at<cv::Vec3b>(v, u) = colour;
     }
   };
   for (const cv::Point& p : holes) paint(p.x, p.y, kHole);
@@ -125,17 +126,20 @@ cv::Mat RenderErrorImage(const cv::Mat& reference, const cv::Mat& mesh, const cv
     const int x = bar_x + static_cast<int>(std::lround(m / options.max_error_m * (bar_w - 1)));
     cv::line(image, {x, bar_y + bar_h}, {x, bar_y + bar_h + 4}, kInk, 1);
     const std::string text = (k == ticks && m >= options.max_error_m - 1e-9 ? ">=" : "") + Metres(m);
-    cv::putText(image, text, {x - 6, bar_y + bar_h + 17}, cv::FONT_HERSHEY_SIMPLEX, 0.38, kInk, 1, cv::LINE_AA);
+    cv::putText(image, text, {x - 6, bar_y + bar_h + 17}, cv::FONT_HERSHEY_SIMPLEX, 0.38, kInk, 1,
+                cv::LINE_AA);
   }
   int x = bar_x + bar_w + 24;
   const int text_y = bar_y + bar_h - 1;
   cv::putText(image, "|error| (m)", {x, text_y}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, kInk, 1, cv::LINE_AA);
   x += 100;
   cv::rectangle(image, cv::Rect(x, bar_y, 12, 12), cv::Scalar(kHole), cv::FILLED);
-  cv::putText(image, "hole (no mesh)", {x + 16, text_y}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, kInk, 1, cv::LINE_AA);
+  cv::putText(image, "hole (no mesh)", {x + 16, text_y}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, kInk, 1,
+              cv::LINE_AA);
   x += 130;
   cv::rectangle(image, cv::Rect(x, bar_y, 12, 12), cv::Scalar(kNoReference), cv::FILLED);
-  cv::putText(image, "no reference", {x + 16, text_y}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, kInk, 1, cv::LINE_AA);
+  cv::putText(image, "no reference", {x + 16, text_y}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, kInk, 1,
+              cv::LINE_AA);
   cv::putText(image, title, {x + 130, text_y}, cv::FONT_HERSHEY_SIMPLEX, kFontScale, kInk, 1, cv::LINE_AA);
   return image;
 }

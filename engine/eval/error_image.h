@@ -1,14 +1,13 @@
-// A per-pixel picture of the depth error of one frame, for reports (issue #21: where the large errors are, shown
-// rather than guessed): at each reference pixel (engine/eval/depth_accuracy.h: reference depth in the options'
-// range) the colour of |mesh depth − reference depth| on a fixed scale (turbo colour map, 0 = dark blue, at and
-// beyond max_error_m = dark red); black where the reference has a depth and the mesh none (a hole); grey
-// elsewhere (no reference: the frame's left image in dim grey, or plain grey without it). A band under the
-// picture holds the colour bar with its ticks, the two other swatches and a title.
+// A per-pixel picture of the depth error of one frame, for reports (issue #21: where the large errors are,
+// shown rather than guessed): at each reference pixel (engine/eval/depth_accuracy.h: reference depth in the
+// options' range) the colour of |mesh depth − reference depth| on a fixed scale (turbo colour map, 0 = dark
+// blue, at and beyond max_error_m = dark red); black where the reference has a depth and the mesh none (a
+// hole); grey elsewhere (no reference: the frame's left image in dim grey, or plain grey without it). A band
+// under the picture holds the colour bar with its ticks, the two other swatches and a title.
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "engine/eval/depth_accuracy.h"
 

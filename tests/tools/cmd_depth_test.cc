@@ -2,8 +2,8 @@
 // on bad input.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
 
@@ -126,7 +126,8 @@ TEST(SemapDepth, AllFramesWritesDepthMapsPosesAndCameraForFusionTools) {
   }
   EXPECT_EQ(lines, 2);
   EXPECT_FALSE(std::filesystem::exists(out / "depth" / "000002.png"));
-  // Each depth map (16-bit mm) agrees with the sequence's exact depth where both have one: SGBM's depth, dense.
+  // Each depth map (16-bit mm) agrees with the sequence's exact depth where both have one: SGBM's depth,
+  // dense.
   for (const char* frame : {"000000.png", "000001.png"}) {
     const cv::Mat depth = cv::imread((out / "depth" / frame).string(), cv::IMREAD_UNCHANGED);
     ASSERT_EQ(depth.type(), CV_16UC1) << frame;

@@ -1,12 +1,12 @@
 #include "engine/eval/error_breakdown.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "engine/core/check.h"
 #include "engine/eval/depth_render.h"
@@ -55,10 +55,10 @@ Mesh HandMadeMesh() {
 
 // The reference depth of pixel (x, y): errors of every size, some pixels out of range, a few far ones.
 float ReferenceAt(int x, int y) {
-  if ((x + y) % 7 == 0) return 0.0f;                   // no reference
-  if (x == 0) return 0.5f;                             // too near: not a reference pixel
-  if (y == 0) return 45.0f;                            // too far
-  if (x == 39) return 38.0f;                           // far: mesh (12 m) 26 m in front
+  if ((x + y) % 7 == 0) return 0.0f;                     // no reference
+  if (x == 0) return 0.5f;                               // too near: not a reference pixel
+  if (y == 0) return 45.0f;                              // too far
+  if (x == 39) return 38.0f;                             // far: mesh (12 m) 26 m in front
   return static_cast<float>(4.0 + 0.37 * x + 0.11 * y);  // 4.4 .. 22 m
 }
 
@@ -129,7 +129,8 @@ TEST(ErrorBreakdown, HandMadeCaseEqualsASimpleReferenceAndBinsAddUp) {
 
   // The reference, pixel by pixel.
   std::map<int, Expected> by_class;
-  std::vector<Expected> by_distance(options.distance_edges_m.size()), by_area(options.triangle_area_edges_m2.size());
+  std::vector<Expected> by_distance(options.distance_edges_m.size()),
+      by_area(options.triangle_area_edges_m2.size());
   Expected all;
   for (int y = 0; y < reference.rows; ++y) {
     for (int x = 0; x < reference.cols; ++x) {

@@ -16,7 +16,7 @@ TEST(ErrorImage, ColoursReferencePixelsByErrorHolesBlackTheRestGreyWithALegend) 
   reference.at<float>(10, 90) = 9.0f;    // 1 m: mid-scale
   reference.at<float>(40, 200) = 10.0f;  // a hole
   mesh.at<float>(40, 200) = 0.0f;
-  reference.at<float>(40, 300) = 0.5f;   // too near: not a reference pixel
+  reference.at<float>(40, 300) = 0.5f;  // too near: not a reference pixel
   ErrorImageOptions options;
   options.point_radius_px = 0;
   const cv::Mat image = RenderErrorImage(reference, mesh, cv::Mat(), DepthAccuracyOptions(), options, "test");
