@@ -116,7 +116,9 @@ int Run(const RunArgs& args) {
     const std::filesystem::path dir(config.output.dir);
     WritePerFrameCsv(e, dir / "eval_frames.csv");
     io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
-    spdlog::info("wrote {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string());
+    io::WriteFileAtomically(dir / "eval.md", EvaluationMarkdown(e));
+    spdlog::info("wrote {}, {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string(),
+                 (dir / "eval.md").string());
     for (const auto& f : WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
   }
   if (summary.sink_errors > 0) {
@@ -157,8 +159,8 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")->capture_default_str();
   cmd->add_flag("--eval", args->eval,
                 "after the run (not counted in the frame rate), evaluate the mesh against every frame's Velodyne "
-                "/ exact depth: totals printed, eval_frames.csv, eval.json and top_view*.png (the mesh from above) "
-                "in the output folder");
+                "/ exact depth: totals printed, eval_frames.csv, eval.json, eval.md (both protocols; error by class, "
+                "distance and triangle size) and top_view*.png (the mesh from above) in the output folder");
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Run(*args); }); });
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/core/check.h"
 
@@ -14,6 +15,25 @@ void DepthAccuracyOptions::Check() const {
   SEMAP_CHECK_OPTION(surface_threshold_m > 0.0, "surface_threshold_m", surface_threshold_m, "must be > 0");
   SEMAP_CHECK_OPTION(surface_pixel_stride >= 1, "surface_pixel_stride", surface_pixel_stride, "must be >= 1");
   SEMAP_CHECK_OPTION(surface_area_samples >= 1, "surface_area_samples", surface_area_samples, "must be >= 1");
+}
+
+DepthAccuracyOptions PaperProtocol(const DepthAccuracyOptions& strict) {
+  DepthAccuracyOptions paper = strict;
+  paper.max_depth_m = std::min(kPaperMaxDepthM, strict.max_depth_m);
+  paper.max_abs_error_m = kPaperMaxAbsErrorM;
+  return paper;
+}
+
+std::string ProtocolFilters(const DepthAccuracyOptions& options) {
+  char text[128];
+  if (options.max_abs_error_m > 0.0) {
+    std::snprintf(text, sizeof(text), "reference depth %g-%g m, |error| <= %g m", options.min_depth_m,
+                  options.max_depth_m, options.max_abs_error_m);
+  } else {
+    std::snprintf(text, sizeof(text), "reference depth %g-%g m, every error", options.min_depth_m,
+                  options.max_depth_m);
+  }
+  return text;
 }
 
 cv::Mat LidarDepthImage(const VelodyneScan& scan, const StereoCalibration& calibration,
@@ -74,6 +94,7 @@ DepthAccuracy DepthAccuracyAccumulator::Result() const {
   a.reference_pixels = reference_pixels_;
   const auto n = static_cast<std::int64_t>(abs_errors_.size());
   a.compared_pixels = n + outliers_;
+  a.excluded_pixels = outliers_;
   a.completeness = reference_pixels_ ? static_cast<double>(a.compared_pixels) / static_cast<double>(reference_pixels_)
                                      : 0.0;
   if (n == 0) return a;

@@ -12,9 +12,9 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 #include "engine/core/calibration.h"
 #include "engine/core/frame.h"
@@ -38,6 +38,22 @@ struct DepthAccuracyOptions {
   void Check() const;
 };
 
+// Two protocols are reported side by side (issue #21):
+// - strict: the options as configured (eval.*): reference depths in [min_depth_m, max_depth_m], every error
+//   (max_abs_error_m = 0 by default);
+// - paper: the 2018 authors' evaluator (shared/PRIOR_ART.md): reference depth ≤ 15 m and |error| ≤ 2 m only.
+//   Their 15 m is a LiDAR range; here, as everywhere in semap, it is camera-frame z on both sides.
+constexpr double kPaperMaxDepthM = 15.0;
+constexpr double kPaperMaxAbsErrorM = 2.0;
+
+// The paper protocol's filters on top of `strict`: max_depth_m = min(15 m, strict.max_depth_m),
+// max_abs_error_m = 2 m; the rest (min_depth_m, surface figures) unchanged.
+DepthAccuracyOptions PaperProtocol(const DepthAccuracyOptions& strict);
+
+// What the filters of `options` are, for a report: "reference depth 1-40 m, every error" or
+// "reference depth 1-15 m, |error| <= 2 m".
+std::string ProtocolFilters(const DepthAccuracyOptions& options);
+
 // Nearest camera-frame z per pixel of the Velodyne points (CV_32F, 0 = none), filtered as described above.
 cv::Mat LidarDepthImage(const VelodyneScan& scan, const StereoCalibration& calibration,
                         const DepthAccuracyOptions& options);
@@ -45,6 +61,8 @@ cv::Mat LidarDepthImage(const VelodyneScan& scan, const StereoCalibration& calib
 struct DepthAccuracy {
   std::int64_t reference_pixels = 0;
   std::int64_t compared_pixels = 0;
+  std::int64_t excluded_pixels =
+      0;  // compared pixels left out of the error figures (|error| > max_abs_error_m)
   double rmse_m = 0.0;
   double mae_m = 0.0;
   double median_abs_m = 0.0;

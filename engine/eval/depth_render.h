@@ -23,4 +23,17 @@ struct DepthRenderOptions {
 cv::Mat RenderDepth(const Mesh& mesh, const StereoCalibration& calibration, const Pose3d& world_from_cam,
                     const DepthRenderOptions& options = {});
 
+// The depth map of RenderDepth and, at each pixel, which triangle gave that depth.
+struct DepthAndTriangles {
+  cv::Mat depth;  // as RenderDepth
+  cv::Mat
+      triangle;  // CV_32S: index into mesh.triangles of the nearest triangle at the pixel centre, −1 = none
+};
+
+// RenderDepth, also telling which triangle each pixel's ray hits first (the error breakdown by triangle size
+// and by the mesh's labels needs it). The depth equals RenderDepth's. Thread-safe.
+DepthAndTriangles RenderDepthAndTriangles(const Mesh& mesh, const StereoCalibration& calibration,
+                                          const Pose3d& world_from_cam,
+                                          const DepthRenderOptions& options = {});
+
 }  // namespace semap

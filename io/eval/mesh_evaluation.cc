@@ -1,7 +1,11 @@
 #include "io/eval/mesh_evaluation.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <set>
 
+#include "engine/core/check.h"
 #include "io/kitti/ground_truth.h"
 #include "io/mesh/ply_off.h"
 
@@ -17,20 +21,58 @@ std::optional<std::filesystem::path> ExactDepthPath(const SequenceInfo& info, st
   return std::nullopt;
 }
 
+// The frame ids to draw error images of: the named ones, else `count` spread evenly over the selection.
+std::set<std::int64_t> ErrorImageFrames(const MeshEvaluationOptions& options, const SequenceInfo& info) {
+  if (!options.error_image_frames.empty()) {
+    return {options.error_image_frames.begin(), options.error_image_frames.end()};
+  }
+  std::set<std::int64_t> ids;
+  const std::int64_t first = info.first_frame_id, span = info.last_frame_id - info.first_frame_id;
+  for (int k = 0; k < options.error_images; ++k) {
+    const double at = options.error_images == 1 ? 0.5 : static_cast<double>(k) / (options.error_images - 1);
+    ids.insert(first + static_cast<std::int64_t>(std::lround(at * static_cast<double>(span))));
+  }
+  return ids;
+}
+
+std::string ErrorImageTitle(std::int64_t frame_id, const char* reference) {
+  char text[96];
+  std::snprintf(text, sizeof(text), "frame %lld, mesh vs %s", static_cast<long long>(frame_id), reference);
+  return text;
+}
+
 }  // namespace
 
+void MeshEvaluationOptions::Check() const {
+  SEMAP_CHECK_OPTION(error_images >= 0, "error_images", error_images, "must be >= 0");
+  breakdown.Check();
+  image.Check();
+}
+
 MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, FrameSourceOptions input,
-                            const DepthAccuracyOptions& accuracy) {
+                            const DepthAccuracyOptions& accuracy, const MeshEvaluationOptions& options) {
+  options.Check();
   input.load_velodyne = true;
   const SequenceInfo info = DescribeDataset(dataset, input);
   auto source = OpenFrameSource(dataset, input);
-  DepthAccuracyAccumulator lidar(accuracy);
-  DepthAccuracyAccumulator exact(accuracy);
+  const DepthAccuracyOptions paper = PaperProtocol(accuracy);
+  DepthAccuracyAccumulator lidar(accuracy), lidar_paper(paper);
+  DepthAccuracyAccumulator exact(accuracy), exact_paper(paper);
+  ErrorBreakdownAccumulator lidar_breakdown(accuracy, options.breakdown);
+  ErrorBreakdownAccumulator exact_breakdown(accuracy, options.breakdown);
+  const std::vector<double> triangle_areas = TriangleAreas(mesh);
+  const std::vector<int> triangle_labels = TriangleLabels(mesh);
+  const std::set<std::int64_t> image_frames = ErrorImageFrames(options, info);
+  ErrorImageOptions sparse_image = options.image, dense_image = options.image;
+  dense_image.point_radius_px = 0;
+  bool classes_from_images = false, classes_from_mesh = false;
   std::vector<Eigen::Vector3d> truth_samples;  // the exact depth maps' points, in the world frame
   MeshEvaluation result;
   result.off_bytes = OffSizeBytes(mesh);
   result.vertices = mesh.num_vertices();
   result.triangles = mesh.num_triangles();
+  result.strict_options = accuracy;
+  result.paper_options = paper;
   while (true) {
     std::optional<Frame> frame;
     try {
@@ -44,12 +86,31 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     ++result.frames;
     result.camera_centers.push_back(frame->world_from_cam->translation());
     result.camera_up -= frame->world_from_cam->linear().col(1);
-    const cv::Mat mesh_depth = RenderDepth(mesh, frame->calibration, *frame->world_from_cam);
+    const DepthAndTriangles rendered =
+        RenderDepthAndTriangles(mesh, frame->calibration, *frame->world_from_cam);
+    const cv::Mat& mesh_depth = rendered.depth;
+    const bool frame_labels = !frame->labels.empty() && frame->labels.size() == mesh_depth.size();
+    if (frame_labels) {
+      classes_from_images = true;
+    } else if (!triangle_labels.empty()) {
+      classes_from_mesh = true;
+    }
+    const cv::Mat classes = PixelClasses(frame->labels, rendered.triangle, triangle_labels);
+    const bool draw = image_frames.count(frame->id) > 0;
     FrameAccuracy frame_accuracy;
     frame_accuracy.frame_id = frame->id;
     if (frame->velodyne) {
       DepthAccuracyAccumulator one(accuracy);
-      one.Add(LidarDepthImage(*frame->velodyne, frame->calibration, accuracy), mesh_depth);
+      const cv::Mat lidar_depth = LidarDepthImage(*frame->velodyne, frame->calibration, accuracy);
+      one.Add(lidar_depth, mesh_depth);
+      lidar_paper.Add(lidar_depth, mesh_depth);
+      lidar_breakdown.Add(lidar_depth, mesh_depth, rendered.triangle, triangle_areas, classes);
+      if (draw) {
+        result.error_images.push_back(
+            {frame->id, "lidar",
+             RenderErrorImage(lidar_depth, mesh_depth, frame->left, accuracy, sparse_image,
+                              ErrorImageTitle(frame->id, "Velodyne"))});
+      }
       frame_accuracy.lidar = one.Result();
       lidar.Merge(one);
       ++result.frames_with_lidar;
@@ -58,6 +119,14 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
       DepthAccuracyAccumulator one(accuracy);
       const cv::Mat exact_depth = ReadDepthPngMm(*path);
       one.Add(exact_depth, mesh_depth);
+      exact_paper.Add(exact_depth, mesh_depth);
+      exact_breakdown.Add(exact_depth, mesh_depth, rendered.triangle, triangle_areas, classes);
+      if (draw) {
+        result.error_images.push_back(
+            {frame->id, "exact_depth",
+             RenderErrorImage(exact_depth, mesh_depth, frame->left, accuracy, dense_image,
+                              ErrorImageTitle(frame->id, "exact depth"))});
+      }
       const int stride = accuracy.surface_pixel_stride;
       for (int v = stride / 2; v < exact_depth.rows; v += stride) {
         for (int u = stride / 2; u < exact_depth.cols; u += stride) {
@@ -74,7 +143,19 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
   }
   if (result.camera_up.norm() > 0.0) result.camera_up.normalize();
   result.lidar = lidar.Result();
-  if (result.frames_with_exact_depth > 0) result.exact_depth = exact.Result();
+  result.lidar_paper = lidar_paper.Result();
+  const ClassMap& class_map = source->class_map();
+  if (result.frames_with_lidar > 0) result.lidar_breakdown = lidar_breakdown.Result(class_map);
+  if (result.frames_with_exact_depth > 0) {
+    result.exact_depth = exact.Result();
+    result.exact_depth_paper = exact_paper.Result();
+    result.exact_depth_breakdown = exact_breakdown.Result(class_map);
+  }
+  if (classes_from_images || classes_from_mesh) {
+    result.class_source = classes_from_images && classes_from_mesh ? "label images and mesh labels"
+                          : classes_from_images                    ? "label images"
+                                                                   : "mesh labels";
+  }
   const auto scene_mesh = info.root / "scene_mesh.ply";
   if (result.frames_with_exact_depth > 0 && std::filesystem::is_regular_file(scene_mesh)) {
     SurfaceMetricsOptions surface;

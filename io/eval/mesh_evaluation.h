@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "engine/core/mesh.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
+#include "engine/eval/error_breakdown.h"
+#include "engine/eval/error_image.h"
 #include "engine/eval/surface_metrics.h"
 #include "io/frame_source.h"
 
@@ -22,6 +24,27 @@ struct FrameAccuracy {
   std::int64_t frame_id = 0;
   std::optional<DepthAccuracy> lidar;        // when the frame has a Velodyne scan
   std::optional<DepthAccuracy> exact_depth;  // when it has an exact depth map
+};
+
+// What EvaluateMesh does besides the totals: the error breakdown's bins and the per-pixel error images.
+struct MeshEvaluationOptions {
+  // Per-pixel error images (engine/eval/error_image.h) of this many frames, spread evenly over the selected
+  // frames' ids (first and last included); 0 = none, unless error_image_frames names frames.
+  int error_images = 0;
+  // Frames (ids as on disk) to draw error images of; when non-empty it replaces error_images.
+  std::vector<std::int64_t> error_image_frames;
+  ErrorBreakdownOptions breakdown;
+  // The colour scale and legend of the images; the point size is chosen per reference (Velodyne points
+  // drawn as squares of radius point_radius_px, exact depth maps one pixel each).
+  ErrorImageOptions image;
+  void Check() const;
+};
+
+// One frame's per-pixel error picture.
+struct FrameErrorImage {
+  std::int64_t frame_id = 0;
+  std::string reference;  // "lidar" or "exact_depth"
+  cv::Mat image;          // CV_8UC3 BGR, with its legend
 };
 
 struct MeshEvaluation {
@@ -36,6 +59,19 @@ struct MeshEvaluation {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
   std::vector<FrameAccuracy> per_frame;       // every evaluated frame, in order
+  // The two protocols (engine/eval/depth_accuracy.h): `lidar` / `exact_depth` above use the configured
+  // options (strict: every error by default); these use the paper's filters (≤ 15 m, |error| ≤ 2 m).
+  DepthAccuracyOptions strict_options;
+  DepthAccuracyOptions paper_options;
+  DepthAccuracy lidar_paper;
+  std::optional<DepthAccuracy> exact_depth_paper;
+  // Where the errors come from (strict protocol, all frames): by class, reference distance, triangle area.
+  std::optional<ErrorBreakdown> lidar_breakdown;
+  std::optional<ErrorBreakdown> exact_depth_breakdown;
+  // Where the pixels' classes came from: "label images", "mesh labels", "label images and mesh labels" or
+  // "none".
+  std::string class_source = "none";
+  std::vector<FrameErrorImage> error_images;  // as MeshEvaluationOptions asked, in frame order
   // Generated sequences with scene_mesh.ply: accuracy (by area, and per vertex) / completeness in the MVS
   // sense at accuracy.surface_threshold_m, the truth samples being the exact depth maps' points.
   std::optional<SurfaceMetrics> scene;
@@ -50,7 +86,9 @@ struct MeshEvaluation {
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;
 // frames without a pose are skipped) and compares `mesh` with them. Throws FileError for an unreadable
 // dataset; frames that fail to read are skipped and counted.
+// `options` adds the breakdown's bins and the error images (throws InvalidOption on bad options).
 MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, FrameSourceOptions input,
-                            const DepthAccuracyOptions& accuracy = {});
+                            const DepthAccuracyOptions& accuracy = {},
+                            const MeshEvaluationOptions& options = {});
 
 }  // namespace semap::io

@@ -2,13 +2,16 @@
 // on bad input.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
+#include <sstream>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
 #include "tests/io/kitti/tiny_kitti.h"
 #include "tests/tools/cli_run.h"
+#include "tests/tools/small_sequence.h"
 
 namespace semap {
 namespace {
@@ -88,6 +91,66 @@ TEST(SemapDepth, BadInputGivesMessageAndExitCode) {
       " --set semantics.source=enet --set semantics.enet_model_path=" + (dir / "none.net").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(r.Has("none.net: file not found")) << r.output;
+}
+
+TEST(SemapDepth, AllFramesWritesDepthMapsPosesAndCameraForFusionTools) {
+  const auto seq = test::SmallGeneratedSequence(3);
+  const auto out = test::TempDir() / "all";
+  const auto r = test::RunSemap("depth " + seq.string() + " --all --frames 2 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.Has("depth maps: 2 frames (0 empty)")) << r.output;
+  // camera.txt: the generated sequence's 480 x 144 camera.
+  std::ifstream camera(out / "camera.txt");
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  camera >> width >> height >> fx >> fy >> cx >> cy;
+  EXPECT_EQ(width, 480);
+  EXPECT_EQ(height, 144);
+  EXPECT_DOUBLE_EQ(cx, 240.0);
+  EXPECT_GT(fx, 0.0);
+  // poses.txt: one line per frame, its id and 12 numbers (the rotation part orthonormal).
+  std::ifstream poses(out / "poses.txt");
+  std::string line;
+  int lines = 0;
+  while (std::getline(poses, line)) {
+    std::istringstream fields(line);
+    long long id = -1;
+    double m[12];
+    fields >> id;
+    for (double& v : m) fields >> v;
+    ASSERT_TRUE(fields) << line;
+    EXPECT_EQ(id, lines);
+    const Eigen::Vector3d row0(m[0], m[1], m[2]);
+    EXPECT_NEAR(row0.norm(), 1.0, 1e-9) << line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 2);
+  EXPECT_FALSE(std::filesystem::exists(out / "depth" / "000002.png"));
+  // Each depth map (16-bit mm) agrees with the sequence's exact depth where both have one: SGBM's depth,
+  // dense.
+  for (const char* frame : {"000000.png", "000001.png"}) {
+    const cv::Mat depth = cv::imread((out / "depth" / frame).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(depth.type(), CV_16UC1) << frame;
+    ASSERT_EQ(depth.size(), cv::Size(480, 144));
+    const cv::Mat exact = cv::imread(
+        (seq / "2026_01_01" / "2026_01_01_drive_0001_sync" / "depth" / "data" / (std::string("0000") + frame))
+            .string(),
+        cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(exact.size(), depth.size()) << frame;
+    int both = 0, close = 0;
+    for (int y = 0; y < depth.rows; ++y) {
+      for (int x = 0; x < depth.cols; ++x) {
+        const double d = depth.at<std::uint16_t>(y, x), e = exact.at<std::uint16_t>(y, x);
+        if (d == 0 || e == 0) continue;
+        EXPECT_GE(d, 1000.0);   // depth.min_depth_m
+        EXPECT_LE(d, 40000.0);  // depth.max_depth_m
+        ++both;
+        close += std::abs(d - e) < 0.05 * e ? 1 : 0;
+      }
+    }
+    EXPECT_GT(both, 480 * 144 / 3) << frame;  // dense, not the map's 10,000-point budget
+    EXPECT_GT(close, 0.8 * both) << frame;
+  }
 }
 
 }  // namespace

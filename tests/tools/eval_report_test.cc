@@ -122,5 +122,98 @@ TEST(SemapEval, TheExactSceneMeshIsAccurateAndComplete) {
   EXPECT_LT(j["exact_depth"]["rmse_m"].get<double>(), 0.01);
 }
 
+// Sum of a breakdown's compared pixels.
+std::int64_t Compared(const nlohmann::json& bins) {
+  std::int64_t n = 0;
+  for (const auto& b : bins) n += b["compared_pixels"].get<std::int64_t>();
+  return n;
+}
+
+// Pixels of the picture part (above the legend band) that are neither grey (no reference) nor black (hole).
+int ColouredPixels(const cv::Mat& image, int picture_rows) {
+  int n = 0;
+  for (int y = 0; y < picture_rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      const cv::Vec3b c = image.at<cv::Vec3b>(y, x);
+      n += (c[0] != c[1] || c[1] != c[2]) ? 1 : 0;
+    }
+  }
+  return n;
+}
+
+TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
+  const fs::path seq = test::SmallGeneratedSequence(3);
+  const fs::path tmp = test::TempDir();  // emptied on each call: called once
+  const fs::path run_dir = tmp / "run";
+  const CliRun run =
+      RunSemap("run " + seq.string() + " --method PS --progress-interval 100 --out " + run_dir.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const fs::path out = tmp / "report";
+  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (run_dir / "mesh.ply").string() +
+                               " --out " + out.string() + " --error-images 2");
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_TRUE(eval.Has("[strict: reference depth 1-40 m, every error]")) << eval.output;
+  EXPECT_TRUE(eval.Has("[paper: reference depth 1-15 m, |error| <= 2 m;")) << eval.output;
+
+  // eval.json: both protocols, and breakdowns whose bins add up to the strict totals.
+  const auto j = nlohmann::json::parse(std::ifstream(out / "eval.json"));
+  const auto& strict = j["protocols"]["strict"];
+  const auto& paper = j["protocols"]["paper"];
+  EXPECT_EQ(strict["lidar"]["rmse_m"], j["lidar"]["rmse_m"]);
+  EXPECT_LE(paper["lidar"]["rmse_m"].get<double>(), strict["lidar"]["rmse_m"].get<double>() + 1e-9);
+  EXPECT_LE(paper["lidar"]["reference_pixels"].get<std::int64_t>(),
+            strict["lidar"]["reference_pixels"].get<std::int64_t>());
+  EXPECT_EQ(j["breakdown"]["class_source"], "label images");  // a generated sequence has label images
+  for (const char* reference : {"lidar", "exact_depth"}) {
+    SCOPED_TRACE(reference);
+    const auto& b = j["breakdown"][reference];
+    const std::int64_t compared = strict[reference]["compared_pixels"].get<std::int64_t>();
+    ASSERT_GT(compared, 1000);
+    EXPECT_EQ(Compared(b["by_class"]), compared);
+    EXPECT_EQ(Compared(b["by_distance"]), compared);
+    EXPECT_EQ(Compared(b["by_triangle_area"]), compared);  // every compared pixel hit a triangle
+    EXPECT_GE(b["by_class"].size(), 3u);                   // a street has road, building, ... pixels
+    ASSERT_EQ(b["by_distance"].size(), 7u);
+    EXPECT_EQ(b["by_distance"][1]["name"], "5-10 m");
+    std::int64_t reference_pixels = 0;
+    for (const auto& bin : b["by_distance"]) reference_pixels += bin["reference_pixels"].get<std::int64_t>();
+    EXPECT_EQ(reference_pixels, strict[reference]["reference_pixels"].get<std::int64_t>());
+  }
+
+  // eval.md: the two protocols named, the three tables.
+  std::ifstream md_file(out / "eval.md");
+  const std::string md((std::istreambuf_iterator<char>(md_file)), std::istreambuf_iterator<char>());
+  for (const char* text :
+       {"| strict | Velodyne | reference depth 1-40 m, every error |",
+        "| paper | Velodyne | reference depth 1-15 m, |error| <= 2 m |", "| strict | exact depth |",
+        "By class of the pixel (classes from: label images)", "| 5-10 m |", "By area of the mesh triangle",
+        "| 0.01-0.1 m2 |", "error_lidar_000000.png"}) {
+    EXPECT_NE(md.find(text), std::string::npos) << text << "\n" << md;
+  }
+
+  // Error images of frames 0 and 2 (two spread over three), against Velodyne and exact depth, non-trivial,
+  // with a legend band.
+  for (const char* name : {"error_lidar_000000.png", "error_lidar_000002.png", "error_exact_depth_000000.png",
+                           "error_exact_depth_000002.png"}) {
+    const cv::Mat image = cv::imread((out / name).string());
+    ASSERT_FALSE(image.empty()) << name;
+    EXPECT_EQ(image.cols, 480) << name;
+    ASSERT_GT(image.rows, 144 + 29) << name;
+    // Velodyne (512 azimuth steps here) colours about 5 % of the picture, exact depth most of it.
+    const int share = std::string(name).find("lidar") != std::string::npos ? 40 : 3;
+    EXPECT_GT(ColouredPixels(image, 144), 480 * 144 / share) << name;
+  }
+  EXPECT_FALSE(fs::exists(out / "error_lidar_000001.png"));
+  EXPECT_TRUE(fs::exists(out / "top_view.png"));
+
+  // Named frames instead.
+  const fs::path named = tmp / "named";
+  const CliRun one = RunSemap("eval " + seq.string() + " --mesh " + (run_dir / "mesh.ply").string() +
+                              " --out " + named.string() + " --error-frames 1");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_TRUE(fs::exists(named / "error_lidar_000001.png"));
+  EXPECT_FALSE(fs::exists(named / "error_lidar_000000.png"));
+}
+
 }  // namespace
 }  // namespace semap::tools

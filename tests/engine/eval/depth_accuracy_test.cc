@@ -81,5 +81,30 @@ TEST(DepthAccuracyOptions, CheckNamesTheField) {
   }
 }
 
+TEST(DepthAccuracy, PaperProtocolIsTheStrictOneCutAt15mAndTwoMetreErrors) {
+  DepthAccuracyOptions strict;
+  const DepthAccuracyOptions paper = PaperProtocol(strict);
+  EXPECT_DOUBLE_EQ(paper.min_depth_m, strict.min_depth_m);
+  EXPECT_DOUBLE_EQ(paper.max_depth_m, 15.0);
+  EXPECT_DOUBLE_EQ(paper.max_abs_error_m, 2.0);
+  strict.max_depth_m = 12.0;
+  EXPECT_DOUBLE_EQ(PaperProtocol(strict).max_depth_m, 12.0);  // never beyond the strict range
+  EXPECT_EQ(ProtocolFilters(DepthAccuracyOptions()), "reference depth 1-40 m, every error");
+  EXPECT_EQ(ProtocolFilters(paper), "reference depth 1-15 m, |error| <= 2 m");
+  // Errors +0.5, +5 (excluded by the paper only) and a 20 m reference (strict only).
+  cv::Mat ref = (cv::Mat_<float>(1, 3) << 10, 10, 20);
+  cv::Mat mesh = (cv::Mat_<float>(1, 3) << 10.5f, 15, 20);
+  DepthAccuracyAccumulator s, p(paper);
+  s.Add(ref, mesh);
+  p.Add(ref, mesh);
+  EXPECT_EQ(s.Result().compared_pixels, 3);
+  EXPECT_EQ(s.Result().excluded_pixels, 0);
+  EXPECT_EQ(p.Result().reference_pixels, 2);
+  EXPECT_EQ(p.Result().compared_pixels, 2);
+  EXPECT_EQ(p.Result().excluded_pixels, 1);
+  EXPECT_NEAR(p.Result().rmse_m, 0.5, 1e-6);
+  EXPECT_NEAR(s.Result().rmse_m, std::sqrt((0.25 + 25.0) / 3.0), 1e-6);
+}
+
 }  // namespace
 }  // namespace semap

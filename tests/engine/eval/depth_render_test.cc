@@ -101,5 +101,38 @@ TEST(RenderDepth, CameraPoseIsApplied) {
   EXPECT_NEAR(d.at<float>(60, 80), 6.0f, 1e-5);
 }
 
+TEST(RenderDepthAndTriangles, TellsTheNearestTriangleAndKeepsRenderDepthsDepth) {
+  const auto cal = SmallCamera();
+  // A far plane (triangles 0, 1) and a small near square in front of its centre (triangles 2, 3).
+  Mesh m = Quad({0, 0, 20}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 100.0);
+  const Mesh near = Quad({0, 0, 5}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 0.5);
+  for (const auto& t : near.triangles) m.triangles.push_back({t[0] + 4, t[1] + 4, t[2] + 4});
+  m.vertices.insert(m.vertices.end(), near.vertices.begin(), near.vertices.end());
+  const DepthAndTriangles r = RenderDepthAndTriangles(m, cal, Pose3d::Identity());
+  const cv::Mat d = RenderDepth(m, cal, Pose3d::Identity());
+  ASSERT_EQ(r.triangle.type(), CV_32S);
+  EXPECT_EQ(cv::norm(r.depth, d, cv::NORM_INF), 0.0);
+  int near_pixels = 0;
+  for (int y = 0; y < d.rows; ++y) {
+    for (int x = 0; x < d.cols; ++x) {
+      const int t = r.triangle.at<int>(y, x);
+      ASSERT_GE(t, 0) << x << "," << y;
+      // The near square covers |u - cx| <= 100 * 0.5 / 5 = 10 px (edges belong to both).
+      if (d.at<float>(y, x) < 10.0f) {
+        EXPECT_TRUE(t == 2 || t == 3) << x << "," << y;
+        ++near_pixels;
+      } else {
+        EXPECT_TRUE(t == 0 || t == 1) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_EQ(near_pixels, 20 * 20);
+  // Nothing in view: −1 everywhere.
+  Pose3d ahead = Pose3d::Identity();
+  ahead.translation() = Eigen::Vector3d(0, 0, 10);
+  const DepthAndTriangles behind = RenderDepthAndTriangles(near, cal, ahead);
+  EXPECT_EQ(cv::countNonZero(behind.triangle != -1), 0);
+}
+
 }  // namespace
 }  // namespace semap

@@ -1,9 +1,11 @@
 #include "io/eval/mesh_evaluation.h"
 
 #include <cstdio>
+#include <limits>
 
 #include <gtest/gtest.h>
 
+#include "engine/core/check.h"
 #include "io/kitti/ground_truth.h"
 #include "tests/common/test_data.h"
 
@@ -91,6 +93,49 @@ TEST(EvaluateMesh, GroundTruthDisparityMeshAgreesWithVelodyneAndHolesLowerComple
   EXPECT_EQ(h.lidar.reference_pixels, e.lidar.reference_pixels);
   EXPECT_LT(h.triangles, e.triangles);
   EXPECT_LT(h.off_bytes, e.off_bytes);
+}
+
+TEST(EvaluateMesh, BothProtocolsTheBreakdownAndAnErrorImageOfTheAskedFrame) {
+  SEMAP_REQUIRE_SHARED("data/kitti_stereo2015_subset");
+  const auto dataset = test::SharedDir() / "data/kitti_stereo2015_subset";
+  FrameSourceOptions input;
+  input.max_frames = 1;
+  const SequenceInfo info = DescribeDataset(dataset, input);
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06lld_10.png", static_cast<long long>(info.first_frame_id));
+  const Mesh mesh = MeshFromDisparity(ReadKittiDisparityPng(dataset / "disp_occ_0" / name), info.calibration,
+                                      std::numeric_limits<int>::max());
+  MeshEvaluationOptions options;
+  options.error_images = 1;
+  const auto e = EvaluateMesh(mesh, dataset, input, DepthAccuracyOptions(), options);
+  // The paper protocol: a subset of the reference pixels (<= 15 m), errors beyond 2 m left out.
+  EXPECT_DOUBLE_EQ(e.paper_options.max_depth_m, 15.0);
+  EXPECT_LT(e.lidar_paper.reference_pixels, e.lidar.reference_pixels);
+  EXPECT_LE(e.lidar_paper.rmse_m, e.lidar.rmse_m);
+  EXPECT_EQ(e.lidar.excluded_pixels, 0);
+  // The breakdown covers the strict figures' pixels; the grid mesh has no labels and the subset's frames no
+  // label images: every pixel is "no class".
+  ASSERT_TRUE(e.lidar_breakdown.has_value());
+  EXPECT_FALSE(e.exact_depth_breakdown.has_value());
+  EXPECT_EQ(e.class_source, "none");
+  ASSERT_EQ(e.lidar_breakdown->by_class.size(), 1u);
+  EXPECT_EQ(e.lidar_breakdown->by_class[0].name, "no class");
+  EXPECT_EQ(e.lidar_breakdown->by_class[0].reference_pixels, e.lidar.reference_pixels);
+  std::int64_t compared = 0;
+  for (const ErrorBin& b : e.lidar_breakdown->by_distance) compared += b.compared_pixels;
+  EXPECT_EQ(compared, e.lidar.compared_pixels);
+  compared = 0;
+  for (const ErrorBin& b : e.lidar_breakdown->by_triangle_area) compared += b.compared_pixels;
+  EXPECT_EQ(compared, e.lidar.compared_pixels);
+  // One error image, of the only frame, with its legend band under the image.
+  ASSERT_EQ(e.error_images.size(), 1u);
+  EXPECT_EQ(e.error_images[0].frame_id, info.first_frame_id);
+  EXPECT_EQ(e.error_images[0].reference, "lidar");
+  EXPECT_EQ(e.error_images[0].image.cols, info.calibration.width_px);
+  EXPECT_GT(e.error_images[0].image.rows, info.calibration.height_px);
+  // Bad options are named.
+  options.error_images = -1;
+  EXPECT_THROW(EvaluateMesh(mesh, dataset, input, DepthAccuracyOptions(), options), InvalidOption);
 }
 
 TEST(EvaluateMesh, MissingDatasetIsAClearError) {
