@@ -21,15 +21,16 @@ container.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
 const camera = new THREE.PerspectiveCamera(55, window.innerWidth / window.innerHeight, 0.05, 5000);
 camera.position.set(20, 20, 20);
-scene.add(new THREE.HemisphereLight(0xffffff, 0x555566, 1.6));
-const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x9a9aa8, 2.4));
+const sun = new THREE.DirectionalLight(0xffffff, 1.0);
 scene.add(sun);
 
 const material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
 let meshObject = null;       // THREE.Mesh of the current map
 let meshData = null;         // the decoded arrays of the last mesh message
 let up = new THREE.Vector3(0, 0, 1);
-let upFixed = false;         // the server named the up axis, or it was guessed from the first mesh
+let upFixed = false;         // the server named the up axis, or it was taken from the cameras or the first mesh
+let upFromCameras = false;   // taken from the camera poses (better than a guess from a small first mesh)
 let upName = 'auto';
 let hello = null;
 const palette = new Map();   // label id -> {name, rgb}
@@ -143,7 +144,7 @@ function follow() {
     // Behind and above the vehicle's camera (KITTI cameras look along +z), unless the user moved since.
     const forward = new THREE.Vector3(0, 0, 1).applyQuaternion(last.quaternion);
     forward.addScaledVector(up, -forward.dot(up)).normalize();
-    followOffset = forward.multiplyScalar(-14).addScaledVector(up, 9);
+    followOffset = forward.multiplyScalar(-12).addScaledVector(up, 4);  // a chase view, under any lid
   }
   if (nav === 'orbit') {
     orbit.target.copy(last.position);
@@ -194,6 +195,23 @@ function guessUp(positions) {
   const v = new THREE.Vector3();
   v.setComponent(axis, axis === 1 ? -1 : 1);
   return v;
+}
+
+// The cameras' mean up direction (KITTI cameras: y down, so up is -y of the camera frame, turned into the
+// world), snapped to the nearest axis when within 10° of it.
+function upOfCameras(points) {
+  const sum = new THREE.Vector3();
+  for (const p of points) sum.add(new THREE.Vector3(0, -1, 0).applyQuaternion(p.quaternion));
+  if (sum.lengthSq() === 0) return null;
+  sum.normalize();
+  for (let k = 0; k < 3; ++k) {
+    if (Math.abs(sum.getComponent(k)) > Math.cos(THREE.MathUtils.degToRad(10))) {
+      const axis = new THREE.Vector3();
+      axis.setComponent(k, Math.sign(sum.getComponent(k)));
+      return axis;
+    }
+  }
+  return sum;
 }
 
 function upFromName(name) {
@@ -376,6 +394,15 @@ function addPoses(points) {
       quaternion: new THREE.Quaternion(qx, qy, qz, qw),
     });
   }
+  if (upName === 'auto' && !upFromCameras) {
+    const camerasUp = upOfCameras(trajectory.points);
+    if (camerasUp) {
+      up = camerasUp;
+      upFixed = upFromCameras = true;
+      makeControls();
+      if (meshObject && autoFit) fitToView();
+    }
+  }
   if (trajectory.line) { scene.remove(trajectory.line); trajectory.line.geometry.dispose(); }
   const g = new THREE.BufferGeometry().setFromPoints(trajectory.points.map((p) => p.position));
   trajectory.line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0xffd34f }));
@@ -393,24 +420,30 @@ function addPoses(points) {
 }
 
 // ---- statistics --------------------------------------------------------------------------------------------
-function spark(canvas, values, colour, format) {
+// A small chart of one or more series over frames, each scaled to its own maximum (named at the top left).
+function spark(canvas, series, format) {
   const ctx = canvas.getContext('2d');
   const W = canvas.width, H = canvas.height;
   ctx.clearRect(0, 0, W, H);
-  if (values.length === 0) return;
-  const max = Math.max(...values, 1e-9);
-  ctx.strokeStyle = colour;
-  ctx.lineWidth = 3;
-  ctx.beginPath();
-  values.forEach((v, i) => {
-    const x = values.length === 1 ? W / 2 : (i / (values.length - 1)) * (W - 4) + 2;
-    const y = H - 4 - (v / max) * (H - 22);
-    if (i === 0) ctx.moveTo(x, y); else ctx.lineTo(x, y);
-  });
-  ctx.stroke();
-  ctx.fillStyle = '#aab0c0';
   ctx.font = '20px system-ui, sans-serif';
-  ctx.fillText(`max ${format(max)}`, 6, 20);
+  let labelX = 6;
+  for (const { values, colour, name } of series) {
+    if (values.length === 0) continue;
+    const max = Math.max(...values, 1e-9);
+    ctx.strokeStyle = colour;
+    ctx.lineWidth = 3;
+    ctx.beginPath();
+    values.forEach((v, i) => {
+      const x = values.length === 1 ? W / 2 : (i / (values.length - 1)) * (W - 4) + 2;
+      const y = H - 4 - (v / max) * (H - 26);
+      if (i === 0) ctx.moveTo(x, y); else ctx.lineTo(x, y);
+    });
+    ctx.stroke();
+    ctx.fillStyle = colour;
+    const text = `${name} ${format(max)}`;
+    ctx.fillText(text, labelX, 20);
+    labelX += ctx.measureText(text).width + 16;
+  }
 }
 
 function addStats(points) {
@@ -418,8 +451,10 @@ function addStats(points) {
   const last = stats[stats.length - 1];
   $('fps').textContent = `${last[2].toFixed(2)} f/s`;
   if (!meshData || meshData.frameId < 0) $('frame').textContent = String(last[0]);
-  spark($('spark-fps'), stats.map((s) => s[2]), '#6fd0ff', (v) => v.toFixed(1));
-  spark($('spark-size'), stats.map((s) => s[3]), '#9dff7a', (v) => Math.round(v).toLocaleString('en-US'));
+  const count = (v) => Math.round(v).toLocaleString('en-US');
+  spark($('spark-fps'), [{ values: stats.map((s) => s[2]), colour: '#6fd0ff', name: 'max' }], (v) => v.toFixed(1));
+  spark($('spark-size'), [{ values: stats.map((s) => s[3]), colour: '#9dff7a', name: 'triangles' },
+                          { values: stats.map((s) => s[4]), colour: '#ffb86b', name: 'map vertices' }], count);
 }
 
 function reset() {
@@ -431,14 +466,15 @@ function reset() {
   trajectory.points = [];
   stats.length = 0;
   upFixed = upName !== 'auto';
+  upFromCameras = false;
   autoFit = !$('follow').checked;
   $('triangles').textContent = '0';
   $('triangles').dataset.count = '0';
   $('vertices').textContent = '0';
   $('frame').textContent = '–';
   $('fps').textContent = '–';
-  spark($('spark-fps'), [], '', String);
-  spark($('spark-size'), [], '', String);
+  spark($('spark-fps'), [], String);
+  spark($('spark-size'), [], String);
   updateLegend();
 }
 
@@ -463,7 +499,11 @@ function onHello(h) {
     upFixed = true;
     makeControls();
   }
-  const wanted = new URLSearchParams(location.search).get('colour');
+  // The page's address may preset the view: ?colour=label|error|height|image&follow=1&trajectory=0
+  const params = new URLSearchParams(location.search);
+  if (params.get('follow') === '1') { $('follow').checked = true; autoFit = false; }
+  if (params.get('trajectory') === '0') $('show-trajectory').checked = false;
+  const wanted = params.get('colour');
   if (wanted && !$('colour').querySelector(`option[value=${wanted}]`)?.disabled) {
     $('colour').value = wanted;
     recolour();
