@@ -50,5 +50,6 @@ void RegisterTableCommand(CLI::App& app, int* exit_code);
 void RegisterCompareCommand(CLI::App& app, int* exit_code);
 void RegisterRenderCommand(CLI::App& app, int* exit_code);
 void RegisterMapSfmCommand(CLI::App& app, int* exit_code);
+void RegisterViewCommand(CLI::App& app, int* exit_code);
 
 }  // namespace semap::tools

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
       RegisterTableCommand,
       RegisterCompareCommand,
       RegisterRenderCommand,
+      RegisterViewCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   // A reader that goes away (`semap run … | head -1`) must not kill a run with SIGPIPE: writes to the closed
