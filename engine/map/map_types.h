@@ -25,6 +25,7 @@ struct CellVotes {
   std::int64_t free_fixed = 0;
   std::int64_t matter_fixed = 0;
   bool carved = false;  // inside the extracted free-space region
+  bool sealed = false;  // refills a finalised region (incremental map): its carving is fixed, its votes unused
 };
 
 // Sizes and work counters of a map.

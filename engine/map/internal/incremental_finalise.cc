@@ -12,13 +12,19 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   // Points to finalise: the oldest first (the distance test is made on the oldest points only, in order).
   std::vector<std::uint32_t> finalised;
   while (!arrival_.empty()) {
-    const PointRecord& p = points_.at(arrival_.front());
-    const std::int64_t age = frame_ - p.frame;
+    const Arrival a = arrival_.front();
+    const auto it = points_.find(a.id);
+    if (it == points_.end() || it->second.last_seen != a.frame) {
+      arrival_.pop_front();  // stale: seen again since (a later entry stands for it), or gone
+      continue;
+    }
+    const PointRecord& p = it->second;
+    const std::int64_t age = frame_ - p.last_seen;
     const bool too_old = max_age > 0 && age > max_age;
     const bool too_far = max_distance > 0.0 && age >= options_.finalise_min_age_frames &&
                          (p.position - last_camera_).norm() > max_distance;
     if (!too_old && !too_far) break;
-    finalised.push_back(arrival_.front());
+    finalised.push_back(a.id);
     arrival_.pop_front();
   }
   std::vector<LatticeKey> released_nodes;

@@ -347,8 +347,10 @@ std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* 
 void IncrementalState::RecordInserted(const PendingVertex& pv, VertexHandle v, MapUpdateResult* result) {
   if (pv.point_id != kNoId) {
     v->info() = VertexInfo{pv.point_id, false, false, 0, pv.attributes};
-    points_.at(pv.point_id).vertex = v;
-    arrival_.push_back(pv.point_id);
+    PointRecord& record = points_.at(pv.point_id);
+    record.vertex = v;
+    record.last_seen = frame_;
+    arrival_.push_back({pv.point_id, frame_});
     ++result->inserted;
   } else {
     v->info() = VertexInfo{next_steiner_id_++, true, false, 0, {}};

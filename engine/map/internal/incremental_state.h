@@ -78,6 +78,8 @@ class IncrementalState {
   // A pending data point exactly at `existing`: its frame points become that point (or are dropped, on a
   // Steiner vertex).
   void MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result);
+  // A point seen again (kDepth): more support, and its age restarts.
+  void SeenAgain(std::uint32_t id);
   // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
   // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells whose free/matter state changed, and the created ones, go to
   // touched_. Returns the number of cells that got a vote.
@@ -149,7 +151,13 @@ class IncrementalState {
   std::unordered_map<std::uint32_t, PointRecord> points_;
   std::unordered_map<std::uint32_t, CameraRecord> cameras_;
   std::unordered_map<LatticeKey, VertexHandle> steiner_;
-  std::deque<std::uint32_t> arrival_;  // live point ids in insertion order (for finalisation by age)
+  // Live point ids by the frame they were last seen in, oldest first (for finalisation by age). An entry whose
+  // frame is not its point's last_seen (seen again since, or gone) is stale and skipped.
+  struct Arrival {
+    std::uint32_t id;
+    std::int64_t frame;
+  };
+  std::deque<Arrival> arrival_;
   std::uint32_t next_point_id_ = 0;
   std::uint32_t next_camera_id_ = 0;
   std::uint32_t next_steiner_id_ = 0;

@@ -318,6 +318,7 @@ std::vector<CellVotes> CollectCellVotes(const Delaunay& dt) {
     v.free_fixed = c->info().free_q;
     v.matter_fixed = c->info().matter_q;
     v.carved = c->info().carved;
+    v.sealed = c->info().IsSealed();
     out.push_back(v);
   }
   return out;
