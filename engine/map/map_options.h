@@ -25,15 +25,17 @@ enum class Visibility {
   // Each frame's depth map (every valid pixel is a ray): cells in the view are voted by sampling them
   // against it (engine/map/internal/depth_votes.h); cells created by an insertion are voted from the views
   // of the last vote_window_frames frames. No per-ray records: nothing is retraced. Needs a depth view per
-  // camera (LabelledCloud::camera_views). Default.
+  // camera (LabelledCloud::camera_views). About 5× faster than kRays with a 4× smaller mesh, but not yet as
+  // accurate on a drive with a turn (bench/RESULTS.md, "Dense votes from depth maps"): not the default yet.
   kDepth,
   // One exact walk per point ray through the triangulation (the paper's votes, the reference): rays are
   // recorded in the cells they cross and retraced when those cells change. Any input (SfM tracks too).
+  // Default.
   kRays,
 };
 
 struct MapOptions {
-  Visibility visibility = Visibility::kDepth;
+  Visibility visibility = Visibility::kRays;
   // kDepth: views kept to vote the cells an insertion creates (≥ 1).
   int vote_window_frames = 8;
   // kDepth: a new point whose projection lies within merge_radius_px (full-resolution px) of a live vertex's

@@ -51,9 +51,11 @@ bool MapShrankOnce(const fs::path& run) {
 // non-manifold edges where the finalised and the live surface overlapped). Few points per frame keep it fast.
 TEST(WrittenMeshes, LongGeneratedDriveThatFinalisesIsManifold) {
   const fs::path seq = test::SmallGeneratedSequence(80);
-  for (const std::string method : {"PS", "O"}) {
-    const fs::path out = test::TempDir() / method;
-    const CliRun r = RunSemap("run " + seq.string() + " --method " + method +
+  // PS and O with the exact ray votes, and PS with the votes from the depth maps (map.visibility: depth).
+  for (const std::string run : {"PS rays", "O rays", "PS depth"}) {
+    const std::string method = run.substr(0, run.find(' ')), visibility = run.substr(run.find(' ') + 1);
+    const fs::path out = test::TempDir() / (method + "_" + visibility);
+    const CliRun r = RunSemap("run " + seq.string() + " --method " + method + " --set map.visibility=" + visibility +
                               " --set depth.max_points_per_frame=1500 --set map.finalise_age_frames=10"
                               " --set map.finalise_every_frames=5 --progress-interval 0 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
