@@ -11,7 +11,8 @@
 # --frames N: use the first N frames of SEQUENCE (0 = all; default 0, or 80 when generating).
 # --out DIR: working folder (default: a new folder under ${TMPDIR:-/tmp}).
 # Environment: SEMAP (the semap executable, default build/tools/semap), PYTHON (a Python with open3d; default:
-# python3 when it has open3d, else /usr/bin/python3, Debian's, where python3-open3d installs), CPUS (taskset list).
+# python3 when it has open3d, else /usr/bin/python3, Debian's, where python3-open3d installs), CPUS (taskset list),
+# SEMAP_ARGS (more options of the semap runs, e.g. "--set map.visibility=depth").
 #
 # TSDF parameters: voxel 0.1 m and 0.05 m; sdf_trunc = 4 voxels (Open3D's examples use 4-5 voxels: thin enough
 # not to merge the two sides of a wall or a car, thick enough to bridge SGBM's few-centimetre noise at 10-20 m);
@@ -104,8 +105,9 @@ for method in PS O; do
   echo "== semap run --method $method, on CPUs $CPUS"
   t0="$(now)"
   mkdir -p "$OUT/$name"
+  # shellcheck disable=SC2086
   taskset -c "$CPUS" "$SEMAP" run "$SEQ" --method "$method" --frames "$FRAMES" --out "$OUT/$name" \
-    --progress-interval 0 --log-level warn > "$OUT/$name/run.txt"
+    --progress-interval 0 --log-level warn ${SEMAP_ARGS:-} > "$OUT/$name/run.txt"
   t1="$(now)"
   WALL_S[$name]="$(seconds "$t0" "$t1")"
   evaluate "$OUT/$name/mesh.ply" "$OUT/$name/eval.json"
