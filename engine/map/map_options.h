@@ -25,17 +25,16 @@ enum class Visibility {
   // Each frame's depth map (every valid pixel is a ray): cells in the view are voted by sampling them
   // against it (engine/map/internal/depth_votes.h); cells created by an insertion are voted from the views
   // of the last vote_window_frames frames. No per-ray records: nothing is retraced. Needs a depth view per
-  // camera (LabelledCloud::camera_views). About 5× faster than kRays with a 4× smaller mesh, but not yet as
-  // accurate on a drive with a turn (bench/RESULTS.md, "Dense votes from depth maps"): not the default yet.
+  // camera (LabelledCloud::camera_views). Default: about 5× faster than kRays with a 4× smaller mesh
+  // (bench/RESULTS.md, "Dense votes from depth maps").
   kDepth,
   // One exact walk per point ray through the triangulation (the paper's votes, the reference): rays are
   // recorded in the cells they cross and retraced when those cells change. Any input (SfM tracks too).
-  // Default.
   kRays,
 };
 
 struct MapOptions {
-  Visibility visibility = Visibility::kRays;
+  Visibility visibility = Visibility::kDepth;
   // kDepth: views kept to vote the cells an insertion creates (≥ 1).
   int vote_window_frames = 8;
   // kDepth: a new point whose projection lies within merge_radius_px (full-resolution px) of a live vertex's
@@ -77,8 +76,11 @@ struct MapOptions {
   // Memory bound: points older than finalise_age_frames frames, or farther than finalise_distance_m from the
   // latest camera (and older than finalise_min_age_frames) are finalised: the triangles touching them are
   // emitted once, then their rays, cells and vertices are released. 0 = never finalise by that criterion.
-  int finalise_age_frames = 50;
-  double finalise_distance_m = 0.0;
+  // By distance by default: finalising by age cut regions still in view (a drive that turns into a street it
+  // saw from afar lost half its surface there; bench/RESULTS.md), while beyond the depth range behind the
+  // camera nothing changes any more. The age is counted from a point's last sight (depth) or insertion (rays).
+  int finalise_age_frames = 0;
+  double finalise_distance_m = 50.0;
   int finalise_min_age_frames = 5;
   // Finalisation runs every this many frames (≥ 1): each run retraces the rays through the released cells,
   // so batching the releases amortises that cost; the live window grows by up to this many frames.

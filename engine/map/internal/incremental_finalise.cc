@@ -9,7 +9,9 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   const double max_distance = options_.finalise_distance_m;
   if ((max_age <= 0 && max_distance <= 0.0) || frame_ % options_.finalise_every_frames != 0) return;
 
-  // Points to finalise: the oldest first (the distance test is made on the oldest points only, in order).
+  // Points to finalise. By age: from the front of the queue, which is in last-seen order. By distance: any
+  // point old enough and too far from the latest camera, wherever it stands in the queue (the queue is not
+  // in distance order: stopping at the first near point kept the whole map live behind it).
   std::vector<std::uint32_t> finalised;
   while (!arrival_.empty()) {
     const Arrival a = arrival_.front();
@@ -18,14 +20,20 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
       arrival_.pop_front();  // stale: seen again since (a later entry stands for it), or gone
       continue;
     }
-    const PointRecord& p = it->second;
-    const std::int64_t age = frame_ - p.last_seen;
-    const bool too_old = max_age > 0 && age > max_age;
-    const bool too_far = max_distance > 0.0 && age >= options_.finalise_min_age_frames &&
-                         (p.position - last_camera_).norm() > max_distance;
-    if (!too_old && !too_far) break;
+    if (!(max_age > 0 && frame_ - it->second.last_seen > max_age)) break;
     finalised.push_back(a.id);
     arrival_.pop_front();
+  }
+  if (max_distance > 0.0) {
+    for (const Arrival& a : arrival_) {
+      const auto it = points_.find(a.id);
+      if (it == points_.end() || it->second.last_seen != a.frame) continue;  // stale
+      const PointRecord& p = it->second;
+      if (frame_ - p.last_seen >= options_.finalise_min_age_frames &&
+          (p.position - last_camera_).norm() > max_distance) {
+        finalised.push_back(a.id);  // its entry turns stale once the point is erased below
+      }
+    }
   }
   std::vector<LatticeKey> released_nodes;
   if (max_age > 0) lattice_.Expire(frame_ - max_age, &released_nodes);

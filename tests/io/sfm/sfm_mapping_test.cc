@@ -85,6 +85,7 @@ TEST(SfmMapping, IncrementalKeyframesGiveTheBatchVotes) {
   const SfmReconstruction r = test::SmallStreet();
   MapOptions map;
   map.finalise_age_frames = 0;  // keep everything live
+  map.finalise_distance_m = 0.0;
   map.merge_distance_m = 0.0;
   SimplifyOptions none;
   none.method = SimplifyMethod::kOriginal;
