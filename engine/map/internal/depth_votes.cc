@@ -55,7 +55,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
   bool near = false;
   double max_z = -1.0;
   for (int i = 0; i < 4; ++i) {
-    cam[i] = view.cam_from_world_rotation * vertices_world[i] + view.cam_from_world_translation;
+    cam[i] = view.ToCamera(vertices_world[i]);
     near = near || cam[i].z() < kNearPlaneM;
     max_z = std::max(max_z, cam[i].z());
   }
@@ -86,17 +86,14 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     const Eigen::Vector2d uv = k.Project(x);
     const float depth = v.At(uv.x(), uv.y());
     if (depth == 0.0f) continue;
-    double depth_m = depth;
+    const double range = x.norm();
     if (depth == kFreeToFarRange) {
       if (x.z() >= v.max_depth_m) continue;  // beyond the far range: unknown
-      depth_m = v.max_depth_m;
-    }
-    const double range = x.norm();
-    const double d = range * (depth_m / x.z() - 1.0);  // the sample is d before the pixel's point
-    if (depth == kFreeToFarRange) {
-      free += GaussianComplement(d, geometry.ray.sigma_free_m);
+      free += GaussianComplement(range * (v.max_depth_m / x.z() - 1.0), geometry.ray.sigma_free_m);
       continue;
     }
+    const double depth_m = depth;
+    const double d = range * (depth_m / x.z() - 1.0);  // the sample is d before the pixel's point
     // The pixel's point is uncertain by ± noise along the ray: no vote within that band; free before it,
     // matter up to the ray's extension behind it.
     const double noise = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px * range / x.z();

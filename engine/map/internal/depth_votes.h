@@ -45,6 +45,9 @@ namespace semap::map_internal {
 // A view with its world → camera transform precomputed. Immutable; shared by the threads that vote.
 struct VotingView {
   explicit VotingView(std::shared_ptr<const DepthView> v);
+  Eigen::Vector3d ToCamera(const Eigen::Vector3d& p_world) const {
+    return cam_from_world_rotation * p_world + cam_from_world_translation;
+  }
   std::shared_ptr<const DepthView> view;
   Eigen::Matrix3d cam_from_world_rotation;
   Eigen::Vector3d cam_from_world_translation;

@@ -31,7 +31,7 @@ class ProjectionGrid {
 
   // The grid cell of a world point and its camera-frame depth, or false outside the view.
   bool Locate(const Eigen::Vector3d& p_world, int* gu, int* gv, double* depth_m) const {
-    const Eigen::Vector3d p = view_.cam_from_world_rotation * p_world + view_.cam_from_world_translation;
+    const Eigen::Vector3d p = view_.ToCamera(p_world);
     if (!(p.z() > 0.0)) return false;
     const Eigen::Vector2d uv = view_.view->intrinsics.Project(p) * cells_per_px_;
     if (!(uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() < width_ && uv.y() < height_)) return false;
@@ -159,14 +159,7 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
       ++result->merged;
       SeenAgain(target);
     } else {
-      target = next_point_id_++;
-      PointRecord& record = points_[target];
-      record.position = p;
-      record.frame = frame_;
-      PointAttributes attributes;
-      if (!frame.labels.empty()) attributes.label = frame.labels[i];
-      if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
-      pending->push_back({p, target, 0, attributes});
+      target = NewPoint(frame, i, pending);
       if (in_view) grid.Offer(gu, gv, depth, target);
     }
     result->point_ids[i] = target;

@@ -188,19 +188,25 @@ void IncrementalState::ClassifyPoints(const LabelledCloud& frame,
     if (target != kNoId) {
       ++result->merged;
     } else {
-      target = next_point_id_++;
-      PointRecord& record = points_[target];
-      record.position = p;
-      record.frame = frame_;
-      PointAttributes attributes;
-      if (!frame.labels.empty()) attributes.label = frame.labels[i];
-      if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
+      target = NewPoint(frame, i, pending);
       grid[VoxelKey(p, voxel)].push_back(target);
-      pending->push_back({p, target, 0, attributes});
     }
     result->point_ids[i] = target;
     new_rays->emplace_back(target, camera);
   }
+}
+
+std::uint32_t IncrementalState::NewPoint(const LabelledCloud& frame, std::uint32_t i,
+                                        std::vector<PendingVertex>* pending) {
+  const std::uint32_t id = next_point_id_++;
+  PointRecord& record = points_[id];
+  record.position = frame.positions_world[i];
+  record.last_seen = frame_;
+  PointAttributes attributes;
+  if (!frame.labels.empty()) attributes.label = frame.labels[i];
+  if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
+  pending->push_back({record.position, id, 0, attributes});
+  return id;
 }
 
 void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pending,
@@ -349,8 +355,7 @@ void IncrementalState::RecordInserted(const PendingVertex& pv, VertexHandle v, M
     v->info() = VertexInfo{pv.point_id, false, false, 0, pv.attributes};
     PointRecord& record = points_.at(pv.point_id);
     record.vertex = v;
-    record.last_seen = frame_;
-    arrival_.push_back({pv.point_id, frame_});
+    arrival_.push_back({pv.point_id, record.last_seen});
     ++result->inserted;
   } else {
     v->info() = VertexInfo{next_steiner_id_++, true, false, 0, {}};

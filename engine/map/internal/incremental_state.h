@@ -85,6 +85,9 @@ class IncrementalState {
   // touched_. Returns the number of cells that got a vote.
   std::size_t VoteFromViews();
 
+  // A new data point for frame point i, pending insertion (its record made, its age starting now).
+  std::uint32_t NewPoint(const LabelledCloud& frame, std::uint32_t i, std::vector<PendingVertex>* pending);
+
   // Update steps.
   void ClassifyPoints(const LabelledCloud& frame, const std::vector<std::uint32_t>& camera_ids,
                       MapUpdateResult* result, std::vector<PendingVertex>* pending,

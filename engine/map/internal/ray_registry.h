@@ -14,8 +14,7 @@ namespace semap::map_internal {
 struct PointRecord {
   VertexHandle vertex;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  std::int64_t frame = 0;           // frame of insertion
-  // The frame its age counts from, for finalisation: its insertion, or (kDepth) the last frame that saw it
+  // The frame its age counts from, for finalisation: its arrival, or (kDepth) the last frame that saw it
   // again, refreshed every finalise_every_frames (an arrival-queue entry that does not match it is stale).
   std::int64_t last_seen = 0;
   std::vector<std::uint32_t> rays;  // kRays: its rays, the first one from its first camera
