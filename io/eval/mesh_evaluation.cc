@@ -99,34 +99,33 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     const bool draw = image_frames.count(frame->id) > 0;
     FrameAccuracy frame_accuracy;
     frame_accuracy.frame_id = frame->id;
-    if (frame->velodyne) {
+    // One reference depth map of this frame into the strict and paper figures, the breakdown and (for the
+    // chosen frames) an error image; returns the frame's strict figures.
+    const auto add_reference = [&](const cv::Mat& reference, const char* name, const char* title,
+                                   const ErrorImageOptions& image, DepthAccuracyAccumulator* total,
+                                   DepthAccuracyAccumulator* total_paper, ErrorBreakdownAccumulator* breakdown) {
       DepthAccuracyAccumulator one(accuracy);
-      const cv::Mat lidar_depth = LidarDepthImage(*frame->velodyne, frame->calibration, accuracy);
-      one.Add(lidar_depth, mesh_depth);
-      lidar_paper.Add(lidar_depth, mesh_depth);
-      lidar_breakdown.Add(lidar_depth, mesh_depth, rendered.triangle, triangle_areas, classes);
+      one.Add(reference, mesh_depth);
+      total_paper->Add(reference, mesh_depth);
+      breakdown->Add(reference, mesh_depth, rendered.triangle, triangle_areas, classes);
       if (draw) {
         result.error_images.push_back(
-            {frame->id, "lidar",
-             RenderErrorImage(lidar_depth, mesh_depth, frame->left, accuracy, sparse_image,
-                              ErrorImageTitle(frame->id, "Velodyne"))});
+            {frame->id, name,
+             RenderErrorImage(reference, mesh_depth, frame->left, accuracy, image, ErrorImageTitle(frame->id, title))});
       }
-      frame_accuracy.lidar = one.Result();
-      lidar.Merge(one);
+      total->Merge(one);
+      return one.Result();
+    };
+    if (frame->velodyne) {
+      const cv::Mat lidar_depth = LidarDepthImage(*frame->velodyne, frame->calibration, accuracy);
+      frame_accuracy.lidar =
+          add_reference(lidar_depth, "lidar", "Velodyne", sparse_image, &lidar, &lidar_paper, &lidar_breakdown);
       ++result.frames_with_lidar;
     }
     if (const auto path = ExactDepthPath(info, frame->id)) {
-      DepthAccuracyAccumulator one(accuracy);
       const cv::Mat exact_depth = ReadDepthPngMm(*path);
-      one.Add(exact_depth, mesh_depth);
-      exact_paper.Add(exact_depth, mesh_depth);
-      exact_breakdown.Add(exact_depth, mesh_depth, rendered.triangle, triangle_areas, classes);
-      if (draw) {
-        result.error_images.push_back(
-            {frame->id, "exact_depth",
-             RenderErrorImage(exact_depth, mesh_depth, frame->left, accuracy, dense_image,
-                              ErrorImageTitle(frame->id, "exact depth"))});
-      }
+      frame_accuracy.exact_depth = add_reference(exact_depth, "exact_depth", "exact depth", dense_image, &exact,
+                                                 &exact_paper, &exact_breakdown);
       const int stride = accuracy.surface_pixel_stride;
       for (int v = stride / 2; v < exact_depth.rows; v += stride) {
         for (int u = stride / 2; u < exact_depth.cols; u += stride) {
@@ -135,8 +134,6 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
           truth_samples.push_back(*frame->world_from_cam * frame->calibration.Unproject(u, v, z));
         }
       }
-      frame_accuracy.exact_depth = one.Result();
-      exact.Merge(one);
       ++result.frames_with_exact_depth;
     }
     result.per_frame.push_back(frame_accuracy);
