@@ -103,7 +103,7 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   }
 
   const Label unlabelled = 0;
-  result.mesh = ExtractSurfaceMesh(dt, options.drop_steiner_triangles, /*irregular=*/{}, /*frozen=*/nullptr,
+  result.mesh = ExtractSurfaceMesh(dt, EmitRule{options.drop_steiner_triangles, /*drop_unseen=*/false}, /*irregular=*/{}, /*frozen=*/nullptr,
                                    unlabelled).mesh;
   if (with_cell_votes) result.cell_votes = CollectCellVotes(dt);
 

@@ -21,6 +21,8 @@ void MapOptions::Check() const {
                      "merge_depth_fraction", merge_depth_fraction, "must be in [0, 1)");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_sigma_px) && disparity_sigma_px >= 0.0, "disparity_sigma_px",
                      disparity_sigma_px, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(seen_noise_sigmas) && seen_noise_sigmas >= 0.0, "seen_noise_sigmas",
+                     seen_noise_sigmas, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(grow_passes >= 1, "grow_passes", grow_passes, "must be >= 1");
   SEMAP_CHECK_OPTION(std::isfinite(repair_fill_cost) && repair_fill_cost >= 0.0, "repair_fill_cost",
                      repair_fill_cost, "must be finite and >= 0");

@@ -72,6 +72,14 @@ struct MapOptions {
   // Mesh triangles touching a Steiner vertex are artefacts of the bounding box; drop them from the output
   // mesh (the internal surface stays a closed 2-manifold either way).
   bool drop_steiner_triangles = true;
+  // kDepth: a surface facet no view saw as a surface (the point a view saw through its centroid never within
+  // ray_extension_m + seen_noise_sigmas σ_z of its plane) is left out of the mesh: where free space meets
+  // space no view saw (above the field of view, behind a facade, past the far range) is no surface (no lids,
+  // no roofs of guesses). The mesh is open there. See engine/map/internal/depth_votes.h. A wider tolerance
+  // keeps more of the far, noisy surface and more guesses with it (80 urban frames, PS: σ multiples 0 / 0.5 /
+  // 1 / 3 put 1.7 / 3.3 / 4.4 / 6.2 % of the area farther than 2 m from the truth; bench/RESULTS.md).
+  bool drop_unseen_surface = true;
+  double seen_noise_sigmas = 0.0;
 
   // Memory bound: points older than finalise_age_frames frames, or farther than finalise_distance_m from the
   // latest camera (and older than finalise_min_age_frames) are finalised: the triangles touching them are

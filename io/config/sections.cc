@@ -254,6 +254,10 @@ void Bind(FieldBinder& b, MapOptions& o) {
   b.Field("steiner_margin_cubes", &o.steiner_margin_cubes, "lattice cubes kept around each point and camera");
   b.Field("drop_steiner_triangles", &o.drop_steiner_triangles,
           "leave triangles touching a Steiner vertex out of the mesh");
+  b.Field("drop_unseen_surface", &o.drop_unseen_surface,
+          "depth: leave out surface triangles no view saw as a surface (no lids over unseen space)");
+  b.Field("seen_noise_sigmas", &o.seen_noise_sigmas,
+          "depth: a triangle is seen as a surface within ray extension + this many depth σ of a pixel's depth");
   b.Field("finalise_age_frames", &o.finalise_age_frames,
           "finalise (emit once, then release) points older than this many frames; 0 = never by age");
   b.Field("finalise_distance_m", &o.finalise_distance_m,

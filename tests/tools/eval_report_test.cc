@@ -42,8 +42,8 @@ TEST(SemapRunEval, WritesPerFrameAccuracyThatAgreesWithSemapEval) {
   }
   EXPECT_EQ(frames, 3);
 
-  // The same mesh read back by `semap eval` gives the same totals, up to mesh.ply's float32 coordinates (a
-  // vertex moved by 1e-6 m flips a few pixels at silhouettes, and their errors are metres).
+  // The same mesh read back by `semap eval` gives the same totals: `semap run --eval` evaluates the mesh as
+  // written (float32 coordinates; a vertex moved by 1e-6 m flips pixels at silhouettes, errors of metres).
   const fs::path json = out / "again.json";
   const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (out / "mesh.ply").string() + " --json " +
                                json.string());
@@ -51,9 +51,8 @@ TEST(SemapRunEval, WritesPerFrameAccuracyThatAgreesWithSemapEval) {
   const auto a = nlohmann::json::parse(std::ifstream(out / "eval.json"));
   const auto b = nlohmann::json::parse(std::ifstream(json));
   const double rmse_a = a["lidar"]["rmse_m"].get<double>(), rmse_b = b["lidar"]["rmse_m"].get<double>();
-  EXPECT_NEAR(rmse_a, rmse_b, 0.01 * rmse_a);
-  const double pixels_a = a["lidar"]["compared_pixels"].get<double>();
-  EXPECT_NEAR(pixels_a, b["lidar"]["compared_pixels"].get<double>(), 0.005 * pixels_a);
+  EXPECT_NEAR(rmse_a, rmse_b, 1e-9 * rmse_a);
+  EXPECT_EQ(a["lidar"]["compared_pixels"].get<std::int64_t>(), b["lidar"]["compared_pixels"].get<std::int64_t>());
   ASSERT_EQ(b["per_frame"].size(), 3u);
   EXPECT_TRUE(b["per_frame"][2].contains("exact_depth"));
 
@@ -129,20 +128,28 @@ std::int64_t Compared(const nlohmann::json& bins) {
   return n;
 }
 
-// Pixels of the picture part (above the legend band) that are neither grey (no reference) nor black (hole).
-int ColouredPixels(const cv::Mat& image, int picture_rows) {
-  int n = 0;
+// Pixels of the picture part (above the legend band) that are coloured (neither grey, no reference, nor black,
+// a hole), and those that are black.
+struct ErrorImagePixels {
+  int coloured = 0;
+  int holes = 0;
+};
+ErrorImagePixels CountPixels(const cv::Mat& image, int picture_rows) {
+  ErrorImagePixels n;
   for (int y = 0; y < picture_rows; ++y) {
     for (int x = 0; x < image.cols; ++x) {
       const cv::Vec3b c = image.at<cv::Vec3b>(y, x);
-      n += (c[0] != c[1] || c[1] != c[2]) ? 1 : 0;
+      n.coloured += (c[0] != c[1] || c[1] != c[2]) ? 1 : 0;
+      n.holes += (c[0] == 0 && c[1] == 0 && c[2] == 0) ? 1 : 0;
     }
   }
   return n;
 }
 
 TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
-  const fs::path seq = test::SmallGeneratedSequence(3);
+  // 5 frames: enough compared pixels for every bin of the breakdown now that the mesh is open where no view
+  // saw a surface (3 frames gave 985 lidar pixels).
+  const fs::path seq = test::SmallGeneratedSequence(5);
   const fs::path tmp = test::TempDir();  // emptied on each call: called once
   const fs::path run_dir = tmp / "run";
   const CliRun run =
@@ -191,19 +198,26 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
     EXPECT_NE(md.find(text), std::string::npos) << text << "\n" << md;
   }
 
-  // Error images of frames 0 and 2 (two spread over three), against Velodyne and exact depth, non-trivial,
+  // Error images of frames 0 and 4 (two spread over five), against Velodyne and exact depth, non-trivial,
   // with a legend band.
-  for (const char* name : {"error_lidar_000000.png", "error_lidar_000002.png", "error_exact_depth_000000.png",
-                           "error_exact_depth_000002.png"}) {
+  for (const char* name : {"error_lidar_000000.png", "error_lidar_000004.png", "error_exact_depth_000000.png",
+                           "error_exact_depth_000004.png"}) {
     const cv::Mat image = cv::imread((out / name).string());
     ASSERT_FALSE(image.empty()) << name;
     EXPECT_EQ(image.cols, 480) << name;
     ASSERT_GT(image.rows, 144 + 29) << name;
-    // Velodyne (512 azimuth steps here) colours about 5 % of the picture, exact depth most of it.
+    // Velodyne (512 azimuth steps here) has a reference in about 5 % of the picture, exact depth in most of it
+    // (the sky has none); the mesh covers most of those pixels (it is open where no view saw a surface: the
+    // holes are black).
     const int share = std::string(name).find("lidar") != std::string::npos ? 40 : 3;
-    EXPECT_GT(ColouredPixels(image, 144), 480 * 144 / share) << name;
+    const ErrorImagePixels n = CountPixels(image, 144);
+    std::cout << name << ": " << n.coloured << " coloured, " << n.holes << " holes\n";
+    EXPECT_GT(n.coloured + n.holes, 480 * 144 / share) << name;
+    // Measured 64–67 % covered on these 5 small frames (480 px wide: noisier depth, which opens more holes
+    // with map.seen_noise_sigmas 0).
+    EXPECT_GT(n.coloured, n.holes) << name;
   }
-  EXPECT_FALSE(fs::exists(out / "error_lidar_000001.png"));
+  EXPECT_FALSE(fs::exists(out / "error_lidar_000002.png"));
   EXPECT_TRUE(fs::exists(out / "top_view.png"));
 
   // Named frames instead.

@@ -109,4 +109,61 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
   return {QuantiseWeight(free * rays_per_sample), QuantiseWeight(matter * rays_per_sample)};
 }
 
+namespace {
+
+// The depth the view's map gives at continuous pixel coordinates `uv` (pixel centres at integers): 1/z
+// interpolated bilinearly where the four pixels around have depth (1/z is linear in the image over a plane,
+// so a plane's depth comes back exactly), else the nearest pixel's. 0 or kFreeToFarRange as the map says.
+double DepthAt(const DepthView& v, const Eigen::Vector2d& uv) {
+  const int u0 = int(std::floor(uv.x())), v0 = int(std::floor(uv.y()));
+  if (u0 >= 0 && v0 >= 0 && u0 + 1 < v.depth_m.cols && v0 + 1 < v.depth_m.rows) {
+    const float d00 = v.depth_m.at<float>(v0, u0), d01 = v.depth_m.at<float>(v0, u0 + 1);
+    const float d10 = v.depth_m.at<float>(v0 + 1, u0), d11 = v.depth_m.at<float>(v0 + 1, u0 + 1);
+    const auto valid = [](float d) { return d > 0.0f && d != kFreeToFarRange; };
+    if (valid(d00) && valid(d01) && valid(d10) && valid(d11)) {
+      const double a = uv.x() - u0, b = uv.y() - v0;
+      const double inverse = (1 - b) * ((1 - a) / d00 + a / d01) + b * ((1 - a) / d10 + a / d11);
+      return 1.0 / inverse;
+    }
+  }
+  return v.At(std::round(uv.x()), std::round(uv.y()));
+}
+
+}  // namespace
+
+std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, std::uint8_t candidates,
+                        const VotingView& view, const DepthVoteGeometry& geometry) {
+  const DepthView& v = *view.view;
+  std::array<Eigen::Vector3d, 4> cam;
+  for (int i = 0; i < 4; ++i) cam[i] = view.ToCamera(vertices_world[i]);
+  std::uint8_t seen = 0;
+  for (int i = 0; i < 4; ++i) {
+    if (!((candidates >> i) & 1)) continue;
+    const Eigen::Vector3d& a = cam[(i + 1) % 4];
+    const Eigen::Vector3d& b = cam[(i + 2) % 4];
+    const Eigen::Vector3d& c = cam[(i + 3) % 4];
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    if (normal.squaredNorm() == 0.0) continue;
+    const Eigen::Vector3d unit_normal = normal.normalized();
+    const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+    const double radius_m = std::sqrt(std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(),
+                                                (c - centroid).squaredNorm()}));
+    // The point the view saw along the centroid's ray, against the facet: near its plane (measured across the
+    // plane, so that a facet seen at a grazing angle is not judged by the steep depth change along it) and
+    // near the facet itself. The centroid only: a facet spanning from a seen surface to a guess is seen near
+    // its seen end (halfway samples let 3.7 % of the area lie beyond 2 m of the truth instead of 1.7 %).
+    if (centroid.z() <= 0.0) continue;
+    const double depth_m = DepthAt(v, v.intrinsics.Project(centroid));
+    if (depth_m == 0.0 || depth_m == kFreeToFarRange) continue;
+    const Eigen::Vector3d seen_point = centroid * (depth_m / centroid.z());
+    const double noise_m = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px;
+    const double tolerance_m = geometry.ray.extension_m + geometry.seen_noise_sigmas * noise_m;
+    if (std::abs(unit_normal.dot(seen_point - a)) <= tolerance_m &&
+        (seen_point - centroid).norm() <= radius_m + tolerance_m) {
+      seen |= std::uint8_t(1u << i);
+    }
+  }
+  return seen;
+}
+
 }  // namespace semap::map_internal

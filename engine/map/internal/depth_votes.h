@@ -29,6 +29,11 @@
 //     contains the camera gets one full free vote per ray of the view (every ray starts there).
 //   - Pixels the view marks kFreeToFarRange (sky) vote free up to the view's far range, and no matter: a
 //     semantic vote the paper does not have (rays that met nothing within range carve what they crossed).
+//
+// Not in the paper either: which facets a view sees as a surface (SeenFacets). The surface of the carved region
+// also runs where free space meets space no view saw (above the field of view, behind a facade, beyond the far
+// range): a wall of unknown, not matter. Such a facet is never where a view saw its depth; the map emits only
+// facets some view saw there (map.drop_unseen_surface), so the mesh is open where nothing was seen.
 #pragma once
 
 #include <Eigen/Core>
@@ -60,6 +65,9 @@ struct DepthVoteGeometry {
   RayGeometry ray;
   // σ of the disparity (px): a pixel's depth z is uncertain by σ_z = z² · σ / (f·B).
   double disparity_sigma_px = 0.5;
+  // A facet is seen as a surface where the point seen through its centroid lies within ray.extension_m +
+  // seen_noise_sigmas · σ_z of its plane (MapOptions::seen_noise_sigmas).
+  double seen_noise_sigmas = 0.0;
 };
 
 struct VoteIncrement {
@@ -70,5 +78,12 @@ struct VoteIncrement {
 // The votes of the (finite) cell with these vertices from one view (see above). Thread-safe (reads only).
 VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, const VotingView& view,
                        const DepthVoteGeometry& geometry);
+
+// Of the facets of the cell with these vertices named by `candidates` (bit i: the facet opposite vertex i), those
+// the view sees as a surface: the point the view saw along the ray through the facet's centroid (depth
+// interpolated, not sky, not empty) lies within the tolerance (DepthVoteGeometry) of the facet's plane, and
+// no farther from its centroid than its vertices are (plus the tolerance). Thread-safe (reads only).
+std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, std::uint8_t candidates,
+                        const VotingView& view, const DepthVoteGeometry& geometry);
 
 }  // namespace semap::map_internal

@@ -178,6 +178,7 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
     CellHandle outside;
     int facet;  // of `outside`, facing the hole
     std::int64_t free_q, matter_q;
+    bool facet_seen;  // the boundary facet was seen as a surface (CellInfo::seen_facets)
   };
   std::vector<Parent> parents;
   CellHandle hint;
@@ -198,7 +199,8 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
     for (const Delaunay::Facet& f : boundary) {
       const CellHandle inside = f.first;
       const CellHandle outside = inside->neighbor(f.second);
-      parents.push_back({outside, outside->index(inside), inside->info().free_q, inside->info().matter_q});
+      parents.push_back({outside, outside->index(inside), inside->info().free_q, inside->info().matter_q,
+                         FacetSeen(inside, f.second)});
     }
     const VertexHandle v = dt_.insert_in_hole(p, hole.begin(), hole.end(), boundary.front().first,
                                               boundary.front().second);
@@ -206,6 +208,7 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
       CellInfo& info = parent.outside->neighbor(parent.facet)->info();
       info.free_q = parent.free_q;
       info.matter_q = parent.matter_q;
+      if (parent.facet_seen) MarkFacetSeen(parent.outside, parent.facet);
     }
     RecordInserted(pv, v, result);
     hint = v->cell();
@@ -240,6 +243,19 @@ void IncrementalState::SeenAgain(std::uint32_t id) {
   }
 }
 
+namespace {
+
+// Whether the facet of `c` opposite vertex `k` has a frozen vertex: the fans of frozen vertices were fixed
+// when they froze (RecordFan), so which of their facets are seen may not change any more.
+bool TouchesFrozen(CellHandle c, int k) {
+  for (int j = 0; j < 4; ++j) {
+    if (j != k && c->vertex(j)->info().frozen) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 std::size_t IncrementalState::VoteFromViews() {
   if (dt_.dimension() < 3 || views_.empty()) return 0;
   std::vector<CellHandle> cells;
@@ -249,6 +265,10 @@ std::size_t IncrementalState::VoteFromViews() {
   }
   const VotingView& newest = views_.back();
   std::vector<VoteIncrement> votes(cells.size());
+  // Facets seen as a surface (see SeenFacets): the facets of a new cell in every view of the window; on the
+  // rest of the map, the surface facets (from their carved side) that no view saw yet, in the newest view.
+  const bool track_seen = Emit().drop_unseen;
+  std::vector<std::uint8_t> seen(track_seen ? cells.size() : 0);
   constexpr std::size_t kGrainCells = 4096;
   // Reads only: the votes are applied below, in cell order, so the result does not depend on the threads.
   ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
@@ -272,6 +292,19 @@ std::size_t IncrementalState::VoteFromViews() {
       } else {
         votes[i] = VoteCell(vertices, newest, depth_geometry_);
       }
+      if (!track_seen) continue;
+      const bool created = c->info().created == created_mark_;
+      std::uint8_t candidates = 0;
+      for (int k = 0; k < 4; ++k) {
+        const bool surface = created || (c->info().carved && !NeighbourCarved(c, k));
+        if (surface && !FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates |= std::uint8_t(1u << k);
+      }
+      if (candidates == 0) continue;
+      if (created) {
+        for (const VotingView& view : views_) seen[i] |= SeenFacets(vertices, candidates, view, depth_geometry_);
+      } else {
+        seen[i] = SeenFacets(vertices, candidates, newest, depth_geometry_);
+      }
     }
   });
   std::size_t voted = 0;
@@ -279,6 +312,9 @@ std::size_t IncrementalState::VoteFromViews() {
     const CellHandle c = cells[i];
     CellInfo& info = c->info();
     const bool was_free = info.IsFree();
+    for (int k = 0; track_seen && k < 4; ++k) {
+      if ((seen[i] >> k) & 1) MarkFacetSeen(c, k);
+    }
     if (votes[i].free_q != 0 || votes[i].matter_q != 0) {
       ++voted;
       info.free_q += votes[i].free_q;

@@ -89,10 +89,11 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   EmitFinalisedFacets(removed, seam, cell_mark);
   // The carving seen across each facet of the hole's boundary, from inside the hole: the cells that will
   // fill the hole keep it (SealHole).
-  std::unordered_map<FacetHandles, bool, FacetHandlesHash> hole_side;
+  std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash> hole_side;
   for (const CellHandle d : destroyed_) {
     for (int i = 0; i < 4; ++i) {
-      if (d->neighbor(i)->info().stamp != cell_mark) hole_side[SortedFacet(d, i)] = d->info().CarvedAcross(i);
+      if (d->neighbor(i)->info().stamp == cell_mark) continue;
+      hole_side[SortedFacet(d, i)] = {d->info().CarvedAcross(i), FacetSeen(d, i)};
     }
   }
   std::vector<std::uint32_t> affected;
@@ -159,7 +160,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
 }
 
 void IncrementalState::SealHole(
-    const std::unordered_map<FacetHandles, bool, FacetHandlesHash>& hole_side) {
+    const std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash>& hole_side) {
   std::vector<CellHandle> star;
   for (const VertexHandle v : boundary_) {
     star.clear();
@@ -171,7 +172,8 @@ void IncrementalState::SealHole(
         if (h->neighbor(i)->info().created == created_mark_) continue;  // inside the hole: no surface
         const auto it = hole_side.find(SortedFacet(h, i));
         SEMAP_ASSERT(it != hole_side.end(), "a facet of the refilled hole was not on the hole's boundary");
-        if (it->second) sealed |= std::uint8_t(1u << i);
+        if (it->second.carved) sealed |= std::uint8_t(1u << i);
+        if (it->second.seen) MarkFacetSeen(h, i);
       }
       h->info().sealed = sealed;
       h->info().carved = false;
@@ -183,7 +185,7 @@ void IncrementalState::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* arou
   around->clear();
   SurfaceAround(dt_, v, around);
   around->erase(std::remove_if(around->begin(), around->end(),
-                               [&](const SurfaceFacet& f) { return LeftOut(f, options_.drop_steiner_triangles); }),
+                               [&](const SurfaceFacet& f) { return LeftOut(f, Emit()); }),
                 around->end());
   std::vector<const SurfaceFacet*> fan;
   for (const SurfaceFacet& f : *around) fan.push_back(&f);
@@ -221,7 +223,7 @@ void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& remo
   }
   {
     for (const SurfaceFacet& f : around) {
-      if (LeftOut(f, options_.drop_steiner_triangles) || !emitted.insert(f.id).second) continue;
+      if (LeftOut(f, Emit()) || !emitted.insert(f.id).second) continue;
       const auto copies = fan_copies_.find(f.id);
       SEMAP_ASSERT(copies != fan_copies_.end(), "a finalised facet without the copies of its vertices");
       std::array<std::uint32_t, 3> tri;

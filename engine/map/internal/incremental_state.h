@@ -28,6 +28,12 @@ struct FacetHandlesHash {
     return h;
   }
 };
+// What a released cell leaves across one facet of a finalisation's hole boundary to the cell that refills it.
+struct HoleSide {
+  bool carved = false;  // the released cell counted as carved across the facet
+  bool seen = false;    // the facet was seen as a surface (CellInfo::seen_facets)
+};
+
 inline FacetHandles SortedFacet(CellHandle c, int opposite) {
   FacetHandles f;
   for (int k = 0, n = 0; k < 4; ++k) {
@@ -122,7 +128,7 @@ class IncrementalState {
   void Finalise(MapUpdateResult* result);
   // Seals the cells that refilled the hole of a finalisation (created_mark_, around boundary_) with the
   // carving `hole_side` recorded across the hole's boundary facets.
-  void SealHole(const std::unordered_map<FacetHandles, bool, FacetHandlesHash>& hole_side);
+  void SealHole(const std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash>& hole_side);
   // Drops the pending vertices whose insertion would destroy a pinned cell (a seam of finalisation): their
   // points are dropped (counted in `result`) with their rays. Returns the number dropped.
   std::size_t DropPinnedConflicts(const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,
@@ -142,6 +148,11 @@ class IncrementalState {
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
   void ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes);
   std::uint32_t NewMark() { return ++mark_; }
+  // The surface facets the output leaves out (live mesh and finalised triangles alike).
+  EmitRule Emit() const {
+    return {options_.drop_steiner_triangles,
+            options_.visibility == Visibility::kDepth && options_.drop_unseen_surface};
+  }
 
   MapOptions options_;
   RayGeometry geometry_;

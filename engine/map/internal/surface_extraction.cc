@@ -36,21 +36,23 @@ SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite) {
 SurfaceFacet OrientedSurfaceFacet(CellHandle c, int i) {
   SurfaceFacet f = OrientedFacet(c, i);
   if (!c->info().CarvedAcross(i)) std::swap(f.vertices[1], f.vertices[2]);
+  f.unseen = !FacetSeen(c, i);
   return f;
 }
 
-bool LeftOut(const SurfaceFacet& f, bool drop_steiner) {
-  return drop_steiner && std::any_of(f.vertices.begin(), f.vertices.end(),
-                                     [](VertexHandle v) { return v->info().steiner; });
+bool LeftOut(const SurfaceFacet& f, const EmitRule& rule) {
+  if (rule.drop_unseen && f.unseen) return true;
+  return rule.drop_steiner && std::any_of(f.vertices.begin(), f.vertices.end(),
+                                          [](VertexHandle v) { return v->info().steiner; });
 }
 
-void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets,
+void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<SurfaceFacet>* facets,
                     std::vector<VertexHandle>* open) {
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
     for (int i = 0; i < 4; ++i) {
       if (!TakenFrom(dt, c, i)) continue;
       SurfaceFacet f = OrientedSurfaceFacet(c, i);
-      if (LeftOut(f, drop_steiner)) {
+      if (LeftOut(f, rule)) {
         if (open) open->insert(open->end(), f.vertices.begin(), f.vertices.end());
         continue;
       }
@@ -299,11 +301,11 @@ IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlab
   return out;
 }
 
-IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, bool drop_steiner, const std::vector<VertexHandle>& irregular,
+IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule, const std::vector<VertexHandle>& irregular,
                                   const FanCopies* frozen, Label unlabelled) {
   std::vector<SurfaceFacet> facets;
   std::vector<VertexHandle> open;
-  CollectSurface(dt, drop_steiner, &facets, &open);
+  CollectSurface(dt, rule, &facets, &open);
   AssignCopies(dt, &facets, open, irregular, frozen);
   return FacetsToMesh(facets, unlabelled);
 }

@@ -37,6 +37,15 @@ struct SurfaceFacet {
   FacetKey id;  // sorted vertex keys
   // The copy of each vertex this facet uses (see AssignCopies): 0 but at pinched vertices.
   std::array<std::uint8_t, 3> copy{0, 0, 0};
+  // No view saw it as a surface (CellInfo::seen_facets on either side; a facet on a seam of finalisation
+  // keeps the bit of its live side).
+  bool unseen = false;
+};
+
+// Which surface facets the output leaves out.
+struct EmitRule {
+  bool drop_steiner = true;  // those touching a Steiner vertex
+  bool drop_unseen = false;  // those no view saw as a surface (SurfaceFacet::unseen)
 };
 
 // Pinched vertices. The whole surface (the boundary of the carved cells) is a closed 2-manifold: around each
@@ -63,7 +72,7 @@ void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets, const s
                   const std::vector<VertexHandle>& irregular, const FanCopies* frozen);
 
 // Whether the output leaves `f` out.
-bool LeftOut(const SurfaceFacet& f, bool drop_steiner);
+bool LeftOut(const SurfaceFacet& f, const EmitRule& rule);
 
 // The facet of `carved_cell` opposite its vertex `opposite`, oriented counter-clockwise seen from the cell.
 SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite);
@@ -88,9 +97,9 @@ inline bool TakenFrom(const Delaunay& dt, CellHandle c, int i) {
 SurfaceFacet OrientedSurfaceFacet(CellHandle c, int i);
 
 // Boundary facets between carved and uncarved cells (sealed cells count as carved across the facets their
-// bits say); with `drop_steiner`, facets touching a Steiner vertex are left out, and the vertices of those
-// go to `open` (may be null). Appends to `facets`.
-void CollectSurface(const Delaunay& dt, bool drop_steiner, std::vector<SurfaceFacet>* facets,
+// bits say); those `rule` leaves out are not appended, and their vertices go to `open` (may be null): they
+// can pinch. Appends to `facets`.
+void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<SurfaceFacet>* facets,
                     std::vector<VertexHandle>* open = nullptr);
 
 // The surface facets through finite vertex `v`, each once, oriented.
@@ -102,7 +111,7 @@ void SurfaceAround(const Delaunay& dt, VertexHandle v, std::vector<SurfaceFacet>
 IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled);
 
 // The output surface: CollectSurface, AssignCopies (with `frozen`, may be null), FacetsToMesh.
-IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, bool drop_steiner, const std::vector<VertexHandle>& irregular,
+IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule, const std::vector<VertexHandle>& irregular,
                                   const FanCopies* frozen, Label unlabelled);
 
 // Votes of every finite cell.

@@ -48,6 +48,10 @@ struct CellInfo {
   std::int64_t free_q = 0;
   std::int64_t matter_q = 0;
   bool carved = false;        // inside the manifold free-space region
+  // Bit i: a view saw the facet opposite vertex i as a surface (its centroid at the depth of the pixel it
+  // projects to; map.visibility: depth). Set on both cells of the facet, so that it survives the insertions
+  // that rebuild one of them.
+  std::uint8_t seen_facets = 0;
   // A cell filling the hole left by finalised vertices (incremental map): never carved, it stands for the
   // released cells it replaced. Each of its facets on the hole's boundary keeps the carving of the released
   // cell that was behind it (bit i: the facet opposite vertex i), so the surface there stays what it was.
@@ -84,6 +88,19 @@ using VertexHandle = Delaunay::Vertex_handle;
 // The ray walks read vertices all the time: keep them small (point + cell handle + this = 48 bytes).
 static_assert(sizeof(VertexInfo) <= 16, "VertexInfo grew: a CGAL vertex would take another 8 bytes");
 using CellHandle = Delaunay::Cell_handle;
+
+// Whether the facet of `c` opposite vertex `i` was seen as a surface (the bit of either of its cells).
+inline bool FacetSeen(CellHandle c, int i) {
+  const CellHandle n = c->neighbor(i);
+  return ((c->info().seen_facets >> i) & 1) != 0 || ((n->info().seen_facets >> n->index(c)) & 1) != 0;
+}
+// Marks the facet of `c` opposite vertex `i` seen, in both its cells: the bit survives whichever is rebuilt
+// next (an insertion or a finalisation rebuilds the cells on one side of a facet it keeps).
+inline void MarkFacetSeen(CellHandle c, int i) {
+  const CellHandle n = c->neighbor(i);
+  c->info().seen_facets |= std::uint8_t(1u << i);
+  n->info().seen_facets |= std::uint8_t(1u << n->index(c));
+}
 
 inline Point ToPoint(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
 inline Eigen::Vector3d ToEigen(const Point& p) { return {p.x(), p.y(), p.z()}; }

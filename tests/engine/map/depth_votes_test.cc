@@ -157,5 +157,44 @@ TEST(DepthVotes, TheCellHoldingTheCameraGetsEveryRay) {
   EXPECT_EQ(v.matter_q, 0);
 }
 
+TEST(DepthVotes, AFacetIsSeenWhereItLiesAtItsPixelsDepth) {
+  const VotingView view(WallView(10.0f));
+  // The facet opposite vertex 3 lies on the wall (within the 0.1 m extension). (The other three reach 2 m in
+  // front of it; near their edge on the wall they come within the tolerance of the wall's points.)
+  const std::array<Eigen::Vector3d, 4> tet{Eigen::Vector3d(-2, -2, 10.05), Eigen::Vector3d(2, -2, 10.05),
+                                           Eigen::Vector3d(0, 2, 10.05), Eigen::Vector3d(0, 0, 8)};
+  EXPECT_EQ(SeenFacets(tet, 0x8, view, PaperGeometry()), 0x8);
+  EXPECT_EQ(SeenFacets(tet, 0x7, view, PaperGeometry()) & 0x8, 0x0) << "only the candidates are tested";
+  // A cell floating 1.5–2 m in front of the wall: none of its facets.
+  std::array<Eigen::Vector3d, 4> floating = tet;
+  for (auto& p : floating) p.z() = p.z() == 8.0 ? 8.0 : 8.5;
+  EXPECT_EQ(SeenFacets(floating, 0xF, view, PaperGeometry()), 0x0);
+  // A facet parallel to the wall, 0.95 m in front of it: seen only within a tolerance that reaches the wall.
+  // With depth noise the tolerance widens: σ_z = 1 m at 10 m (σ = 1 px, f·B = 100 px · 2 · 0.5 m).
+  const std::array<Eigen::Vector3d, 4> before{Eigen::Vector3d(-1, -1, 9.05), Eigen::Vector3d(1, -1, 9.05),
+                                              Eigen::Vector3d(0, 1, 9.05), Eigen::Vector3d(0, 0, 8.5)};
+  EXPECT_EQ(SeenFacets(before, 0x8, view, PaperGeometry()), 0x0);
+  DepthVoteGeometry noisy = PaperGeometry();
+  noisy.disparity_sigma_px = 1.0;
+  noisy.seen_noise_sigmas = 1.0;  // 0.1 + 1 m ≥ 0.95 m
+  EXPECT_EQ(SeenFacets(before, 0x8, view, noisy), 0x8);
+  noisy.seen_noise_sigmas = 0.5;  // 0.1 + 0.5 m < 0.95 m
+  EXPECT_EQ(SeenFacets(before, 0x8, view, noisy), 0x0);
+  // A 2 cm facet edge-on to the camera, 3 m before the wall: the wall point seen through its centroid lies in
+  // its plane, but far outside the facet.
+  const std::array<Eigen::Vector3d, 4> edge_on{Eigen::Vector3d(0, -0.01, 6.99), Eigen::Vector3d(0, 0.01, 6.99),
+                                               Eigen::Vector3d(0, 0, 7.01), Eigen::Vector3d(0.01, 0, 7)};
+  noisy.seen_noise_sigmas = 1.0;
+  EXPECT_EQ(SeenFacets(edge_on, 0x8, view, noisy), 0x0);
+  // Against the sky, without depth, behind the camera or outside the image: never seen.
+  EXPECT_EQ(SeenFacets(tet, 0xF, VotingView(WallView(kFreeToFarRange)), PaperGeometry()), 0x0);
+  EXPECT_EQ(SeenFacets(tet, 0xF, VotingView(WallView(0.0f)), PaperGeometry()), 0x0);
+  std::array<Eigen::Vector3d, 4> behind = tet, aside = tet;
+  for (auto& p : behind) p.z() = -p.z();
+  for (auto& p : aside) p.x() += 20.0;
+  EXPECT_EQ(SeenFacets(behind, 0xF, view, PaperGeometry()), 0x0);
+  EXPECT_EQ(SeenFacets(aside, 0xF, view, PaperGeometry()), 0x0);
+}
+
 }  // namespace
 }  // namespace semap::map_internal

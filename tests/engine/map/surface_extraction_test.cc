@@ -24,7 +24,7 @@ TEST(FacetsToMesh, EveryTriangleNamesItsFacetsVerticesOnce) {
     }
     for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) c->info().carved = unit(rng) < 0.4;
     std::vector<SurfaceFacet> facets;
-    CollectSurface(dt, /*drop_steiner=*/false, &facets);
+    CollectSurface(dt, EmitRule{/*drop_steiner=*/false, /*drop_unseen=*/false}, &facets);
     ASSERT_GT(facets.size(), 100u);
 
     const Label unlabelled = 255;
