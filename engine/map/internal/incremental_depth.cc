@@ -301,7 +301,12 @@ std::size_t IncrementalState::VoteFromViews() {
       }
       if (candidates == 0) continue;
       if (created) {
-        for (const VotingView& view : views_) seen[i] |= SeenFacets(vertices, candidates, view, depth_geometry_);
+        // Newest view first: a facet one view saw needs no other.
+        for (auto view = views_.rbegin(); view != views_.rend() && candidates != 0; ++view) {
+          const std::uint8_t found = SeenFacets(vertices, candidates, *view, depth_geometry_);
+          seen[i] |= found;
+          candidates &= std::uint8_t(~found);
+        }
       } else {
         seen[i] = SeenFacets(vertices, candidates, newest, depth_geometry_);
       }
