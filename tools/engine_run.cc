@@ -52,12 +52,18 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::uniq
   } else {
     reader = std::move(source);
   }
-  return std::make_unique<Pipeline>(
+  // ENet runs on its own thread, on keyframes (semantics.enet_every_frames); the depth workers load none.
+  const bool enet = config.semantics.source == LabelSource::kEnet;
+  auto pipeline = std::make_unique<Pipeline>(
       config.pipeline, std::move(reader),
-      [depth = config.depth, semantics = config.semantics, class_map] {
-        return std::make_unique<StereoLabelStage>(depth, semantics, class_map);
+      [depth = config.depth, semantics = config.semantics, class_map, enet] {
+        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet);
       },
       std::move(simplify), std::make_unique<IncrementalMapStage>(config.map));
+  if (enet) {
+    pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics), config.semantics.enet_every_frames);
+  }
+  return pipeline;
 }
 
 EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, double progress_s,
