@@ -12,9 +12,11 @@
 # Rows: label files (semantics.source disk), then ENet (semantics.source enet) every N frames for each N of
 # --every, then ENet every N at half the input size (512x256) for the smallest N > 1 of --every.
 # Columns: f/s (frames / wall time of the run, summary.json), the ratio to the label-file run, CPU seconds per
-# frame (all threads), the segmenter's mean time per keyframe and the depth workers' mean wait for labels.
+# frame (all threads), the segment thread's mean time per keyframe and the depth workers' mean wait for labels
+# (N = 1 segments in the depth workers: no segment thread, "–").
 # Timings are only comparable on an idle machine: the load average before and after is printed; run it again
-# when it was not idle. With --repeats R each row is the median of R runs.
+# when it was not idle. With --repeats R (default 1) every configuration runs once per round, R rounds, and
+# each row is the median-f/s run.
 # Environment: SEMAP (default build/tools/semap), EVAL (default build/bench/semap_enet_keyframe_eval),
 # SEMAP_SHARED (default ../shared), CPUS (default 0,1).
 set -euo pipefail
@@ -68,19 +70,45 @@ fi
 
 LOAD_BEFORE="$(cut -d' ' -f1-3 /proc/loadavg)"
 
-# run NAME SEQ ARGS...: REPEATS runs; prints "fps cpu_per_frame segment_ms wait_ms" of the median-fps run.
-run() {
+# measure NAME SEQ ARGS...: one run; appends "fps cpu_per_frame segment_ms wait_ms" to OUT/results/NAME.
+measure() {
   local name="$1" seq="$2"
   shift 2
-  local r
-  for ((r = 1; r <= REPEATS; r++)); do
-    local dir="$OUT/runs/$name.$r"
-    taskset -c "$CPUS" "$SEMAP" run "$seq" --method PS --out "$dir" --log-level warn --progress-interval 0 \
-      --set semantics.enet_model_path="$MODEL" "$@" >&2
-    jq -r '[.fps, .cpu_s / .frames_processed, (.stages.segment.mean_ms // 0),
-            (.stages["depth.label_wait"].mean_ms // 0)] | @tsv' "$dir/summary.json"
-  done | sort -g -k1,1 | sed -n "$(((REPEATS + 1) / 2))p"
+  local dir="$OUT/runs/$name.$r"
+  rm -rf "$dir"
+  taskset -c "$CPUS" "$SEMAP" run "$seq" --method PS --out "$dir" --log-level warn --progress-interval 100000 \
+    --set semantics.enet_model_path="$MODEL" "$@" >&2
+  jq -r '[.fps, .cpu_s / .frames_processed, (.stages.segment.mean_ms // 0),
+          (.stages["depth.label_wait"].mean_ms // 0)] | @tsv' "$dir/summary.json" >> "$OUT/results/$name"
 }
+# median NAME: the line of the median frame rate.
+median() { sort -g -k1,1 "$OUT/results/$1" | sed -n "$(((REPEATS + 1) / 2))p"; }
+
+SMALL_N=""
+for n in $EVERY; do
+  if ((n > 1)) && [[ -z "$SMALL_N" || n -lt SMALL_N ]]; then SMALL_N="$n"; fi
+done
+rm -rf "$OUT/results"
+mkdir -p "$OUT/results"
+# Every configuration once per round, rounds one after the other: a change of the machine's load during the
+# measurement hits every row alike.
+for ((r = 1; r <= REPEATS; r++)); do
+  for tag in KITTI generated; do
+    if [[ "$tag" == KITTI ]]; then
+      seq="$KITTI"; files=(--set semantics.source=disk --set input.labels_dir="$KITTI_LABELS")
+    else
+      seq="$URBAN"; files=(--set semantics.source=disk)
+    fi
+    measure "$tag.files" "$seq" "${files[@]}"
+    for n in $EVERY; do
+      measure "$tag.enet$n" "$seq" --set semantics.source=enet --set semantics.enet_every_frames="$n"
+    done
+    if [[ -n "$SMALL_N" ]]; then
+      measure "$tag.enet$SMALL_N.half" "$seq" --set semantics.source=enet --set semantics.enet_every_frames="$SMALL_N" \
+        --set semantics.enet_input_width_px=512 --set semantics.enet_input_height_px=256
+    fi
+  done
+done
 
 TABLE="$OUT/enet_rate.md"
 {
@@ -92,30 +120,19 @@ row() {  # row SEQ_NAME LABELS N INPUT BASE_FPS "fps cpu seg wait"
   read -r fps cpu seg wait <<< "$6"
   awk -v s="$1" -v l="$2" -v n="$3" -v i="$4" -v base="$5" -v f="$fps" -v c="$cpu" -v g="$seg" -v w="$wait" \
     'BEGIN { printf "| %s | %s | %s | %s | %.2f | %.2f | %.3f | %s | %s |\n", s, l, n, i, f, f / base, c,
-             (g > 0 ? sprintf("%.0f", g) : "–"), (l == "ENet" ? sprintf("%.0f", w) : "–") }' >> "$TABLE"
+             (g > 0 ? sprintf("%.0f", g) : "–"), (g > 0 ? sprintf("%.0f", w) : "–") }' >> "$TABLE"
 }
-SMALL_N=""
-for n in $EVERY; do
-  if ((n > 1)) && [[ -z "$SMALL_N" || n -lt SMALL_N ]]; then SMALL_N="$n"; fi
-done
-for seq_name in "KITTI 04 (51)" "generated (80)"; do
-  if [[ "$seq_name" == KITTI* ]]; then
-    seq="$KITTI"; files=(--set semantics.source=disk --set input.labels_dir="$KITTI_LABELS")
-  else
-    seq="$URBAN"; files=(--set semantics.source=disk)
-  fi
-  tag="${seq_name%% *}"
-  base="$(run "$tag.files" "$seq" "${files[@]}")"
+for tag in KITTI generated; do
+  seq_name="KITTI 04 (51 frames)"
+  [[ "$tag" == KITTI ]] || seq_name="generated (80 frames)"
+  base="$(median "$tag.files")"
   base_fps="$(cut -f1 <<< "$base")"
   row "$seq_name" "label files" "–" "–" "$base_fps" "$base"
   for n in $EVERY; do
-    row "$seq_name" "ENet" "$n" "1024x512" "$base_fps" \
-      "$(run "$tag.enet$n" "$seq" --set semantics.source=enet --set semantics.enet_every_frames="$n")"
+    row "$seq_name" "ENet" "$n" "1024x512" "$base_fps" "$(median "$tag.enet$n")"
   done
   if [[ -n "$SMALL_N" ]]; then
-    row "$seq_name" "ENet" "$SMALL_N" "512x256" "$base_fps" \
-      "$(run "$tag.enet$SMALL_N.half" "$seq" --set semantics.source=enet --set semantics.enet_every_frames="$SMALL_N" \
-        --set semantics.enet_input_width_px=512 --set semantics.enet_input_height_px=256)"
+    row "$seq_name" "ENet" "$SMALL_N" "512x256" "$base_fps" "$(median "$tag.enet$SMALL_N.half")"
   fi
 done
 {

@@ -52,8 +52,10 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::uniq
   } else {
     reader = std::move(source);
   }
-  // ENet runs on its own thread, on keyframes (semantics.enet_every_frames); the depth workers load none.
-  const bool enet = config.semantics.source == LabelSource::kEnet;
+  // ENet on keyframes (semantics.enet_every_frames > 1) runs on its own thread and the depth workers load
+  // none; on every frame (1) each depth worker runs its own, so that the workers segment frames in parallel
+  // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the path).
+  const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
   auto pipeline = std::make_unique<Pipeline>(
       config.pipeline, std::move(reader),
       [depth = config.depth, semantics = config.semantics, class_map, enet] {

@@ -34,10 +34,12 @@ struct SemanticsOptions {
   // Threads of the network's forward pass (cv::setNumThreads is process-wide: 0 = leave OpenCV's setting).
   int enet_threads = 0;
   // ENet in `semap run` (the streaming pipeline) runs on its own thread, on keyframes only: the first frame,
-  // then every enet_every_frames frames (1 = every frame). Frames between keyframes take the labels of the
-  // nearest earlier keyframe as enet_propagation says (see keyframe_labels.h). The default keeps a run with
-  // ENet labels within 20 % of the frame rate of a run with label files (bench/RESULTS.md, "ENet off the
-  // critical path"). Outside the pipeline (compare --mode single-frame, depth, segment) every frame is segmented.
+  // then every enet_every_frames frames. Frames between keyframes take the labels of the nearest earlier
+  // keyframe as enet_propagation says (see keyframe_labels.h). 1 = every frame, segmented in the depth workers
+  // (each its own network, frames in parallel), as before keyframes. The default keeps a run with ENet labels
+  // near the frame rate of a run with label files at no measured loss of label accuracy (bench/RESULTS.md,
+  // "ENet off the critical path"). Outside the pipeline (compare --mode single-frame, depth, segment) every
+  // frame is segmented.
   int enet_every_frames = 4;
   // How a frame between keyframes gets its labels: reproject (through its depth and the relative pose) or
   // reuse (the keyframe's label image as it is).
