@@ -1,5 +1,6 @@
 #include "engine/pipeline/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <map>
@@ -198,22 +199,23 @@ TEST(Pipeline, StopOnErrorEndsTheRunWithoutDeadlock) {
   EXPECT_EQ(sink.finishes, 1);  // the mesh so far is still completed
 }
 
+// 60 frames 10 ms apart (FakeReader's 0.1 s would make a realtime test take 6 s): the reader paces on them.
+class DenseReader : public FakeReader {
+ public:
+  DenseReader() : FakeReader(60) {}
+  std::optional<Frame> Next() override {
+    auto f = FakeReader::Next();
+    if (f) f->timestamp_s = 0.01 * static_cast<double>(f->id);
+    return f;
+  }
+};
+
 TEST(Pipeline, RealtimeDropsFramesWhenTheMapFallsBehindAndCountsThem) {
   PipelineOptions options;
   options.mode = PipelineOptions::Mode::kRealtime;
   options.queue_capacity = 1;
   RecordingSink sink;
-  // Frames every 0.1 s of sequence time would take 3 s; the reader paces on timestamps, so make them dense:
-  // a 25 ms map against 10 ms frames must drop.
-  class DenseReader : public FakeReader {
-   public:
-    DenseReader() : FakeReader(60) {}
-    std::optional<Frame> Next() override {
-      auto f = FakeReader::Next();
-      if (f) f->timestamp_s = 0.01 * static_cast<double>(f->id);
-      return f;
-    }
-  };
+  // A 25 ms map against 10 ms frames must drop.
   const auto summary = RunPipeline(options, std::make_unique<DenseReader>(), &sink, {}, 25ms);
   const auto& s = summary.final_stats;
   EXPECT_GT(s.frames_dropped, 0);
@@ -510,6 +512,30 @@ TEST(PipelineKeyframes, StopRequestDrainsWithTheSegmentThread) {
   EXPECT_EQ(summary.final_stats.frames_failed, 0);
   EXPECT_EQ(run.sink.finishes, 1);
   for (const auto& [frame, keyframe] : run.depth_log.keyframe_of) EXPECT_EQ(keyframe, frame / 2 * 2);
+}
+
+// Realtime: a segmenter slower than the frames never blocks the reader; a keyframe that finds the segment
+// queue full is not taken (a later frame is), frames go on with the last keyframe taken, and everything read
+// is processed, dropped or failed, counted.
+TEST(PipelineKeyframes, RealtimeWithASlowSegmenterNeverBlocksTheReader) {
+  KeyframeRun run;
+  PipelineOptions options;
+  options.mode = PipelineOptions::Mode::kRealtime;
+  options.queue_capacity = 1;
+  RunWithKeyframes(&run, 2, std::make_unique<DenseReader>(), 30ms, {}, options);
+  const auto& s = run.summary.final_stats;
+  EXPECT_EQ(run.summary.frames_read, 60);
+  EXPECT_EQ(s.frames_processed + s.frames_dropped + s.frames_failed, 60);
+  EXPECT_EQ(s.frames_failed, 0);
+  EXPECT_GT(s.frames_processed, 0);
+  const auto& keyframes = run.segment_log.keyframes;
+  ASSERT_FALSE(keyframes.empty());
+  EXPECT_LE(keyframes.size(), 30u);  // at most every other frame, fewer when the queue was full
+  for (std::size_t i = 1; i < keyframes.size(); ++i) EXPECT_GE(keyframes[i] - keyframes[i - 1], 2);
+  for (const auto& [frame, keyframe] : run.depth_log.keyframe_of) {
+    EXPECT_LE(keyframe, frame);
+    EXPECT_TRUE(std::find(keyframes.begin(), keyframes.end(), keyframe) != keyframes.end()) << frame;
+  }
 }
 
 // Without a segment stage the depth stage gets no keyframe labels.
