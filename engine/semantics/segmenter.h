@@ -40,7 +40,7 @@ struct SemanticsOptions {
   // near the frame rate of a run with label files at no measured loss of label accuracy (bench/RESULTS.md,
   // "ENet off the critical path"). Outside the pipeline (compare --mode single-frame, depth, segment) every
   // frame is segmented.
-  int enet_every_frames = 4;
+  int enet_every_frames = 6;
   // How a frame between keyframes gets its labels: reproject (through its depth and the relative pose) or
   // reuse (the keyframe's label image as it is).
   LabelPropagation enet_propagation = LabelPropagation::kReproject;
