@@ -16,7 +16,7 @@
 # (N = 1 segments in the depth workers: no segment thread, "–").
 # Timings are only comparable on an idle machine: the load average before and after is printed; run it again
 # when it was not idle. With --repeats R (default 1) every configuration runs once per round, R rounds, and
-# each row is the median-f/s run.
+# each row is its fastest run (the one least disturbed by other processes).
 # Environment: SEMAP (default build/tools/semap), EVAL (default build/bench/semap_enet_keyframe_eval),
 # SEMAP_SHARED (default ../shared), CPUS (default 0,1).
 set -euo pipefail
@@ -81,8 +81,8 @@ measure() {
   jq -r '[.fps, .cpu_s / .frames_processed, (.stages.segment.mean_ms // 0),
           (.stages["depth.label_wait"].mean_ms // 0)] | @tsv' "$dir/summary.json" >> "$OUT/results/$name"
 }
-# median NAME: the line of the median frame rate.
-median() { sort -g -k1,1 "$OUT/results/$1" | sed -n "$(((REPEATS + 1) / 2))p"; }
+# best NAME: the line of the fastest run.
+best() { sort -g -r -k1,1 "$OUT/results/$1" | head -n 1; }
 
 SMALL_N=""
 for n in $EVERY; do
@@ -125,19 +125,19 @@ row() {  # row SEQ_NAME LABELS N INPUT BASE_FPS "fps cpu seg wait"
 for tag in KITTI generated; do
   seq_name="KITTI 04 (51 frames)"
   [[ "$tag" == KITTI ]] || seq_name="generated (80 frames)"
-  base="$(median "$tag.files")"
+  base="$(best "$tag.files")"
   base_fps="$(cut -f1 <<< "$base")"
   row "$seq_name" "label files" "–" "–" "$base_fps" "$base"
   for n in $EVERY; do
-    row "$seq_name" "ENet" "$n" "1024x512" "$base_fps" "$(median "$tag.enet$n")"
+    row "$seq_name" "ENet" "$n" "1024x512" "$base_fps" "$(best "$tag.enet$n")"
   done
   if [[ -n "$SMALL_N" ]]; then
-    row "$seq_name" "ENet" "$SMALL_N" "512x256" "$base_fps" "$(median "$tag.enet$SMALL_N.half")"
+    row "$seq_name" "ENet" "$SMALL_N" "512x256" "$base_fps" "$(best "$tag.enet$SMALL_N.half")"
   fi
 done
 {
   echo
-  echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) CPUs visible, taskset -c $CPUS, runs per row: $REPEATS (median);" \
+  echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) CPUs visible, taskset -c $CPUS, runs per row: $REPEATS (the fastest);" \
        "load average before: $LOAD_BEFORE, after: $(cut -d' ' -f1-3 /proc/loadavg)"
 } >> "$TABLE"
 cat "$TABLE"
