@@ -1,5 +1,6 @@
 // Semantic stage micro-benchmarks: ENet Cityscapes on a real KITTI frame (one core, cv::setNumThreads(1)),
-// and the first-camera labelling of a dense frame cloud.
+// the first-camera labelling of a dense frame cloud, and a keyframe's labels reprojected into the next frame
+// (what a frame between keyframes costs instead of ENet, semantics.enet_every_frames).
 // Run: ./build/bench/semantics_bench
 #include <benchmark/benchmark.h>
 
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "engine/depth/stereo_depth.h"
+#include "engine/semantics/keyframe_labels.h"
 #include "engine/semantics/labelling.h"
 #include "engine/semantics/segmenter.h"
 #include "tests/common/kitti2015_subset.h"
@@ -50,6 +52,30 @@ void BM_FirstCameraLabels(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(cloud.size());
 }
 BENCHMARK(BM_FirstCameraLabels)->Unit(benchmark::kMillisecond);
+
+// The frame's labels from a keyframe 1 m behind it (one core): every pixel with an SGBM depth (the frame's own
+// disparity) lifted, moved and projected; the others as points at infinity.
+void BM_PropagateLabels(benchmark::State& state) {
+  const auto& f = TestFrame().frame;
+  semap::StereoCalibration intrinsics = f.calibration;
+  intrinsics.width_px = f.left.cols;
+  intrinsics.height_px = f.left.rows;
+  const cv::Mat disparity = semap::StereoDepth(semap::DepthOptions{}).Compute(f.left, f.right).disparity_px;
+  cv::Mat depth_m(disparity.size(), CV_32FC1, cv::Scalar(0.0f));
+  const cv::Mat valid = disparity > 0.0f;
+  cv::divide(intrinsics.fx_px * intrinsics.baseline_m, disparity, depth_m, 1.0, CV_32F);
+  depth_m.setTo(0.0f, ~valid);
+  semap::KeyframeLabels keyframe;
+  keyframe.world_from_cam = semap::Pose3d::Identity();
+  keyframe.labels = cv::Mat(f.left.size(), CV_8UC1, cv::Scalar(3));
+  const semap::Pose3d world_from_cam(Eigen::Translation3d(0.0, 0.0, 1.0));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(semap::PropagateLabels(keyframe, world_from_cam, depth_m, intrinsics, 0));
+  }
+  state.counters["pixels"] = static_cast<double>(f.left.total());
+  state.counters["with_depth"] = static_cast<double>(cv::countNonZero(valid));
+}
+BENCHMARK(BM_PropagateLabels)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

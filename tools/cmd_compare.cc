@@ -160,7 +160,7 @@ std::vector<Row> CompareSingleFrame(const CompareArgs& args, const ClassMap& cla
     const Pose3d world_from_cam = frame->world_from_cam.value_or(Pose3d::Identity());
     Frame posed = *frame;
     posed.world_from_cam = world_from_cam;
-    const LabelledCloud cloud = depth.Process(posed);
+    const LabelledCloud cloud = depth.Process(posed, nullptr);
     const cv::Mat lidar = LidarDepthImage(*frame->velodyne, frame->calibration, config.eval);
     for (std::size_t m = 0; m < names.size(); ++m) {
       const auto start = std::chrono::steady_clock::now();

@@ -88,7 +88,7 @@ int WriteAllDepthMaps(const io::Config& config, const std::string& path, const s
     const auto t0 = std::chrono::steady_clock::now();
     LabelledCloud cloud;
     try {
-      cloud = stage.Process(*frame);
+      cloud = stage.Process(*frame, nullptr);
     } catch (const std::runtime_error& e) {
       spdlog::warn("{} (an empty depth map is written)", e.what());
       ++empty;

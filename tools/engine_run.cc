@@ -52,12 +52,20 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::uniq
   } else {
     reader = std::move(source);
   }
-  return std::make_unique<Pipeline>(
+  // ENet on keyframes (semantics.enet_every_frames > 1) runs on its own thread and the depth workers load
+  // none; on every frame (1) each depth worker runs its own, so that the workers segment frames in parallel
+  // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the path).
+  const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
+  auto pipeline = std::make_unique<Pipeline>(
       config.pipeline, std::move(reader),
-      [depth = config.depth, semantics = config.semantics, class_map] {
-        return std::make_unique<StereoLabelStage>(depth, semantics, class_map);
+      [depth = config.depth, semantics = config.semantics, class_map, enet] {
+        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet);
       },
       std::move(simplify), std::make_unique<IncrementalMapStage>(config.map));
+  if (enet) {
+    pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics), config.semantics.enet_every_frames);
+  }
+  return pipeline;
 }
 
 EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, double progress_s,

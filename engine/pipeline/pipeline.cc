@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -82,12 +83,35 @@ double MsBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
+// A keyframe's labels as the segment thread hands them over, with the segmenter's time.
+struct SegmentResult {
+  std::shared_ptr<const KeyframeLabels> labels;
+  double ms = 0.0;
+};
+
+// A keyframe queued to the segment thread: its left image and pose (shared with the frame's item, never
+// modified), and the promise its frames wait on.
+struct SegmentJob {
+  Frame keyframe;
+  std::promise<SegmentResult> labels;
+};
+
+// "segment": the keyframes' segmentation; "depth.label_wait": a depth worker waiting for it.
+constexpr const char* kSegmentStageName = "segment";
+constexpr const char* kLabelWaitStepName = "depth.label_wait";
+
 // One frame travelling through the stages.
 struct Item {
   std::int64_t frame_id = -1;
   double timestamp_s = 0.0;
   std::int64_t seq = 0;  // position in the stream of frames that entered the pipeline
   std::unique_ptr<Frame> frame;  // until the depth stage
+  // With a segment stage: the labels of this frame's keyframe (until the depth stage), whether the frame is
+  // a keyframe itself, the segmenter's time on it and the depth worker's wait for the labels.
+  std::shared_future<SegmentResult> keyframe_labels;
+  bool keyframe = false;
+  double segment_ms = 0.0;
+  double label_wait_ms = 0.0;
   std::optional<Pose3d> world_from_cam;
   LabelledCloud cloud;
   std::vector<ClassPointCount> counts;
@@ -139,6 +163,7 @@ void PinCurrentThread(const std::vector<int>& cpus) {
 
 struct Pipeline::Impl {
   Pipeline& p;
+  internal::BoundedQueue<SegmentJob> to_segment;
   internal::BoundedQueue<Item> to_depth;
   internal::BoundedQueue<Item> to_simplify;
   internal::BoundedQueue<Item> to_map;
@@ -152,6 +177,7 @@ struct Pipeline::Impl {
 
   explicit Impl(Pipeline& pipeline)
       : p(pipeline),
+        to_segment(pipeline.options_.queue_capacity),
         to_depth(pipeline.options_.queue_capacity),
         to_simplify(pipeline.options_.queue_capacity),
         to_map(pipeline.options_.queue_capacity),
@@ -194,6 +220,8 @@ struct Pipeline::Impl {
     std::optional<double> first_timestamp;
     std::optional<AcceptedPose> last_pose;
     std::int64_t paced = 0;
+    KeyframeSchedule schedule(p.keyframe_every_frames_);
+    std::shared_future<SegmentResult> current_keyframe;
     while (!Stopping()) {
       Item item;
       const auto t0 = Clock::now();
@@ -225,6 +253,10 @@ struct Pipeline::Impl {
       }
       item.ms[kRead] = MsBetween(t0, Clock::now());
       ++frames_read;
+      if (p.segment_ && item.frame && !AttachKeyframe(item, realtime, &schedule, &current_keyframe)) {
+        ++frames_dropped;  // realtime: no keyframe labels yet (the segment queue was full)
+        continue;
+      }
       if (realtime) {
         // Sensor rate: the frame's own timestamp when the sequence has increasing ones, else the rate.
         double due_s = static_cast<double>(paced++) / p.options_.realtime_rate_hz;
@@ -243,7 +275,59 @@ struct Pipeline::Impl {
         to_depth.Push(std::move(item));
       }
     }
+    if (p.segment_) to_segment.PushEnd();
     for (int w = 0; w < p.options_.depth_workers; ++w) to_depth.PushEnd();
+  }
+
+  // Gives `item` (a frame read with a usable pose, or none) the labels of its keyframe: the frame itself when
+  // it is due (its left image is queued to the segment thread), else the current keyframe. Returns false
+  // when there is none: realtime mode, the segment queue full and no keyframe taken yet.
+  bool AttachKeyframe(Item& item, bool realtime, KeyframeSchedule* schedule,
+                      std::shared_future<SegmentResult>* current_keyframe) {
+    const Frame& f = *item.frame;
+    const bool has_pose = f.world_from_cam.has_value();
+    if (schedule->IsDue(f.id, has_pose)) {
+      SegmentJob job;
+      job.keyframe.id = f.id;
+      job.keyframe.timestamp_s = f.timestamp_s;
+      job.keyframe.left = f.left;  // shares the pixels (read-only on both threads)
+      job.keyframe.calibration = f.calibration;
+      job.keyframe.world_from_cam = f.world_from_cam;
+      std::shared_future<SegmentResult> labels = job.labels.get_future().share();
+      bool queued = true;
+      if (realtime) {
+        queued = to_segment.TryPush(std::move(job));
+      } else {
+        to_segment.Push(std::move(job));
+      }
+      if (queued) {
+        schedule->Record(f.id, has_pose);
+        *current_keyframe = std::move(labels);
+        item.keyframe = true;
+      }
+    }
+    if (!current_keyframe->valid()) return false;
+    item.keyframe_labels = *current_keyframe;
+    return true;
+  }
+
+  // Segments the queued keyframes in order; every job's promise is kept (a value or the error), so no depth
+  // worker waits for ever. Stops at the end marker, after every queued keyframe (frames in flight need them).
+  void SegmentLoop() {
+    PinCurrentThread(p.options_.cpu_affinity);
+    while (auto job = to_segment.Pop()) {
+      const auto t0 = Clock::now();
+      try {
+        auto labels = std::make_shared<KeyframeLabels>();
+        labels->frame_id = job->keyframe.id;
+        labels->world_from_cam = job->keyframe.world_from_cam;
+        labels->labels = p.segment_->Process(job->keyframe);
+        job->labels.set_value({std::move(labels), MsBetween(t0, Clock::now())});
+      } catch (const std::exception& e) {
+        job->labels.set_exception(std::make_exception_ptr(std::runtime_error(
+            "keyframe " + std::to_string(job->keyframe.id) + ": " + e.what())));
+      }
+    }
   }
 
   void DepthLoop(DepthStage* stage) {
@@ -251,14 +335,27 @@ struct Pipeline::Impl {
     while (auto item = to_depth.Pop()) {
       if (!item->failed()) {
         const auto t0 = Clock::now();
-        try {
-          item->cloud = stage->Process(*item->frame);
-        } catch (const std::exception& e) {
-          Fail(*item, kStageNames[kDepth], e.what());
+        SegmentResult keyframe;
+        if (item->keyframe_labels.valid()) {
+          try {
+            keyframe = item->keyframe_labels.get();  // waits for the segment thread; rethrows its error
+            if (item->keyframe) item->segment_ms = keyframe.ms;
+          } catch (const std::exception& e) {
+            Fail(*item, kSegmentStageName, e.what());
+          }
+          item->label_wait_ms = MsBetween(t0, Clock::now());
+        }
+        if (!item->failed()) {
+          try {
+            item->cloud = stage->Process(*item->frame, keyframe.labels.get());
+          } catch (const std::exception& e) {
+            Fail(*item, kStageNames[kDepth], e.what());
+          }
         }
         item->ms[kDepth] = MsBetween(t0, Clock::now());
       }
       item->frame.reset();  // images are not needed any more
+      item->keyframe_labels = {};  // nor the keyframe's labels
       to_simplify.Push(std::move(*item));
     }
     to_simplify.PushEnd();
@@ -342,6 +439,7 @@ struct Pipeline::Impl {
 
   void OutputLoop(PipelineSummary* summary) {
     std::array<TimingStats, kNumStages> timing;
+    TimingStats segment_timing;                      // keyframes only
     std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
     // The run's totals as of now: frame rate, the map's sizes and published mesh (from `update`; kept as they
@@ -380,17 +478,25 @@ struct Pipeline::Impl {
       stats.timestamp_s = item->timestamp_s;
       const std::array<int, kNumStages> occupancy = {0, to_depth.size(), to_simplify.size(), to_map.size()};
       stats.stages.clear();
+      auto add_step = [&](const std::string& name, double ms) {
+        TimingStats& t = step_timing[name];
+        t.Add(ms);
+        stats.stages.push_back({name, ms, t.mean(), t.Percentile(0.5), t.Percentile(0.95), t.max(), 0});
+      };
       for (int s = 0; s < kNumStages; ++s) {
         timing[s].Add(item->ms[s]);
         stats.stages.push_back({kStageNames[s], item->ms[s], timing[s].mean(), timing[s].Percentile(0.5),
                                 timing[s].Percentile(0.95), timing[s].max(), occupancy[s]});
+        if (s == kRead && p.segment_) {
+          // The segmenter's time on this frame (0 unless it is a keyframe); the statistics are over keyframes.
+          if (item->keyframe) segment_timing.Add(item->segment_ms);
+          stats.stages.push_back({kSegmentStageName, item->segment_ms, segment_timing.mean(),
+                                  segment_timing.Percentile(0.5), segment_timing.Percentile(0.95),
+                                  segment_timing.max(), to_segment.size()});
+        }
       }
-      for (const StepTime& step : item->update.steps) {
-        const std::string name = std::string(kStageNames[kMap]) + "." + step.name;
-        TimingStats& t = step_timing[name];
-        t.Add(step.ms);
-        stats.stages.push_back({name, step.ms, t.mean(), t.Percentile(0.5), t.Percentile(0.95), t.max(), 0});
-      }
+      if (p.segment_) add_step(kLabelWaitStepName, item->label_wait_ms);
+      for (const StepTime& step : item->update.steps) add_step(std::string(kStageNames[kMap]) + "." + step.name, step.ms);
       stats.points_in = item->points_in;
       stats.points_kept = 0;
       for (const auto& c : item->counts) stats.points_kept += c.kept;
@@ -417,6 +523,13 @@ Pipeline::Pipeline(const PipelineOptions& options, std::unique_ptr<FrameReader> 
 
 Pipeline::~Pipeline() = default;
 
+void Pipeline::SetSegmentStage(std::unique_ptr<SegmentStage> segment, int keyframe_every_frames) {
+  SEMAP_ASSERT(segment != nullptr);
+  SEMAP_ASSERT(keyframe_every_frames >= 1, "keyframe interval " << keyframe_every_frames);
+  segment_ = std::move(segment);
+  keyframe_every_frames_ = keyframe_every_frames;
+}
+
 PipelineSummary Pipeline::Run() {
   Impl impl(*this);
   PipelineSummary summary;
@@ -425,6 +538,7 @@ PipelineSummary Pipeline::Run() {
   impl.start = Clock::now();
   std::vector<std::thread> threads;
   threads.emplace_back([&] { impl.ReadLoop(); });
+  if (segment_) threads.emplace_back([&] { impl.SegmentLoop(); });
   for (auto& stage : depth_stages) threads.emplace_back([&impl, s = stage.get()] { impl.DepthLoop(s); });
   threads.emplace_back([&] { impl.SimplifyLoop(); });
   threads.emplace_back([&] { impl.MapLoop(); });

@@ -62,6 +62,17 @@ class Pipeline {
   // Sinks are not owned and must outlive Run().
   void AddSink(PipelineSink* sink) { sinks_.push_back(sink); }
 
+  // Optional, before Run(): labels from `segment` on its own thread, on keyframes only (KeyframeSchedule with
+  // `keyframe_every_frames`, decided by the reader in frame order: deterministic). A keyframe's left image is
+  // queued to the segment thread (bounded queue of queue_capacity keyframes) when the frame is read, so the
+  // segmenter runs concurrently with the depth workers; each frame's depth stage then receives its keyframe's
+  // labels (DepthStage::Process), waiting for them if the segmenter is behind. In realtime mode a keyframe
+  // that finds the segment queue full is not taken (the next frame is due); a frame with no keyframe yet is
+  // dropped and counted. A segmenter error fails the frames of that keyframe (stage "segment").
+  // Reported per frame: stage "segment" (the keyframe's time, on keyframes; the queue of keyframes) and step
+  // "depth.label_wait" (time the depth worker waited for its keyframe's labels).
+  void SetSegmentStage(std::unique_ptr<SegmentStage> segment, int keyframe_every_frames);
+
   // Streams the whole sequence; returns when every frame read has been processed or failed, after a stop
   // request (the frames in flight are drained), or when a stage failed with on_error = stop.
   PipelineSummary Run();
@@ -75,6 +86,8 @@ class Pipeline {
   DepthStageFactory depth_factory_;
   std::unique_ptr<SimplifyStage> simplify_;
   std::unique_ptr<MapStage> map_;
+  std::unique_ptr<SegmentStage> segment_;  // optional
+  int keyframe_every_frames_ = 1;
   std::vector<PipelineSink*> sinks_;
   std::atomic<bool> stop_requested_{false};
 };

@@ -4,14 +4,23 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/core/check.h"
+
 namespace semap {
 
-StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map)
+StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map,
+                                   bool labels_from_keyframes)
     : depth_(depth),
       semantics_(semantics),
       class_map_(std::move(class_map)),
       sky_label_(SkyLabel(class_map_)),
-      segmenter_(MakeSegmenter(semantics)) {}
+      segmenter_(labels_from_keyframes ? nullptr : MakeSegmenter(semantics)) {}
+
+SegmenterStage::SegmenterStage(const SemanticsOptions& semantics) : segmenter_(MakeSegmenter(semantics)) {
+  SEMAP_ASSERT(segmenter_ != nullptr, "semantics.source " << LabelSourceName(semantics.source) << " has no segmenter");
+}
+
+cv::Mat SegmenterStage::Process(const Frame& keyframe) { return segmenter_->Segment(keyframe.left); }
 
 namespace {
 
@@ -26,9 +35,38 @@ void MarkSky(const cv::Mat& labels, Label sky, int stride_px, DepthView* view) {
   }
 }
 
+// The SGBM depth (camera-frame z, m) of every pixel with a valid disparity, 0 elsewhere.
+cv::Mat DepthFromDisparity(const cv::Mat& disparity_px, const StereoCalibration& calibration) {
+  cv::Mat depth_m(disparity_px.size(), CV_32FC1);
+  for (int v = 0; v < disparity_px.rows; ++v) {
+    const float* d = disparity_px.ptr<float>(v);
+    float* z = depth_m.ptr<float>(v);
+    for (int u = 0; u < disparity_px.cols; ++u) {
+      z[u] = d[u] > 0.0f ? static_cast<float>(calibration.DepthFromDisparity(d[u])) : 0.0f;
+    }
+  }
+  return depth_m;
+}
+
+// The label image of `frame` from its keyframe's: the keyframe's own, or carried over (semantics.enet_propagation);
+// reused when a pose is missing or the sizes differ (nothing to reproject with).
+cv::Mat LabelsFromKeyframe(const Frame& frame, const KeyframeLabels& keyframe, const cv::Mat& disparity_px,
+                           const SemanticsOptions& semantics, Label unlabelled_id) {
+  if (keyframe.frame_id == frame.id || semantics.enet_propagation == LabelPropagation::kReuse ||
+      !keyframe.world_from_cam || !frame.world_from_cam || keyframe.labels.type() != CV_8UC1 ||
+      keyframe.labels.size() != frame.left.size() || disparity_px.size() != frame.left.size()) {
+    return keyframe.labels;
+  }
+  StereoCalibration intrinsics = frame.calibration;
+  intrinsics.width_px = frame.left.cols;
+  intrinsics.height_px = frame.left.rows;
+  return PropagateLabels(keyframe, *frame.world_from_cam, DepthFromDisparity(disparity_px, intrinsics), intrinsics,
+                         unlabelled_id);
+}
+
 }  // namespace
 
-LabelledCloud StereoLabelStage::Process(const Frame& frame) {
+LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
   const DisparityResult disparity = depth_.Compute(frame.left, frame.right);
   LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
   DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
@@ -37,7 +75,10 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame) {
     throw std::runtime_error("frame " + std::to_string(frame.id) + ": no valid disparity (no point in the depth "
                              "range; uniform, dark or unmatched images?)");
   }
-  const cv::Mat labels = FrameLabels(frame, semantics_, segmenter_.get());
+  const cv::Mat labels =
+      keyframe_labels != nullptr
+          ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_, class_map_.unlabelled_id())
+          : FrameLabels(frame, semantics_, segmenter_.get());
   ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), class_map_.unlabelled_id(),
                          semantics_.size_mismatch);
   if (semantics_.drop_sky && sky_label_ && RemoveLabel(cloud, *sky_label_) > 0 && cloud.size() == 0) {

@@ -16,20 +16,36 @@
 namespace semap {
 
 // SGBM depth, then the paper's labelling rule: the frame's points are labelled from the frame's own label
-// image (its camera is their first camera); points labelled sky are dropped (semantics.drop_sky). One
-// instance per depth worker (owns its segmenter). A frame that gives no point at all (no valid disparity, or
-// only sky) throws: the pipeline skips and counts it.
+// image (its camera is their first camera); points labelled sky are dropped (semantics.drop_sky). A frame
+// that gives no point at all (no valid disparity, or only sky) throws: the pipeline skips and counts it.
+// The frame's label image is, given keyframe labels (a pipeline with a SegmenterStage), the keyframe's own
+// on a keyframe, else the keyframe's carried over as semantics.enet_propagation says (reprojected through
+// this frame's SGBM depth and the relative pose, or reused); without, FrameLabels() (the frame's label image,
+// or ENet run here when semantics.source is enet). One instance per depth worker (owns its segmenter, which
+// is loaded only when `labels_from_keyframes` is false and the source is enet).
 class StereoLabelStage : public DepthStage {
  public:
-  StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map);
-  LabelledCloud Process(const Frame& frame) override;
+  StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map,
+                   bool labels_from_keyframes = false);
+  LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) override;
 
  private:
   StereoDepth depth_;
   SemanticsOptions semantics_;
   ClassMap class_map_;
   std::optional<Label> sky_label_;        // points of this label are dropped when semantics.drop_sky
-  std::unique_ptr<Segmenter> segmenter_;  // only for the ENet source
+  std::unique_ptr<Segmenter> segmenter_;  // only for the ENet source, without keyframe labels
+};
+
+// The segment stage of a pipeline whose labels come from a segmenter (semantics.source enet): the keyframe's
+// left image through the segmenter (loaded at construction: a missing model is an error before any frame).
+class SegmenterStage : public SegmentStage {
+ public:
+  explicit SegmenterStage(const SemanticsOptions& semantics);
+  cv::Mat Process(const Frame& keyframe) override;
+
+ private:
+  std::unique_ptr<Segmenter> segmenter_;
 };
 
 // The windowed simplifier (any method by name, O = keep everything).

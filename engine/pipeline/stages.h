@@ -12,6 +12,7 @@
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh_delta.h"
 #include "engine/pipeline/frame_stats.h"
+#include "engine/semantics/keyframe_labels.h"
 
 namespace semap {
 
@@ -29,7 +30,20 @@ class FrameReader {
 class DepthStage {
  public:
   virtual ~DepthStage() = default;
-  virtual LabelledCloud Process(const Frame& frame) = 0;
+  // `keyframe_labels`: when the pipeline has a segment stage, the segmentation of this frame's keyframe (the
+  // frame itself, or the nearest earlier keyframe), to label the frame from; nullptr otherwise (the stage
+  // labels the frame by itself).
+  virtual LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) = 0;
+};
+
+// Per-pixel labels of keyframes (a slow segmenter, ENet), on the pipeline's own segment thread, concurrently
+// with the depth workers: called once per keyframe, in frame order, from that one thread.
+class SegmentStage {
+ public:
+  virtual ~SegmentStage() = default;
+  // The label image of `keyframe`'s left image (CV_8UC1, ClassMap ids, the image's size). Throws (any
+  // std::exception) when it cannot: the frames that take their labels from this keyframe fail.
+  virtual cv::Mat Process(const Frame& keyframe) = 0;
 };
 
 // Windowed simplification: called once per frame, in frame order, from one thread.

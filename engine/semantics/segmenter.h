@@ -7,6 +7,7 @@
 
 #include "engine/core/class_map.h"
 #include "engine/core/frame.h"
+#include "engine/semantics/keyframe_labels.h"
 #include "engine/semantics/labelling.h"
 
 namespace semap {
@@ -32,6 +33,17 @@ struct SemanticsOptions {
   bool enet_keep_aspect = true;
   // Threads of the network's forward pass (cv::setNumThreads is process-wide: 0 = leave OpenCV's setting).
   int enet_threads = 0;
+  // ENet in `semap run` (the streaming pipeline) runs on its own thread, on keyframes only: the first frame,
+  // then every enet_every_frames frames. Frames between keyframes take the labels of the nearest earlier
+  // keyframe as enet_propagation says (see keyframe_labels.h). 1 = every frame, segmented in the depth workers
+  // (each its own network, frames in parallel), as before keyframes. The default keeps a run with ENet labels
+  // near the frame rate of a run with label files at no measured loss of label accuracy (bench/RESULTS.md,
+  // "ENet off the critical path"). Outside the pipeline (compare --mode single-frame, depth, segment) every
+  // frame is segmented.
+  int enet_every_frames = 6;
+  // How a frame between keyframes gets its labels: reproject (through its depth and the relative pose) or
+  // reuse (the keyframe's label image as it is).
+  LabelPropagation enet_propagation = LabelPropagation::kReproject;
   // A label image of another size than the left image: resize with nearest neighbour (and report it) or
   // refuse (error).
   LabelSizePolicy size_mismatch = LabelSizePolicy::kResizeNearest;

@@ -164,6 +164,12 @@ void Bind(FieldBinder& b, SemanticsOptions& o) {
   b.Field("enet_keep_aspect", &o.enet_keep_aspect,
           "keep the image's aspect ratio in the network input (pad) instead of stretching it");
   b.Field("enet_threads", &o.enet_threads, "OpenCV threads for ENet (process-wide; 0 = unchanged)");
+  b.Field("enet_every_frames", &o.enet_every_frames,
+          "semap run: ENet on its own thread on keyframes only, every enet_every_frames frames (1 = every frame, in "
+          "the depth workers)");
+  b.Enum("enet_propagation", &o.enet_propagation,
+         {{"reproject", LabelPropagation::kReproject}, {"reuse", LabelPropagation::kReuse}},
+         "labels of frames between keyframes: reproject the keyframe's (frame depth + relative pose) or reuse them");
   b.Enum("size_mismatch", &o.size_mismatch,
          {{"resize", LabelSizePolicy::kResizeNearest}, {"refuse", LabelSizePolicy::kRefuse}},
          "label image of another size than the image: resize with nearest neighbour (warned) or refuse");

@@ -188,8 +188,8 @@ class RunFaults : public ::testing::Test {
 
   // A long run sent `signal` after a few frames drains the frames in flight, writes the mesh so far and the
   // stats, says "(stopped early)" and exits 0.
-  void ExpectStopsCleanlyOn(int signal) const {
-    const pid_t pid = Start(" --set input.loops=100");
+  void ExpectStopsCleanlyOn(int signal, const std::string& extra = "") const {
+    const pid_t pid = Start(" --set input.loops=100" + extra);
     ASSERT_TRUE(WaitForRows(pid, out_ / "frames.csv", 3, kRunTimeoutS)) << Log();
     ASSERT_EQ(kill(pid, signal), 0);
     const int code = Wait(pid, kRunTimeoutS);
@@ -347,6 +347,15 @@ TEST_F(RunFaults, SecondSigtermEndsTheProcessAtOnce) { ExpectSecondSignalEndsThe
 TEST_F(RunFaults, SigtermStopsCleanlyWithTheMeshSoFar) {
   // What `timeout`, systemd and container runtimes send: the same as Ctrl-C.
   ExpectStopsCleanlyOn(SIGTERM);
+}
+
+TEST_F(RunFaults, SigtermWithEnetOnItsOwnThreadStopsCleanly) {
+  // The segment thread (ENet on keyframes) drains with the frames in flight: none waits for ever.
+  SEMAP_REQUIRE_SHARED("models/enet-cityscapes/enet-model.net");
+  ExpectStopsCleanlyOn(SIGTERM, " --set semantics.source=enet --set semantics.enet_every_frames=2"
+                                " --set semantics.enet_input_width_px=256 --set semantics.enet_input_height_px=128"
+                                " --set semantics.enet_model_path=" +
+                                    (test::SharedDir() / "models/enet-cityscapes/enet-model.net").string());
 }
 
 TEST_F(RunFaults, ClosedOutputPipeDoesNotKillTheRun) {

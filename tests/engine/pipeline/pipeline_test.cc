@@ -1,5 +1,6 @@
 #include "engine/pipeline/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <map>
@@ -41,7 +42,7 @@ class FakeReader : public FrameReader {
 class FakeDepth : public DepthStage {
  public:
   explicit FakeDepth(std::set<std::int64_t> bad = {}) : bad_(std::move(bad)) {}
-  LabelledCloud Process(const Frame& frame) override {
+  LabelledCloud Process(const Frame& frame, const KeyframeLabels*) override {
     std::this_thread::sleep_for(std::chrono::microseconds(300 * ((frame.id * 7) % 5)));
     if (bad_.count(frame.id)) throw std::runtime_error("no valid disparity");
     LabelledCloud c;
@@ -135,6 +136,17 @@ PipelineSummary RunPipeline(PipelineOptions options, std::unique_ptr<FrameReader
   return pipeline.Run();
 }
 
+// Runs `pipeline`, asking it to stop (as SIGINT / SIGTERM do) after `delay`.
+PipelineSummary RunAndStopAfter(Pipeline& pipeline, std::chrono::milliseconds delay) {
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(delay);
+    pipeline.RequestStop();
+  });
+  PipelineSummary summary = pipeline.Run();
+  stopper.join();
+  return summary;
+}
+
 TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   PipelineOptions options;
   options.depth_workers = 3;
@@ -187,22 +199,23 @@ TEST(Pipeline, StopOnErrorEndsTheRunWithoutDeadlock) {
   EXPECT_EQ(sink.finishes, 1);  // the mesh so far is still completed
 }
 
+// 60 frames 10 ms apart (FakeReader's 0.1 s would make a realtime test take 6 s): the reader paces on them.
+class DenseReader : public FakeReader {
+ public:
+  DenseReader() : FakeReader(60) {}
+  std::optional<Frame> Next() override {
+    auto f = FakeReader::Next();
+    if (f) f->timestamp_s = 0.01 * static_cast<double>(f->id);
+    return f;
+  }
+};
+
 TEST(Pipeline, RealtimeDropsFramesWhenTheMapFallsBehindAndCountsThem) {
   PipelineOptions options;
   options.mode = PipelineOptions::Mode::kRealtime;
   options.queue_capacity = 1;
   RecordingSink sink;
-  // Frames every 0.1 s of sequence time would take 3 s; the reader paces on timestamps, so make them dense:
-  // a 25 ms map against 10 ms frames must drop.
-  class DenseReader : public FakeReader {
-   public:
-    DenseReader() : FakeReader(60) {}
-    std::optional<Frame> Next() override {
-      auto f = FakeReader::Next();
-      if (f) f->timestamp_s = 0.01 * static_cast<double>(f->id);
-      return f;
-    }
-  };
+  // A 25 ms map against 10 ms frames must drop.
   const auto summary = RunPipeline(options, std::make_unique<DenseReader>(), &sink, {}, 25ms);
   const auto& s = summary.final_stats;
   EXPECT_GT(s.frames_dropped, 0);
@@ -218,12 +231,7 @@ TEST(Pipeline, StopRequestDrainsAndFinishes) {
       options, std::make_unique<FakeReader>(100000), [] { return std::make_unique<FakeDepth>(); },
       std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>(1ms));
   pipeline.AddSink(&sink);
-  std::thread stopper([&] {
-    std::this_thread::sleep_for(100ms);
-    pipeline.RequestStop();
-  });
-  const auto summary = pipeline.Run();
-  stopper.join();
+  const auto summary = RunAndStopAfter(pipeline, 100ms);
   EXPECT_TRUE(summary.stopped_early);
   EXPECT_TRUE(summary.fatal_error.empty());
   EXPECT_GT(summary.final_stats.frames_processed, 0);
@@ -353,6 +361,195 @@ TEST(Pipeline, RssAndCpuTimeAreMeasured) {
   volatile double x = 0.0;
   for (int i = 0; i < 20000000; ++i) x = x + 1.0;
   EXPECT_GT(ProcessCpuSeconds(), before);
+}
+
+// ---- Keyframe segmentation on its own thread (Pipeline::SetSegmentStage) ----
+
+// Labels every keyframe with its own id (a 1×1 label image); records the keyframes in the order it got them
+// and the threads it ran on; optionally slow, and failing on some ids.
+class FakeSegment : public SegmentStage {
+ public:
+  struct Log {
+    std::mutex mutex;
+    std::vector<std::int64_t> keyframes;
+    std::set<std::thread::id> threads;
+  };
+  FakeSegment(Log* log, std::chrono::milliseconds delay = 0ms, std::set<std::int64_t> bad = {})
+      : log_(log), delay_(delay), bad_(std::move(bad)) {}
+  cv::Mat Process(const Frame& keyframe) override {
+    std::this_thread::sleep_for(delay_);
+    {
+      std::lock_guard<std::mutex> lock(log_->mutex);
+      log_->keyframes.push_back(keyframe.id);
+      log_->threads.insert(std::this_thread::get_id());
+    }
+    if (bad_.count(keyframe.id)) throw std::runtime_error("network failed");
+    return cv::Mat(1, 1, CV_8UC1, cv::Scalar(static_cast<int>(keyframe.id)));
+  }
+
+ private:
+  Log* log_;
+  std::chrono::milliseconds delay_;
+  std::set<std::int64_t> bad_;
+};
+
+// FakeDepth that records, per frame, the keyframe whose labels it received (-1: none), checking that the
+// label image is that keyframe's.
+class KeyframeRecordingDepth : public FakeDepth {
+ public:
+  struct Log {
+    std::mutex mutex;
+    std::map<std::int64_t, std::int64_t> keyframe_of;
+  };
+  explicit KeyframeRecordingDepth(Log* log) : log_(log) {}
+  LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe) override {
+    std::int64_t id = -1;
+    if (keyframe != nullptr) {
+      id = keyframe->frame_id;
+      EXPECT_EQ(keyframe->labels.at<std::uint8_t>(0, 0), id) << "frame " << frame.id;
+      EXPECT_TRUE(keyframe->world_from_cam.has_value());
+    }
+    {
+      std::lock_guard<std::mutex> lock(log_->mutex);
+      log_->keyframe_of[frame.id] = id;
+    }
+    return FakeDepth::Process(frame, keyframe);
+  }
+
+ private:
+  Log* log_;
+};
+
+struct KeyframeRun {
+  PipelineSummary summary;
+  RecordingSink sink;
+  FakeSegment::Log segment_log;
+  KeyframeRecordingDepth::Log depth_log;
+};
+
+void RunWithKeyframes(KeyframeRun* run, int every_frames, std::unique_ptr<FrameReader> reader,
+                      std::chrono::milliseconds segment_delay = 0ms, std::set<std::int64_t> bad_keyframes = {},
+                      PipelineOptions options = {}) {
+  Pipeline pipeline(
+      options, std::move(reader), [run] { return std::make_unique<KeyframeRecordingDepth>(&run->depth_log); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+  pipeline.SetSegmentStage(std::make_unique<FakeSegment>(&run->segment_log, segment_delay, bad_keyframes),
+                           every_frames);
+  pipeline.AddSink(&run->sink);
+  run->summary = pipeline.Run();
+}
+
+TEST(PipelineKeyframes, SegmentsEveryNthFrameAndGivesEachFrameItsKeyframe) {
+  KeyframeRun run;
+  PipelineOptions options;
+  options.depth_workers = 3;
+  RunWithKeyframes(&run, 3, std::make_unique<FakeReader>(11), 0ms, {}, options);
+  EXPECT_EQ(run.segment_log.keyframes, (std::vector<std::int64_t>{0, 3, 6, 9}));
+  EXPECT_EQ(run.segment_log.threads.size(), 1u);  // one segment thread
+  EXPECT_EQ(run.segment_log.threads.count(std::this_thread::get_id()), 0u);
+  ASSERT_EQ(run.depth_log.keyframe_of.size(), 11u);
+  for (std::int64_t k = 0; k < 11; ++k) EXPECT_EQ(run.depth_log.keyframe_of[k], k / 3 * 3) << "frame " << k;
+  EXPECT_EQ(run.summary.final_stats.frames_processed, 11);
+  // Reported: the segment stage after read, its time only on keyframes; the depth worker's wait.
+  const auto& stages = run.sink.last.stages;
+  ASSERT_GE(stages.size(), 6u);
+  EXPECT_EQ(stages[0].name, "read");
+  EXPECT_EQ(stages[1].name, "segment");
+  EXPECT_EQ(stages[2].name, "depth");
+  bool wait_reported = false;
+  for (const auto& s : stages) wait_reported |= s.name == "depth.label_wait";
+  EXPECT_TRUE(wait_reported);
+}
+
+// The same keyframes and the same labels per frame whatever the segmenter's speed: nothing depends on timing.
+TEST(PipelineKeyframes, ASlowSegmenterChangesNothingButTime) {
+  KeyframeRun fast, slow;
+  RunWithKeyframes(&fast, 4, std::make_unique<FakeReader>(13));
+  RunWithKeyframes(&slow, 4, std::make_unique<FakeReader>(13), 15ms);
+  EXPECT_EQ(slow.segment_log.keyframes, fast.segment_log.keyframes);
+  EXPECT_EQ(slow.depth_log.keyframe_of, fast.depth_log.keyframe_of);
+  EXPECT_EQ(slow.sink.frames, fast.sink.frames);
+  EXPECT_EQ(slow.summary.final_stats.frames_processed, 13);
+}
+
+// A frame that cannot be read is no keyframe: the next one read is, when due.
+TEST(PipelineKeyframes, AnUnreadableKeyframeMovesTheKeyframeToTheNextFrame) {
+  KeyframeRun run;
+  RunWithKeyframes(&run, 3, std::make_unique<FakeReader>(8, std::set<std::int64_t>{3}));
+  EXPECT_EQ(run.segment_log.keyframes, (std::vector<std::int64_t>{0, 4, 7}));
+  EXPECT_EQ(run.depth_log.keyframe_of[5], 4);
+  EXPECT_EQ(run.summary.final_stats.frames_failed, 1);
+}
+
+// The segmenter fails on keyframe 3: frames 3, 4, 5 fail (stage "segment", naming the keyframe), the others map.
+TEST(PipelineKeyframes, ASegmenterErrorFailsTheFramesOfThatKeyframe) {
+  KeyframeRun run;
+  RunWithKeyframes(&run, 3, std::make_unique<FakeReader>(9), 0ms, {3});
+  EXPECT_EQ(run.summary.final_stats.frames_processed, 6);
+  EXPECT_EQ(run.summary.final_stats.frames_failed, 3);
+  ASSERT_EQ(run.sink.errors.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(run.sink.errors[i].first, static_cast<std::int64_t>(3 + i));
+    EXPECT_EQ(run.sink.errors[i].second, "segment: keyframe 3: network failed");
+  }
+  EXPECT_EQ(run.sink.frames, (std::vector<std::int64_t>{0, 1, 2, 6, 7, 8}));
+}
+
+// A stop request (SIGINT / SIGTERM) while the segmenter is busy: every frame read is drained with its
+// keyframe's labels, the mesh is finished, nothing hangs.
+TEST(PipelineKeyframes, StopRequestDrainsWithTheSegmentThread) {
+  KeyframeRun run;
+  Pipeline pipeline(
+      PipelineOptions{}, std::make_unique<FakeReader>(100000),
+      [&run] { return std::make_unique<KeyframeRecordingDepth>(&run.depth_log); }, std::make_unique<FakeSimplify>(),
+      std::make_unique<FakeMap>());
+  pipeline.SetSegmentStage(std::make_unique<FakeSegment>(&run.segment_log, 5ms), 2);
+  pipeline.AddSink(&run.sink);
+  const auto summary = RunAndStopAfter(pipeline, 100ms);
+  EXPECT_TRUE(summary.stopped_early);
+  EXPECT_GT(summary.final_stats.frames_processed, 0);
+  EXPECT_EQ(summary.final_stats.frames_processed, summary.frames_read);
+  EXPECT_EQ(summary.final_stats.frames_failed, 0);
+  EXPECT_EQ(run.sink.finishes, 1);
+  for (const auto& [frame, keyframe] : run.depth_log.keyframe_of) EXPECT_EQ(keyframe, frame / 2 * 2);
+}
+
+// Realtime: a segmenter slower than the frames never blocks the reader; a keyframe that finds the segment
+// queue full is not taken (a later frame is), frames go on with the last keyframe taken, and everything read
+// is processed, dropped or failed, counted.
+TEST(PipelineKeyframes, RealtimeWithASlowSegmenterNeverBlocksTheReader) {
+  KeyframeRun run;
+  PipelineOptions options;
+  options.mode = PipelineOptions::Mode::kRealtime;
+  options.queue_capacity = 1;
+  RunWithKeyframes(&run, 2, std::make_unique<DenseReader>(), 30ms, {}, options);
+  const auto& s = run.summary.final_stats;
+  EXPECT_EQ(run.summary.frames_read, 60);
+  EXPECT_EQ(s.frames_processed + s.frames_dropped + s.frames_failed, 60);
+  EXPECT_EQ(s.frames_failed, 0);
+  EXPECT_GT(s.frames_processed, 0);
+  const auto& keyframes = run.segment_log.keyframes;
+  ASSERT_FALSE(keyframes.empty());
+  EXPECT_LE(keyframes.size(), 30u);  // at most every other frame, fewer when the queue was full
+  for (std::size_t i = 1; i < keyframes.size(); ++i) EXPECT_GE(keyframes[i] - keyframes[i - 1], 2);
+  for (const auto& [frame, keyframe] : run.depth_log.keyframe_of) {
+    EXPECT_LE(keyframe, frame);
+    EXPECT_TRUE(std::find(keyframes.begin(), keyframes.end(), keyframe) != keyframes.end()) << frame;
+  }
+}
+
+// Without a segment stage the depth stage gets no keyframe labels.
+TEST(PipelineKeyframes, NoSegmentStageNoKeyframeLabels) {
+  KeyframeRecordingDepth::Log log;
+  RecordingSink sink;
+  Pipeline pipeline(
+      PipelineOptions{}, std::make_unique<FakeReader>(5), [&log] { return std::make_unique<KeyframeRecordingDepth>(&log); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+  pipeline.AddSink(&sink);
+  pipeline.Run();
+  ASSERT_EQ(log.keyframe_of.size(), 5u);
+  for (const auto& [frame, keyframe] : log.keyframe_of) EXPECT_EQ(keyframe, -1);
+  EXPECT_EQ(sink.last.stages.size(), 4u);
 }
 
 }  // namespace

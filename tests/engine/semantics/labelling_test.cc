@@ -197,14 +197,14 @@ TEST(StereoLabelStage, SkyPixelsGiveNoPoint) {
   depth.max_points_per_frame = 0;
   SemanticsOptions keep_sky;
   keep_sky.drop_sky = false;
-  const LabelledCloud all = StereoLabelStage(depth, keep_sky, ClassMap::Cityscapes()).Process(f);
+  const LabelledCloud all = StereoLabelStage(depth, keep_sky, ClassMap::Cityscapes()).Process(f, nullptr);
   std::size_t sky_points = 0;
   for (size_t i = 0; i < all.size(); ++i) sky_points += all.pixels_px[i].y() < 59.5 ? 1 : 0;
   ASSERT_GT(sky_points, 1000u);
   ASSERT_LT(sky_points, all.size());
 
   ASSERT_TRUE(SemanticsOptions().drop_sky);
-  const LabelledCloud no_sky = StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f);
+  const LabelledCloud no_sky = StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f, nullptr);
   EXPECT_EQ(no_sky.size(), all.size() - sky_points);
   for (size_t i = 0; i < no_sky.size(); ++i) {
     EXPECT_NE(no_sky.labels[i], 11);
@@ -212,7 +212,7 @@ TEST(StereoLabelStage, SkyPixelsGiveNoPoint) {
   }
   // Only sky in the frame: nothing to map, the frame is refused (the pipeline skips and counts it).
   f.labels.setTo(11);
-  EXPECT_THROW(StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f), std::runtime_error);
+  EXPECT_THROW(StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f, nullptr), std::runtime_error);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ TEST(SimplifyKitti, RealFrameKeepsNonTargetsAndThinsGroundAndWalls) {
   DepthOptions dense;  // the whole frame: this test checks what simplification does to a dense cloud
   dense.max_points_per_frame = 0;
   StereoLabelStage stage(dense, semantics, ClassMap::Cityscapes());
-  const LabelledCloud cloud = stage.Process(*frame);
+  const LabelledCloud cloud = stage.Process(*frame, nullptr);
   ASSERT_GT(cloud.size(), 10000u);
   const ClassMap classes = ClassMap::Cityscapes();
   RecordProperty("points", std::to_string(cloud.size()));
