@@ -83,9 +83,15 @@ TEST(StereoLabelStageKeyframes, AFrameBetweenKeyframesTakesTheReprojectedOrReuse
   size_t moved = 0;
   for (size_t i = 0; i < reprojected.size(); ++i) {
     const double u = reprojected.pixels_px[i].x();
-    if (u < 91.0) EXPECT_EQ(reprojected.labels[i], kBuilding) << u;
-    if (u > 93.0 && u < 191.0) EXPECT_EQ(reprojected.labels[i], kRoad) << u;
-    if (u > 193.0) EXPECT_EQ(reprojected.labels[i], kUnlabelled) << u;
+    if (u < 91.0) {
+      EXPECT_EQ(reprojected.labels[i], kBuilding) << u;
+    }
+    if (u > 93.0 && u < 191.0) {
+      EXPECT_EQ(reprojected.labels[i], kRoad) << u;
+    }
+    if (u > 193.0) {
+      EXPECT_EQ(reprojected.labels[i], kUnlabelled) << u;
+    }
     if (u > 93.0 && u < 99.0) ++moved;
     EXPECT_EQ(reused.labels[i], u < 99.5 ? kBuilding : kRoad) << u;
   }
