@@ -63,7 +63,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
   if (near && ContainsOrigin(cam)) {
     // Every ray of the view starts in this cell, far before its point: one full free vote per ray (the
     // view's valid pixels, counted as the whole image).
-    return {QuantiseWeight(view.image_area_px * v.rays_per_pixel), 0};
+    return {QuantiseWeight(view.image_area_px * v.rays_per_pixel), 0, true};
   }
   double footprint_px = view.image_area_px;
   if (!near) {
@@ -106,7 +106,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     }
   }
   const double rays_per_sample = footprint_px * v.rays_per_pixel / kSamplesPerCell;
-  return {QuantiseWeight(free * rays_per_sample), QuantiseWeight(matter * rays_per_sample)};
+  return {QuantiseWeight(free * rays_per_sample), QuantiseWeight(matter * rays_per_sample), true};
 }
 
 namespace {

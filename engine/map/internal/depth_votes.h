@@ -73,6 +73,7 @@ struct DepthVoteGeometry {
 struct VoteIncrement {
   std::int64_t free_q = 0;
   std::int64_t matter_q = 0;
+  bool in_view = false;  // some of the cell is in front of the camera and inside the image's bounds
 };
 
 // The votes of the (finite) cell with these vertices from one view (see above). Thread-safe (reads only).

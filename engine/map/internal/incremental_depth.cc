@@ -265,8 +265,9 @@ std::size_t IncrementalState::VoteFromViews() {
   }
   const VotingView& newest = views_.back();
   std::vector<VoteIncrement> votes(cells.size());
-  // Facets seen as a surface (see SeenFacets): the facets of a new cell in every view of the window; on the
-  // rest of the map, the surface facets (from their carved side) that no view saw yet, in the newest view.
+  // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
+  // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
+  // newest view sees that no view saw yet, in that view.
   const bool track_seen = Emit().drop_unseen;
   std::vector<std::uint8_t> seen(track_seen ? cells.size() : 0);
   constexpr std::size_t kGrainCells = 4096;
@@ -294,14 +295,16 @@ std::size_t IncrementalState::VoteFromViews() {
       }
       if (!track_seen) continue;
       const bool created = c->info().created == created_mark_;
+      // An old cell the newest view does not see has no facet it could see.
+      if (!created && (!votes[i].in_view || !c->info().carved)) continue;
       std::uint8_t candidates = 0;
       for (int k = 0; k < 4; ++k) {
-        const bool surface = created || (c->info().carved && !NeighbourCarved(c, k));
+        const bool surface = created || !NeighbourCarved(c, k);
         if (surface && !FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates |= std::uint8_t(1u << k);
       }
       if (candidates == 0) continue;
       if (created) {
-        // Newest view first: a facet one view saw needs no other.
+        // Every facet (the cell's carving is not known yet), newest view first: one view seeing it is enough.
         for (auto view = views_.rbegin(); view != views_.rend() && candidates != 0; ++view) {
           const std::uint8_t found = SeenFacets(vertices, candidates, *view, depth_geometry_);
           seen[i] |= found;

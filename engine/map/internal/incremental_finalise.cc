@@ -189,7 +189,7 @@ void IncrementalState::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* arou
                 around->end());
   std::vector<const SurfaceFacet*> fan;
   for (const SurfaceFacet& f : *around) fan.push_back(&f);
-  const std::vector<std::uint8_t> copies = FanRuns(dt_, v, fan);
+  const std::vector<std::uint8_t> copies = FanRuns(dt_, v, fan, /*regular=*/false);
   const std::uint64_t key = VertexKey(v);
   for (std::size_t f = 0; f < fan.size(); ++f) {
     const FacetKey& id = fan[f]->id;

@@ -88,7 +88,8 @@ class IncrementalState {
   void SeenAgain(std::uint32_t id);
   // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
   // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells whose free/matter state changed, and the created ones, go to
-  // touched_. Returns the number of cells that got a vote.
+  // touched_. Returns the number of cells that got a vote. Also marks the facets views see as a surface
+  // (map.drop_unseen_surface).
   std::size_t VoteFromViews();
 
   // A new data point for frame point i, pending insertion (its record made, its age starting now).

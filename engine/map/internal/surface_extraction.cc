@@ -123,7 +123,8 @@ std::vector<std::pair<VertexHandle, VertexHandle>> WedgeBounds(const Delaunay& d
 
 }  // namespace
 
-std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std::vector<const SurfaceFacet*>& fan) {
+std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std::vector<const SurfaceFacet*>& fan,
+                                  bool regular) {
   const std::size_t n = fan.size();
   std::vector<std::size_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
@@ -141,6 +142,11 @@ std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std:
   }
   for (const auto& [key, facets] : at) {
     if (facets.size() < 2) continue;
+    if (regular && facets.size() == 2) {
+      // The edge's two surface facets bound its one carved wedge.
+      parent[find(facets[0])] = find(facets[1]);
+      continue;
+    }
     VertexHandle edge_end;
     for (const VertexHandle u : fan[facets[0]]->vertices) {
       if (&*u == key) edge_end = u;
@@ -196,14 +202,15 @@ void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets, const s
   if (open.empty() && irregular.empty()) return;
   struct Fan {
     VertexHandle vertex;
+    bool regular = true;
     std::vector<std::size_t> facets;
   };
   std::unordered_map<const void*, Fan> fans;
-  for (const VertexHandle v : open) {
-    if (!v->info().frozen) fans.try_emplace(&*v, Fan{v, {}});
-  }
   for (const VertexHandle v : irregular) {
-    if (!v->info().frozen) fans.try_emplace(&*v, Fan{v, {}});
+    if (!v->info().frozen) fans.try_emplace(&*v, Fan{v, false, {}});
+  }
+  for (const VertexHandle v : open) {
+    if (!v->info().frozen) fans.try_emplace(&*v, Fan{v, true, {}});
   }
   if (fans.empty()) return;
   for (std::size_t f = 0; f < facets->size(); ++f) {
@@ -217,7 +224,7 @@ void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets, const s
     if (entry.facets.size() < 2) continue;
     fan.clear();
     for (std::size_t f : entry.facets) fan.push_back(&(*facets)[f]);
-    const std::vector<std::uint8_t> copies = FanRuns(dt, entry.vertex, fan);
+    const std::vector<std::uint8_t> copies = FanRuns(dt, entry.vertex, fan, entry.regular);
     for (std::size_t j = 0; j < entry.facets.size(); ++j) {
       SurfaceFacet& facet = (*facets)[entry.facets[j]];
       for (int k = 0; k < 3; ++k) {

@@ -62,8 +62,11 @@ inline constexpr std::uint8_t kUnassigned = 0xFF;
 // Numbers the runs of `fan` (the emitted facets around `v`, not frozen): two facets sharing an edge (v, w)
 // are one run when they bound the same carved wedge around the edge (one wedge at a regular vertex; a
 // vertex the carver could not make regular may have several). Runs are ordered by their smallest facet id
-// and the first keeps copy 0. Returns each facet's copy.
-std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std::vector<const SurfaceFacet*>& fan);
+// and the first keeps copy 0. Returns each facet's copy. With `regular` (v and its neighbours on the surface
+// are regular: each surface edge bounds one carved wedge), two facets sharing an edge are one run without
+// walking the cells around it.
+std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std::vector<const SurfaceFacet*>& fan,
+                                  bool regular);
 
 // Sets SurfaceFacet::copy: at the vertices of `open` (those of facets left out: they can pinch) and of
 // `irregular` (vertices the carver could not make regular, beside a seam, and their neighbours) from their
