@@ -103,8 +103,9 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   }
 
   const Label unlabelled = 0;
-  result.mesh = ExtractSurfaceMesh(dt, EmitRule{options.drop_steiner_triangles, /*drop_unseen=*/false}, /*irregular=*/{}, /*frozen=*/nullptr,
-                                   unlabelled).mesh;
+  // Ray votes: nothing marks the facets views saw, so none is left out for that.
+  const EmitRule emit{options.drop_steiner_triangles, /*drop_unseen=*/false};
+  result.mesh = ExtractSurfaceMesh(dt, emit, /*irregular=*/{}, /*frozen=*/nullptr, unlabelled).mesh;
   if (with_cell_votes) result.cell_votes = CollectCellVotes(dt);
 
   MapStatistics& s = result.statistics;

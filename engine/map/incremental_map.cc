@@ -47,8 +47,7 @@ IdentifiedMesh IncrementalState::ExtractMesh() const {
     irregular.push_back(v);
     for (const SurfaceFacet& f : around) irregular.insert(irregular.end(), f.vertices.begin(), f.vertices.end());
   }
-  return ExtractSurfaceMesh(dt_, Emit(), irregular, &fan_copies_,
-                            PointAttributes{}.label);
+  return ExtractSurfaceMesh(dt_, Emit(), irregular, &fan_copies_, PointAttributes{}.label);
 }
 
 IdentifiedMesh IncrementalState::TakeFinalisedMesh() {

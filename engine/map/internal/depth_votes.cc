@@ -153,8 +153,8 @@ std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, st
     const Eigen::Vector3d normal = (b - a).cross(c - a);
     if (normal.squaredNorm() == 0.0) continue;
     const Eigen::Vector3d unit_normal = normal.normalized();
-    const double radius_m = std::sqrt(std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(),
-                                                (c - centroid).squaredNorm()}));
+    const double radius_m = std::sqrt(
+        std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm()}));
     const Eigen::Vector3d seen_point = centroid * (depth_m / centroid.z());
     const double noise_m = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px;
     const double tolerance_m = geometry.ray.extension_m + geometry.seen_noise_sigmas * noise_m;

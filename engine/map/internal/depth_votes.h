@@ -2,9 +2,10 @@
 // view's depth map instead of walking one ray per point.
 //
 // How each vote relates to the paper's formula (engine/map/internal/vote_weights.h). A ray camera → p adds
-// w_free(d) = 1 − exp(−d²/2σ_free²) to each cell it crosses before p and w_matter(d) = 1 − exp(−d²/2σ_matter²)
-// to each cell its extension crosses within ray_extension_m behind p, d the distance from p to the cell. With
-// a dense depth map every pixel is such a ray, so the free vote a cell C gets from one view is
+// w_free(d) = 1 − exp(−d²/2σ_free²) to each cell it crosses before p and
+// w_matter(d) = 1 − exp(−d²/2σ_matter²) to each cell its extension crosses within ray_extension_m behind p,
+// d the distance from p to the cell. With a dense depth map every pixel is such a ray, so the free vote a
+// cell C gets from one view is
 //   Σ over the pixels x whose ray crosses C in front of its point  w_free(d(x, C)),
 // and likewise for matter. Here that sum is estimated by sampling C instead of rasterising it:
 //   - the rays crossing C are the pixels of its footprint, the convex hull of its projected vertices: A(C)
@@ -30,10 +31,11 @@
 //   - Pixels the view marks kFreeToFarRange (sky) vote free up to the view's far range, and no matter: a
 //     semantic vote the paper does not have (rays that met nothing within range carve what they crossed).
 //
-// Not in the paper either: which facets a view sees as a surface (SeenFacets). The surface of the carved region
-// also runs where free space meets space no view saw (above the field of view, behind a facade, beyond the far
-// range): a wall of unknown, not matter. Such a facet is never where a view saw its depth; the map emits only
-// facets some view saw there (map.drop_unseen_surface), so the mesh is open where nothing was seen.
+// Not in the paper either: which facets a view sees as a surface (SeenFacets). The surface of the carved
+// region also runs where free space meets space no view saw (above the field of view, behind a facade, beyond
+// the far range): a wall of unknown, not matter. Such a facet is never where a view saw its depth; the map
+// emits only facets some view saw there (map.drop_unseen_surface), so the mesh is open where nothing was
+// seen.
 #pragma once
 
 #include <Eigen/Core>
@@ -80,8 +82,8 @@ struct VoteIncrement {
 VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, const VotingView& view,
                        const DepthVoteGeometry& geometry);
 
-// Of the facets of the cell with these vertices named by `candidates` (bit i: the facet opposite vertex i), those
-// the view sees as a surface: the point the view saw along the ray through the facet's centroid (depth
+// Of the facets of the cell with these vertices named by `candidates` (bit i: the facet opposite vertex i),
+// those the view sees as a surface: the point the view saw along the ray through the facet's centroid (depth
 // interpolated, not sky, not empty) lies within the tolerance (DepthVoteGeometry) of the facet's plane, and
 // no farther from its centroid than its vertices are (plus the tolerance). Thread-safe (reads only).
 std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, std::uint8_t candidates,

@@ -115,12 +115,7 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   touch_mark_ = NewMark();
   result.cells_voted = VoteFromViews();
   result.trace_ms = Lap(&lap);
-  result.cells_uncarved += ShrinkNonFree();
-  result.cells_carved = Regrow();
-  result.carve_ms = Lap(&lap);
-  Finalise(&result);
-  TakeIrregular();
-  result.finalise_ms = Lap(&lap);
+  CarveAndFinalise(&result, &lap);
   return result;
 }
 

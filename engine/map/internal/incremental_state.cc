@@ -51,7 +51,6 @@ double Lap(std::chrono::steady_clock::time_point* since) {
   return ms;
 }
 
-
 IncrementalState::IncrementalState(const MapOptions& options)
     : options_(options),
       geometry_{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()},
@@ -136,13 +135,17 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
   TraceRays(created, +1);
   result.rays_traced = created.size();
   result.trace_ms = Lap(&lap);
-  result.cells_uncarved += ShrinkNonFree();
-  result.cells_carved = Regrow();
-  result.carve_ms = Lap(&lap);
-  Finalise(&result);
-  TakeIrregular();
-  result.finalise_ms = Lap(&lap);
+  CarveAndFinalise(&result, &lap);
   return result;
+}
+
+void IncrementalState::CarveAndFinalise(MapUpdateResult* result, std::chrono::steady_clock::time_point* lap) {
+  result->cells_uncarved += ShrinkNonFree();
+  result->cells_carved = Regrow();
+  result->carve_ms = Lap(lap);
+  Finalise(result);
+  TakeIrregular();
+  result->finalise_ms = Lap(lap);
 }
 
 void IncrementalState::ClassifyPoints(const LabelledCloud& frame,

@@ -87,9 +87,9 @@ class IncrementalState {
   // A point seen again (kDepth): more support, and its age restarts.
   void SeenAgain(std::uint32_t id);
   // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
-  // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells whose free/matter state changed, and the created ones, go to
-  // touched_. Returns the number of cells that got a vote. Also marks the facets views see as a surface
-  // (map.drop_unseen_surface).
+  // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells
+  // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that
+  // got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
   std::size_t VoteFromViews();
 
   // A new data point for frame point i, pending insertion (its record made, its age starting now).
@@ -127,6 +127,9 @@ class IncrementalState {
   // Carves the free cells of touched_ and makes the manifold whole again around them and boundary_.
   std::size_t Regrow();
   void Finalise(MapUpdateResult* result);
+  // The last steps of both updates (rays, depth) once the votes are in: uncarve the touched cells no longer
+  // free, regrow, finalise, take the irregular vertices; carve_ms and finalise_ms timed from `lap`.
+  void CarveAndFinalise(MapUpdateResult* result, std::chrono::steady_clock::time_point* lap);
   // Seals the cells that refilled the hole of a finalisation (created_mark_, around boundary_) with the
   // carving `hole_side` recorded across the hole's boundary facets.
   void SealHole(const std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash>& hole_side);

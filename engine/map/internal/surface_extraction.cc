@@ -42,8 +42,8 @@ SurfaceFacet OrientedSurfaceFacet(CellHandle c, int i) {
 
 bool LeftOut(const SurfaceFacet& f, const EmitRule& rule) {
   if (rule.drop_unseen && f.unseen) return true;
-  return rule.drop_steiner && std::any_of(f.vertices.begin(), f.vertices.end(),
-                                          [](VertexHandle v) { return v->info().steiner; });
+  return rule.drop_steiner &&
+         std::any_of(f.vertices.begin(), f.vertices.end(), [](VertexHandle v) { return v->info().steiner; });
 }
 
 void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<SurfaceFacet>* facets,
@@ -123,8 +123,8 @@ std::vector<std::pair<VertexHandle, VertexHandle>> WedgeBounds(const Delaunay& d
 
 }  // namespace
 
-std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std::vector<const SurfaceFacet*>& fan,
-                                  bool regular) {
+std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v,
+                                  const std::vector<const SurfaceFacet*>& fan, bool regular) {
   const std::size_t n = fan.size();
   std::vector<std::size_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
@@ -308,8 +308,9 @@ IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlab
   return out;
 }
 
-IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule, const std::vector<VertexHandle>& irregular,
-                                  const FanCopies* frozen, Label unlabelled) {
+IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule,
+                                  const std::vector<VertexHandle>& irregular, const FanCopies* frozen,
+                                  Label unlabelled) {
   std::vector<SurfaceFacet> facets;
   std::vector<VertexHandle> open;
   CollectSurface(dt, rule, &facets, &open);

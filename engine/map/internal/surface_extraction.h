@@ -65,8 +65,8 @@ inline constexpr std::uint8_t kUnassigned = 0xFF;
 // and the first keeps copy 0. Returns each facet's copy. With `regular` (v and its neighbours on the surface
 // are regular: each surface edge bounds one carved wedge), two facets sharing an edge are one run without
 // walking the cells around it.
-std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v, const std::vector<const SurfaceFacet*>& fan,
-                                  bool regular);
+std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v,
+                                  const std::vector<const SurfaceFacet*>& fan, bool regular);
 
 // Sets SurfaceFacet::copy: at the vertices of `open` (those of facets left out: they can pinch) and of
 // `irregular` (vertices the carver could not make regular, beside a seam, and their neighbours) from their
@@ -114,8 +114,9 @@ void SurfaceAround(const Delaunay& dt, VertexHandle v, std::vector<SurfaceFacet>
 IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled);
 
 // The output surface: CollectSurface, AssignCopies (with `frozen`, may be null), FacetsToMesh.
-IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule, const std::vector<VertexHandle>& irregular,
-                                  const FanCopies* frozen, Label unlabelled);
+IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule,
+                                  const std::vector<VertexHandle>& irregular, const FanCopies* frozen,
+                                  Label unlabelled);
 
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);
