@@ -33,8 +33,10 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
   const std::string exe = SEMAP_EXE;
   const std::string url = "udpm://239.255.76.67:7667?ttl=0";
   // In the namespace: loopback up with the multicast route; the viewer; the page (page_check.mjs) until it is
-  // connected; then the run (finalising early, so that finalised blocks are shown too); then wait for the
-  // page to reach the count of the run's mesh.ply. The viewer and the page are stopped whatever happens.
+  // connected; then the run (finalising early, so that finalised blocks are shown too; at the sequence's
+  // 10 Hz, as a stream: flat out, its 20 small frames were over before the page had drawn three counts, 2 runs
+  // in 7); then wait for the page to reach the count of the run's mesh.ply. The viewer and the page are
+  // stopped whatever happens.
   const std::string script =
       "set -eu\n"
       "ip link set lo up\n"
@@ -55,7 +57,7 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
       at("out") + " --lcm-url '" + url +
       "' --set depth.max_points_per_frame=1500 --set pipeline.depth_workers=1"
       " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set map.finalise_every_frames=2"
-      " > " +
+      " --mode realtime > " +
       at("run.txt") +
       " 2>&1\n"
       "status=0; wait $p || status=$?; p=\n"
