@@ -57,6 +57,22 @@ void ExpectComparison(const fs::path& out) {
   EXPECT_GT(rows.at("O").at("completeness"), 0.5);
   EXPECT_TRUE(IsPng(out / "compare.png"));
   EXPECT_TRUE(fs::exists(out / "compare.md"));
+  // The plot's data: both protocols' RMSE as in compare.csv, and each method's kind (0 O, 1 non-semantic
+  // baseline, 2 semantic), which colours its point; the line without ground and wall is not a point.
+  std::ifstream dat(out / "compare_plot.dat");
+  std::map<std::string, int> kind;
+  for (std::string line; std::getline(dat, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto close = line.find('"', 1);
+    const std::string method = line.substr(1, close - 1);
+    std::stringstream values(line.substr(close + 1));
+    double mesh_mb = 0.0, rmse_strict_m = 0.0, rmse_paper_m = 0.0;
+    values >> mesh_mb >> rmse_strict_m >> rmse_paper_m >> kind[method];
+    ASSERT_TRUE(values) << line;
+    EXPECT_NEAR(rmse_strict_m, rows.at(method).at("rmse_m"), 1e-4) << method;
+    EXPECT_NEAR(rmse_paper_m, rows.at(method).at("rmse_paper_m"), 1e-4) << method;
+  }
+  EXPECT_EQ(kind, (std::map<std::string, int>{{"O", 0}, {"PS", 2}, {"voxel", 1}}));
 }
 
 TEST(SemapCompare, IncrementalModeWritesTableCsvAndPlot) {
