@@ -61,7 +61,7 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::uniq
       [depth = config.depth, semantics = config.semantics, class_map, enet] {
         return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet);
       },
-      std::move(simplify), std::make_unique<IncrementalMapStage>(config.map));
+      std::move(simplify), std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
   if (enet) {
     pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics), config.semantics.enet_every_frames);
   }

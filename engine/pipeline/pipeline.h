@@ -34,6 +34,12 @@ struct PipelineOptions {
   double max_speed_mps = 100.0;
   // CPUs the pipeline's threads may run on (e.g. {0, 1}); empty = no pinning.
   std::vector<int> cpu_affinity;
+  // The map stage extracts and publishes the mesh's change every this many frames (and at the end); the
+  // frames between integrate into the map only. Extracting the live surface costs about as much as the
+  // votes (bench/RESULTS.md, "Mesh cadence"), and a viewer or logger needs it at a few Hz, not at the
+  // sensor's rate (voxblox and nvblox likewise mesh on their own clock). 1 = every frame. The final mesh is
+  // the same for any value.
+  int mesh_every_frames = 1;
 
   void Check() const;
 };

@@ -102,28 +102,37 @@ LabelledCloud WindowedSimplifyStage::Process(LabelledCloud cloud, std::vector<Cl
   return std::move(result.kept);
 }
 
+IncrementalMapStage::IncrementalMapStage(const MapOptions& options, int mesh_every_frames)
+    : map_(options), mesh_every_frames_(mesh_every_frames) {
+  SEMAP_ASSERT(mesh_every_frames >= 1, "mesh_every_frames " << mesh_every_frames);
+}
+
 MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&) {
   // The cloud's camera (its frame's left camera) is where every ray of this frame starts.
   const MapUpdateResult r = map_.Update(cloud);
   last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
   const auto t0 = std::chrono::steady_clock::now();
-  MapUpdate u = Report();
+  const bool with_mesh = ++frames_since_mesh_ >= mesh_every_frames_;
+  if (with_mesh) frames_since_mesh_ = 0;
+  MapUpdate u = Report(with_mesh);
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"votes", r.trace_ms},
              {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"mesh", mesh_ms}};
   return u;
 }
 
-MapUpdate IncrementalMapStage::Finish() { return Report(); }
+MapUpdate IncrementalMapStage::Finish() { return Report(/*with_mesh=*/true); }
 
-MapUpdate IncrementalMapStage::Report() {
-  const IdentifiedMesh finalised = map_.TakeFinalisedMesh();
-  MeshDelta delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
-  published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
-                          static_cast<std::int64_t>(delta.removed_triangle_ids.size());
-  const MapStatistics s = map_.Sizes();
+MapUpdate IncrementalMapStage::Report(bool with_mesh) {
   MapUpdate u;
-  u.delta = std::move(delta);
+  u.delta.frame_id = last_frame_id_;
+  if (with_mesh) {
+    const IdentifiedMesh finalised = map_.TakeFinalisedMesh();
+    u.delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
+    published_triangles_ += static_cast<std::int64_t>(u.delta.added_triangle_ids.size()) -
+                            static_cast<std::int64_t>(u.delta.removed_triangle_ids.size());
+  }
+  const MapStatistics s = map_.Sizes();
   u.vertices = static_cast<std::int64_t>(s.num_points + s.num_steiner_vertices);
   u.cells = static_cast<std::int64_t>(s.num_cells);
   u.rays = static_cast<std::int64_t>(s.num_rays);

@@ -58,17 +58,21 @@ class WindowedSimplifyStage : public SimplifyStage {
   WindowedSimplifier simplifier_;
 };
 
-// The incremental Delaunay map: each frame's kept points with their camera update the map, and the change of
-// the published mesh (live surface + finalised regions) goes out as a delta.
+// The incremental Delaunay map: each frame's kept points with their camera update the map, and every
+// `mesh_every_frames` frames (PipelineOptions::mesh_every_frames) and at the end the change of the published
+// mesh (live surface + finalised regions) goes out as a delta; the frames between give an empty delta.
 class IncrementalMapStage : public MapStage {
  public:
-  explicit IncrementalMapStage(const MapOptions& options) : map_(options) {}
+  explicit IncrementalMapStage(const MapOptions& options, int mesh_every_frames = 1);
   MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override;
   MapUpdate Finish() override;
 
  private:
-  MapUpdate Report();
+  // The map's sizes, with the mesh's change when `with_mesh`.
+  MapUpdate Report(bool with_mesh);
   IncrementalMap map_;
+  int mesh_every_frames_;
+  std::int64_t frames_since_mesh_ = 0;
   MeshDiffer differ_;  // live surface + finalised regions → deltas with stable triangle ids
   std::int64_t published_triangles_ = 0;
   std::int64_t last_frame_id_ = -1;

@@ -89,6 +89,9 @@ void Bind(FieldBinder& b, PipelineOptions& o) {
           "skip (and count) a frame whose camera moved faster than this since the last accepted frame, m/s "
           "(a pose jump); 0 = no check");
   b.Field("cpu_affinity", &o.cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+  b.Field("mesh_every_frames", &o.mesh_every_frames,
+          "the map extracts and publishes the mesh's change every this many frames (and at the end), "
+          "integrating every frame; 1 = every frame; the final mesh is the same for any value");
 }
 
 void Bind(FieldBinder& b, OutputOptions& o) {

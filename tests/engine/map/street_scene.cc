@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
+
+#include "engine/core/depth_view.h"
 
 namespace semap::test {
 namespace {
@@ -93,6 +96,47 @@ LabelledCloud SampleStreet(const StreetScene& scene, const StreetSamplingOptions
       }
     }
   }
+  return cloud;
+}
+
+// One frame of the analytic street seen by a pinhole camera at y_m looking +y (±45° wide): its depth view
+// (rays that hit nothing are sky: free to the far range) and a point at every stride-th pixel.
+LabelledCloud StreetDepthFrame(const StreetScene& scene, double y_m, int stride) {
+  constexpr int kWidth = 96, kHeight = 64;
+  constexpr double kFocal = 48.0, kMaxDepth = 30.0;
+  auto view = std::make_shared<DepthView>();
+  view->intrinsics.fx_px = view->intrinsics.fy_px = kFocal;
+  view->intrinsics.cx_px = kWidth / 2.0;
+  view->intrinsics.cy_px = kHeight / 2.0;
+  view->intrinsics.baseline_m = 0.5;
+  view->intrinsics.width_px = kWidth;
+  view->intrinsics.height_px = kHeight;
+  view->max_depth_m = kMaxDepth;
+  view->depth_m = cv::Mat::zeros(kHeight, kWidth, CV_32F);
+  Eigen::Matrix3d world_from_cam_rotation;  // camera x right, y down, z forward → world x, −z, y
+  world_from_cam_rotation << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  view->world_from_cam.linear() = world_from_cam_rotation;
+  view->world_from_cam.translation() = scene.CameraCenter(y_m);
+  LabelledCloud cloud;
+  cloud.camera_centers_world.push_back(scene.CameraCenter(y_m));
+  for (int v = 0; v < kHeight; ++v) {
+    for (int u = 0; u < kWidth; ++u) {
+      const Eigen::Vector3d ray_cam((u - view->intrinsics.cx_px) / kFocal, (v - view->intrinsics.cy_px) / kFocal, 1.0);
+      const Eigen::Vector3d dir = (world_from_cam_rotation * ray_cam).normalized();
+      const auto hit = scene.Cast(scene.CameraCenter(y_m), dir);
+      const double depth = hit ? hit->first / ray_cam.norm() : 0.0;
+      if (!hit || depth > kMaxDepth) {
+        view->depth_m.at<float>(v, u) = kFreeToFarRange;
+        continue;
+      }
+      view->depth_m.at<float>(v, u) = float(depth);
+      if (u % stride || v % stride) continue;
+      cloud.positions_world.push_back(scene.CameraCenter(y_m) + hit->first * dir);
+      cloud.labels.push_back(hit->second);
+      cloud.camera_index.push_back(0);
+    }
+  }
+  cloud.camera_views.push_back(std::move(view));
   return cloud;
 }
 

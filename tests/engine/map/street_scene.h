@@ -42,4 +42,9 @@ struct StreetSamplingOptions {
 // One point per ray that hits the scene within range, with its camera (camera_index) and label.
 LabelledCloud SampleStreet(const StreetScene& scene, const StreetSamplingOptions& options);
 
+// One frame of the street seen by a 96×64 pinhole camera at y_m looking +y (±45° wide), as the pipeline's
+// depth stage gives it: its exact depth view (rays that hit nothing are sky: free to the far range) and a
+// point at every stride-th pixel.
+LabelledCloud StreetDepthFrame(const StreetScene& scene, double y_m, int stride);
+
 }  // namespace semap::test

@@ -4,7 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <opencv2/imgproc.hpp>
+
+#include "engine/core/mesh_delta.h"
+#include "tests/engine/map/street_scene.h"
 
 namespace semap {
 namespace {
@@ -110,6 +115,57 @@ TEST(SegmenterStage, LoadsTheModelAtConstruction) {
   }
   EXPECT_THROW(StereoLabelStage(SmallDepth(), Enet(LabelPropagation::kReproject), ClassMap::Cityscapes(), false),
                std::runtime_error);
+}
+
+// The map stage at a mesh cadence: 13 frames of the analytic street with finalisation, meshed every frame
+// and every 4 frames. Deltas come only on every 4th frame and at the end, and the mesh a subscriber rebuilds
+// from them at the end is the same, triangle for triangle.
+TEST(IncrementalMapStage, MeshEveryNFramesPublishesLessOftenAndEndsWithTheSameMesh) {
+  const test::StreetScene scene;
+  MapOptions options;
+  options.finalise_age_frames = 5;
+  options.finalise_every_frames = 3;
+  options.disparity_sigma_px = 0.0;  // exact depth
+  IncrementalMapStage every_frame(options, 1), every_fourth(options, 4);
+  MeshAccumulator mesh_1, mesh_4;
+  std::vector<std::int64_t> frames_with_change;
+  std::size_t finalised_4 = 0;
+  constexpr int kFrames = 13;
+  for (int f = 0; f < kFrames; ++f) {
+    LabelledCloud frame = test::StreetDepthFrame(scene, 1.0 * f, 2);
+    frame.camera_frame_ids = {f};
+    const MapUpdate u1 = every_frame.Process(frame, Pose3d::Identity());
+    const MapUpdate u4 = every_fourth.Process(frame, Pose3d::Identity());
+    EXPECT_FALSE(u1.delta.empty()) << "frame " << f;
+    EXPECT_EQ(u4.delta.frame_id, f);
+    EXPECT_EQ(u1.vertices, u4.vertices) << "frame " << f << ": the map itself does not depend on the cadence";
+    EXPECT_EQ(u1.cells, u4.cells) << "frame " << f;
+    mesh_1.Apply(u1.delta);
+    mesh_4.Apply(u4.delta);
+    if (!u4.delta.empty()) frames_with_change.push_back(f);
+    finalised_4 += u4.delta.finalised_triangle_ids.size();
+  }
+  EXPECT_GT(finalised_4, 0u) << "the drive finalises regions between mesh frames";
+  EXPECT_EQ(frames_with_change, (std::vector<std::int64_t>{3, 7, 11}));
+  const MapUpdate end_1 = every_frame.Finish(), end_4 = every_fourth.Finish();
+  mesh_1.Apply(end_1.delta);
+  mesh_4.Apply(end_4.delta);
+  EXPECT_EQ(end_1.mesh_triangles, end_4.mesh_triangles);
+  const Mesh a = mesh_1.ToMesh(), b = mesh_4.ToMesh();
+  ASSERT_GT(a.num_triangles(), 100u);
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.labels, b.labels);
+  // Triangles as a set, each rotated to start at its smallest index (orientation kept): the rebuilt mesh
+  // lists them in the order its hash table holds them.
+  const auto canonical = [](const Mesh& m) {
+    std::set<std::array<std::uint32_t, 3>> out;
+    for (auto t : m.triangles) {
+      while (t[0] > t[1] || t[0] > t[2]) t = {t[1], t[2], t[0]};
+      out.insert(t);
+    }
+    return out;
+  };
+  EXPECT_EQ(canonical(a), canonical(b));
 }
 
 }  // namespace
