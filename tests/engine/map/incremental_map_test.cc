@@ -315,7 +315,9 @@ TEST(IncrementalMap, DriveJumpingPastTheHullKeepsMapping) {
     stream.known_ids.clear();
     const int place = f < 12 ? f : f + 120;  // 120 frames further on (144 m) from frame 12
     const MapUpdateResult r = map.Update(stream.Frame(place, 200, &extra));
-    if (f >= 12) EXPECT_GT(r.inserted, 100u) << "frame " << f << ": " << r.points_rejected_at_seam << " rejected";
+    if (f >= 12) {
+      EXPECT_GT(r.inserted, 100u) << "frame " << f << ": " << r.points_rejected_at_seam << " rejected";
+    }
     published.Update(&map, f);
     const auto report = test::CheckManifold(published.accumulator.ToMesh(), /*allow_boundary=*/true);
     ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
