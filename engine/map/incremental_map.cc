@@ -85,7 +85,13 @@ MapStatistics IncrementalState::Sizes() const {
   MapStatistics s = counters_;
   s.num_points = points_.size();
   s.num_steiner_vertices = steiner_.size();
-  s.num_cells = dt_.number_of_finite_cells();
+  // number_of_finite_cells() walks every cell; all cells less the infinite ones (those around the hull) is
+  // the same count, read off in O(hull).
+  if (dt_.dimension() == 3) {
+    std::vector<CellHandle> infinite;
+    dt_.incident_cells(dt_.infinite_vertex(), std::back_inserter(infinite));
+    s.num_cells = dt_.number_of_cells() - infinite.size();
+  }
   s.num_rays = rays_.num_live();
   return s;
 }

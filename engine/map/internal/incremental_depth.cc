@@ -1,4 +1,5 @@
 // The incremental map's update with visibility votes from depth maps (map.visibility: depth).
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -253,18 +254,23 @@ bool TouchesFrozen(CellHandle c, int k) {
 
 std::size_t IncrementalState::VoteFromViews() {
   if (dt_.dimension() < 3 || views_.empty()) return 0;
-  std::vector<CellHandle> cells;
-  cells.reserve(dt_.number_of_finite_cells());
+  // The scratch vectors keep their capacity between frames: ~650 k entries each on a long drive, which
+  // allocated anew (and paged in, and zeroed) every frame cost more than the serial part of the votes.
+  std::vector<CellHandle>& cells = vote_scratch_.cells;
+  cells.clear();
+  cells.reserve(dt_.number_of_cells());  // O(1), unlike number_of_finite_cells(), which counts
   for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
     if (!c->info().IsSealed()) cells.push_back(c);  // a sealed cell never changes: its votes do not matter
   }
   const VotingView& newest = views_.back();
-  std::vector<VoteIncrement> votes(cells.size());
+  std::vector<VoteIncrement>& votes = vote_scratch_.votes;
+  votes.assign(cells.size(), VoteIncrement{});
   // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
   // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
   // newest view sees that no view saw yet, in that view.
   const bool track_seen = Emit().drop_unseen;
-  std::vector<std::uint8_t> seen(track_seen ? cells.size() : 0);
+  std::vector<std::uint8_t>& seen = vote_scratch_.seen;
+  seen.assign(track_seen ? cells.size() : 0, 0);
   constexpr std::size_t kGrainCells = 4096;
   // Reads only: the votes are applied below, in cell order, so the result does not depend on the threads.
   ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
@@ -310,29 +316,41 @@ std::size_t IncrementalState::VoteFromViews() {
       }
     }
   });
-  std::size_t voted = 0;
+  // The votes go into each cell's own record in parallel; which cells are touched is decided there too, and
+  // listed below in cell order (deterministic). The seen bits go on both sides of a facet, so they are set in
+  // one thread.
+  std::vector<std::uint8_t>& touched = vote_scratch_.touched;
+  touched.assign(cells.size(), 0);
+  std::atomic<std::size_t> voted{0};
+  ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
+    std::size_t voted_here = 0;
+    for (std::size_t i = first; i != last; ++i) {
+      CellInfo& info = cells[i]->info();
+      const bool was_free = info.IsFree();
+      const bool has_vote = votes[i].free_q != 0 || votes[i].matter_q != 0;
+      if (has_vote) {
+        ++voted_here;
+        info.free_q += votes[i].free_q;
+        info.matter_q += votes[i].matter_q;
+      }
+      // Changed, or free and still outside the carved region (the manifold test refused it before: retried
+      // while the view sees it, as the exact map retries the cells each new ray crosses).
+      const bool retry = info.IsFree() && !info.carved && has_vote;
+      if ((info.created == created_mark_ || was_free != info.IsFree() || retry) && info.stamp != touch_mark_) {
+        info.stamp = touch_mark_;
+        touched[i] = 1;
+      }
+    }
+    voted += voted_here;
+  });
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    const CellHandle c = cells[i];
-    CellInfo& info = c->info();
-    const bool was_free = info.IsFree();
-    for (int k = 0; track_seen && k < 4; ++k) {
-      if ((seen[i] >> k) & 1) MarkFacetSeen(c, k);
-    }
-    if (votes[i].free_q != 0 || votes[i].matter_q != 0) {
-      ++voted;
-      info.free_q += votes[i].free_q;
-      info.matter_q += votes[i].matter_q;
-    }
-    // Changed, or free and still outside the carved region (the manifold test refused it before: retried
-    // while the view sees it, as the exact map retries the cells each new ray crosses).
-    const bool retry = info.IsFree() && !info.carved && (votes[i].free_q != 0 || votes[i].matter_q != 0);
-    if ((info.created == created_mark_ || was_free != info.IsFree() || retry) && info.stamp != touch_mark_) {
-      info.stamp = touch_mark_;
-      touched_.push_back(c);
+    if (touched[i]) touched_.push_back(cells[i]);
+    for (int k = 0; track_seen && seen[i] != 0 && k < 4; ++k) {
+      if ((seen[i] >> k) & 1) MarkFacetSeen(cells[i], k);
     }
   }
   counters_.cells_visited += voted;
-  return voted;
+  return voted.load();
 }
 
 }  // namespace semap::map_internal

@@ -193,6 +193,12 @@ class IncrementalState {
   std::vector<VertexHandle> inserted_;  // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
+  struct VoteScratch {  // VoteFromViews, per cell it visits
+    std::vector<CellHandle> cells;
+    std::vector<VoteIncrement> votes;
+    std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
+    std::vector<std::uint8_t> touched;  // goes to touched_
+  } vote_scratch_;
 
   // Outputs.
   IdentifiedMesh finalised_;

@@ -512,3 +512,23 @@ TEST(IncrementalMap, DepthVotesNeedADepthViewPerCamera) {
 
 }  // namespace
 }  // namespace semap
+
+namespace semap {
+namespace {
+
+// Sizes() counts the finite cells without walking them: the same count as the cells the votes snapshot lists.
+TEST(IncrementalMap, SizesCountsEveryFiniteCell) {
+  const test::StreetScene scene;
+  MapOptions options;
+  options.finalise_age_frames = 4;
+  options.finalise_every_frames = 2;
+  IncrementalMap map(options);
+  EXPECT_EQ(map.Sizes().num_cells, 0u);
+  for (int f = 0; f < 8; ++f) {
+    map.Update(test::StreetDepthFrame(scene, 1.0 * f, 4));
+    EXPECT_EQ(map.Sizes().num_cells, map.CellVotesSnapshot().size()) << "frame " << f;
+  }
+}
+
+}  // namespace
+}  // namespace semap
