@@ -283,7 +283,7 @@ void WriteOutputs(const CompareArgs& args, const std::vector<Row>& rows, const D
   gp << "set terminal pngcairo size 1400,600 noenhanced\nset output 'compare.png'\n"
      << "set multiplot layout 1,2 title 'Mesh size vs accuracy (" << args.mode << ": "
      << std::filesystem::path(args.path).filename().string() << ")'\n"
-     << "set xlabel 'mesh size (MB, OFF)'\nset grid\nset key bottom right\nset xrange [0:*]\n"
+     << "set xlabel 'mesh size (MB, OFF)'\nset grid\nset key below horizontal\nset xrange [0:*]\n"
      << "set offsets 0, 0, graph 0.08, graph 0.05\n"
      << "set arrow 1 from " << line_mb << ", graph 0 to " << line_mb << ", graph 1 nohead lc rgb 'red' dt 2\n"
      << "set label 1 'without ground and wall' at " << line_mb
