@@ -11,13 +11,13 @@
 //
 // Usage: semap_stereo_bound SEQUENCE [--frames N] [--config FILE] [--set key=value ...]
 #include <CLI/CLI.hpp>
-#include <array>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
+#include "engine/eval/error_breakdown.h"
 #include "io/config/config.h"
 #include "io/frame_source.h"
 
@@ -26,9 +26,6 @@ namespace {
 using semap::DepthAccuracy;
 using semap::DepthAccuracyAccumulator;
 using semap::DepthAccuracyOptions;
-
-// Reference distance bins (m), as `semap eval`'s breakdown.
-constexpr std::array<double, 7> kBinEdgesM = {0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 40.0};
 
 void PrintRow(const std::string& name, const DepthAccuracy& a) {
   std::printf("| %s | %lld | %.3f | %.3f | %.3f | %.1f %% |\n", name.c_str(),
@@ -57,20 +54,21 @@ int main(int argc, char** argv) {
     const DepthAccuracyOptions strict = config.eval;
     const DepthAccuracyOptions paper = semap::PaperProtocol(strict);
     DepthAccuracyAccumulator strict_total(strict), paper_total(paper);
+    // The reference-distance bins of `semap eval`'s breakdown, each within the strict depth range.
+    const std::vector<double> edges_m = semap::ErrorBreakdownOptions().distance_edges_m;
     std::vector<DepthAccuracyAccumulator> bins;
-    for (std::size_t b = 0; b + 1 < kBinEdgesM.size(); ++b) {
+    for (std::size_t b = 0; b + 1 < edges_m.size(); ++b) {
       DepthAccuracyOptions o = strict;
-      o.min_depth_m = std::max(strict.min_depth_m, kBinEdgesM[b]);
-      o.max_depth_m = std::min(strict.max_depth_m, kBinEdgesM[b + 1]);
+      o.min_depth_m = std::max(strict.min_depth_m, edges_m[b]);
+      o.max_depth_m = std::min(strict.max_depth_m, edges_m[b + 1]);
       bins.emplace_back(o);
     }
     int used = 0;
     while (auto frame = source->Next()) {
       if (!frame->velodyne) continue;
       const semap::DisparityResult d = depth.Compute(frame->left, frame->right);
-      const semap::DepthView view = depth.ToDepthView(*frame, d.disparity_px, d.confidence);
-      cv::Mat stereo_depth = view.depth_m.clone();
-      stereo_depth.setTo(0.0f, stereo_depth == semap::kFreeToFarRange);  // never set here; kept for safety
+      // 0 where no point: ToDepthView marks no sky (only the pipeline's labelling does).
+      const cv::Mat stereo_depth = depth.ToDepthView(*frame, d.disparity_px, d.confidence).depth_m;
       const cv::Mat lidar = semap::LidarDepthImage(*frame->velodyne, frame->calibration, strict);
       strict_total.Add(lidar, stereo_depth);
       paper_total.Add(lidar, stereo_depth);
@@ -85,7 +83,7 @@ int main(int argc, char** argv) {
     std::printf("| reference depth | compared px | RMSE (m) | MAE (m) | median (m) | completeness |\n|---|---|---|---|---|---|\n");
     for (std::size_t b = 0; b < bins.size(); ++b) {
       char name[32];
-      std::snprintf(name, sizeof(name), "%.0f-%.0f m", kBinEdgesM[b], kBinEdgesM[b + 1]);
+      std::snprintf(name, sizeof(name), "%.0f-%.0f m", edges_m[b], edges_m[b + 1]);
       PrintRow(name, bins[b].Result());
     }
   } catch (const std::exception& e) {

@@ -63,7 +63,8 @@ class WindowedSimplifyStage : public SimplifyStage {
 // mesh (live surface + finalised regions) goes out as a delta; the frames between give an empty delta.
 class IncrementalMapStage : public MapStage {
  public:
-  explicit IncrementalMapStage(const MapOptions& options, int mesh_every_frames = 1);
+  // mesh_every_frames: PipelineOptions::mesh_every_frames (≥ 1).
+  IncrementalMapStage(const MapOptions& options, int mesh_every_frames);
   MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override;
   MapUpdate Finish() override;
 

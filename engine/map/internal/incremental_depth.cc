@@ -272,7 +272,8 @@ std::size_t IncrementalState::VoteFromViews() {
   std::vector<std::uint8_t>& seen = vote_scratch_.seen;
   seen.assign(track_seen ? cells.size() : 0, 0);
   constexpr std::size_t kGrainCells = 4096;
-  // Reads only: the votes are applied below, in cell order, so the result does not depend on the threads.
+  // Reads only: the votes are applied below, once every cell's are known, so the result does not depend on
+  // the threads.
   ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
     std::array<Eigen::Vector3d, 4> vertices;
     for (std::size_t i = first; i != last; ++i) {

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "engine/map/internal/vote_weights.h"
+#include "tests/engine/map/map_test_util.h"
 
 namespace semap::map_internal {
 namespace {
@@ -17,16 +18,9 @@ constexpr double kFocalPx = 100.0;
 // A camera at the origin looking along +z (world = camera frame), seeing a wall at z = wall_m (0 = no depth,
 // kFreeToFarRange = sky) over the whole image.
 std::shared_ptr<const DepthView> WallView(float wall_m, double max_depth_m = 40.0) {
-  auto view = std::make_shared<DepthView>();
-  view->intrinsics.fx_px = view->intrinsics.fy_px = kFocalPx;
-  view->intrinsics.cx_px = kWidthPx / 2.0;
-  view->intrinsics.cy_px = kHeightPx / 2.0;
-  view->intrinsics.baseline_m = 0.5;
-  view->intrinsics.width_px = kWidthPx;
-  view->intrinsics.height_px = kHeightPx;
-  view->depth_m = cv::Mat(kHeightPx, kWidthPx, CV_32F, cv::Scalar(wall_m));
+  auto view = test::PinholeDepthView(kWidthPx, kHeightPx, kFocalPx, max_depth_m);
+  view->depth_m.setTo(wall_m);
   view->rays_per_pixel = 4.0;  // as from a depth map at stride 2
-  view->max_depth_m = max_depth_m;
   return view;
 }
 

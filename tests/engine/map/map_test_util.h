@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
+#include "engine/core/depth_view.h"
 #include "engine/core/labelled_cloud.h"
 #include "engine/core/mesh.h"
 
@@ -72,6 +74,21 @@ inline std::optional<double> RayMeshDistance(const Mesh& mesh, const Eigen::Vect
     if (dist > 1e-9 && (!best || dist < *best)) best = dist;
   }
   return best;
+}
+
+// A pinhole camera's depth view, world = camera frame: width × height px, focal focal_px, the principal
+// point at the image centre, a 0.5 m baseline, far range max_depth_m, and no depth anywhere yet (all 0).
+inline std::shared_ptr<DepthView> PinholeDepthView(int width_px, int height_px, double focal_px, double max_depth_m) {
+  auto view = std::make_shared<DepthView>();
+  view->intrinsics.fx_px = view->intrinsics.fy_px = focal_px;
+  view->intrinsics.cx_px = width_px / 2.0;
+  view->intrinsics.cy_px = height_px / 2.0;
+  view->intrinsics.baseline_m = 0.5;
+  view->intrinsics.width_px = width_px;
+  view->intrinsics.height_px = height_px;
+  view->max_depth_m = max_depth_m;
+  view->depth_m = cv::Mat::zeros(height_px, width_px, CV_32F);
+  return view;
 }
 
 }  // namespace semap::test

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "engine/core/depth_view.h"
+#include "tests/engine/map/map_test_util.h"
 
 namespace semap::test {
 namespace {
@@ -104,15 +105,7 @@ LabelledCloud SampleStreet(const StreetScene& scene, const StreetSamplingOptions
 LabelledCloud StreetDepthFrame(const StreetScene& scene, double y_m, int stride) {
   constexpr int kWidth = 96, kHeight = 64;
   constexpr double kFocal = 48.0, kMaxDepth = 30.0;
-  auto view = std::make_shared<DepthView>();
-  view->intrinsics.fx_px = view->intrinsics.fy_px = kFocal;
-  view->intrinsics.cx_px = kWidth / 2.0;
-  view->intrinsics.cy_px = kHeight / 2.0;
-  view->intrinsics.baseline_m = 0.5;
-  view->intrinsics.width_px = kWidth;
-  view->intrinsics.height_px = kHeight;
-  view->max_depth_m = kMaxDepth;
-  view->depth_m = cv::Mat::zeros(kHeight, kWidth, CV_32F);
+  auto view = PinholeDepthView(kWidth, kHeight, kFocal, kMaxDepth);
   Eigen::Matrix3d world_from_cam_rotation;  // camera x right, y down, z forward → world x, −z, y
   world_from_cam_rotation << 1, 0, 0, 0, 0, 1, 0, -1, 0;
   view->world_from_cam.linear() = world_from_cam_rotation;
