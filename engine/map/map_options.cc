@@ -23,6 +23,8 @@ void MapOptions::Check() const {
                      disparity_sigma_px, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(seen_noise_sigmas) && seen_noise_sigmas >= 0.0, "seen_noise_sigmas",
                      seen_noise_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(fill_unseen_holes_facets >= 0, "fill_unseen_holes_facets", fill_unseen_holes_facets,
+                     "must be >= 0");
   SEMAP_CHECK_OPTION(grow_passes >= 1, "grow_passes", grow_passes, "must be >= 1");
   SEMAP_CHECK_OPTION(std::isfinite(repair_fill_cost) && repair_fill_cost >= 0.0, "repair_fill_cost",
                      repair_fill_cost, "must be finite and >= 0");

@@ -38,6 +38,8 @@ struct MapStatistics {
   std::size_t num_rays = 0;         // live rays
   std::uint64_t rays_traced = 0;    // walks done so far (traces and untraces)
   std::uint64_t cells_visited = 0;  // cells visited by those walks
+  // map.fill_unseen_holes_facets: unseen surface facets taken as seen so far (small holes ringed by seen ones).
+  std::uint64_t facets_taken_as_seen = 0;
 };
 
 }  // namespace semap

@@ -267,6 +267,8 @@ void Bind(FieldBinder& b, MapOptions& o) {
           "depth: leave out surface triangles no view saw as a surface (no lids over unseen space)");
   b.Field("seen_noise_sigmas", &o.seen_noise_sigmas,
           "depth: a triangle is seen as a surface within ray extension + this many depth σ of a pixel's depth");
+  b.Field("fill_unseen_holes_facets", &o.fill_unseen_holes_facets,
+          "depth: a hole of at most this many unseen triangles ringed by seen ones counts as seen; 0 = never");
   b.Field("finalise_age_frames", &o.finalise_age_frames,
           "finalise (emit once, then release) points older than this many frames; 0 = never by age");
   b.Field("finalise_distance_m", &o.finalise_distance_m,

@@ -344,9 +344,12 @@ std::size_t IncrementalState::VoteFromViews() {
     }
     voted += voted_here;
   });
+  newly_seen_.clear();
   for (std::size_t i = 0; i < cells.size(); ++i) {
     if (touched[i]) touched_.push_back(cells[i]);
-    for (int k = 0; track_seen && seen[i] != 0 && k < 4; ++k) {
+    if (!track_seen || seen[i] == 0) continue;
+    newly_seen_.push_back(cells[i]);
+    for (int k = 0; k < 4; ++k) {
       if ((seen[i] >> k) & 1) MarkFacetSeen(cells[i], k);
     }
   }

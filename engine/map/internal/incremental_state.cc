@@ -11,6 +11,7 @@
 
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
+#include "engine/map/internal/seen_holes.h"
 
 namespace semap::map_internal {
 namespace {
@@ -142,10 +143,18 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
 void IncrementalState::CarveAndFinalise(MapUpdateResult* result, std::chrono::steady_clock::time_point* lap) {
   result->cells_uncarved += ShrinkNonFree();
   result->cells_carved = Regrow();
+  FillSeenHoles();
   result->carve_ms = Lap(lap);
   Finalise(result);
   TakeIrregular();
   result->finalise_ms = Lap(lap);
+}
+
+void IncrementalState::FillSeenHoles() {
+  if (!Emit().drop_unseen || options_.fill_unseen_holes_facets == 0) return;
+  std::vector<CellHandle> around = touched_;
+  around.insert(around.end(), newly_seen_.begin(), newly_seen_.end());
+  counters_.facets_taken_as_seen += FillUnseenHoles(&dt_, around, options_.fill_unseen_holes_facets);
 }
 
 void IncrementalState::ClassifyPoints(const LabelledCloud& frame,

@@ -19,29 +19,11 @@
 
 namespace semap::map_internal {
 
-// A facet by its three vertex handles, sorted: names a facet across a re-triangulation that keeps it.
-using FacetHandles = std::array<const void*, 3>;
-struct FacetHandlesHash {
-  std::size_t operator()(const FacetHandles& t) const {
-    std::size_t h = 0;
-    for (const void* k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<const void*>()(k);
-    return h;
-  }
-};
 // What a released cell leaves across one facet of a finalisation's hole boundary to the cell that refills it.
 struct HoleSide {
   bool carved = false;  // the released cell counted as carved across the facet
   bool seen = false;    // the facet was seen as a surface (CellInfo::seen_facets)
 };
-
-inline FacetHandles SortedFacet(CellHandle c, int opposite) {
-  FacetHandles f;
-  for (int k = 0, n = 0; k < 4; ++k) {
-    if (k != opposite) f[n++] = &*c->vertex(k);
-  }
-  std::sort(f.begin(), f.end());
-  return f;
-}
 
 // A pending insertion: a data point (id) or a Steiner node (node key).
 inline constexpr std::uint32_t kNoMark = 0xFFFFFFFFu;  // a stamp never given
@@ -143,6 +125,9 @@ class IncrementalState {
   // in fan_copies_ (for the removed vertices and the `seam`, the staying vertices of the touched surface).
   void EmitFinalisedFacets(const std::vector<VertexHandle>& removed, const std::vector<VertexHandle>& seam,
                            std::uint32_t destroyed_mark);
+  // kDepth, map.fill_unseen_holes_facets: marks seen the small holes of unseen surface facets ringed by seen
+  // ones around the cells whose carving or seen facets this update changed (see seen_holes.h).
+  void FillSeenHoles();
   // Moves the vertices the carver could not repair to irregular_.
   void TakeIrregular();
   // Fixes in fan_copies_ the copy of `v` in each emitted facet of its cycle (`around`: scratch).
@@ -193,6 +178,7 @@ class IncrementalState {
   std::vector<VertexHandle> inserted_;  // vertices inserted in this update
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
+  std::vector<CellHandle> newly_seen_;      // kDepth: cells VoteFromViews marked facets of seen
   struct VoteScratch {  // VoteFromViews, per cell it visits
     std::vector<CellHandle> cells;
     std::vector<VoteIncrement> votes;

@@ -8,8 +8,10 @@
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -100,6 +102,24 @@ inline void MarkFacetSeen(CellHandle c, int i) {
   const CellHandle n = c->neighbor(i);
   c->info().seen_facets |= std::uint8_t(1u << i);
   n->info().seen_facets |= std::uint8_t(1u << n->index(c));
+}
+
+// A facet by its three vertex handles, sorted: names a facet across a re-triangulation that keeps it.
+using FacetHandles = std::array<const void*, 3>;
+struct FacetHandlesHash {
+  std::size_t operator()(const FacetHandles& t) const {
+    std::size_t h = 0;
+    for (const void* k : t) h = h * 0x9E3779B97F4A7C15ull + std::hash<const void*>()(k);
+    return h;
+  }
+};
+inline FacetHandles SortedFacet(CellHandle c, int opposite) {
+  FacetHandles f;
+  for (int k = 0, n = 0; k < 4; ++k) {
+    if (k != opposite) f[n++] = &*c->vertex(k);
+  }
+  std::sort(f.begin(), f.end());
+  return f;
 }
 
 inline Point ToPoint(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
