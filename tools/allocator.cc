@@ -9,6 +9,15 @@
 
 namespace semap::tools {
 
+void ConfigureAllocator() {
+#ifdef SEMAP_WITH_MIMALLOC
+  if (std::getenv("MIMALLOC_DECOMMIT_DELAY") == nullptr) mi_option_set(mi_option_decommit_delay, kDecommitDelayMs);
+  if (std::getenv("MIMALLOC_SEGMENT_DECOMMIT_DELAY") == nullptr) {
+    mi_option_set(mi_option_segment_decommit_delay, kDecommitDelayMs);
+  }
+#endif
+}
+
 std::string AllocatorDescription() {
 #ifdef SEMAP_WITH_MIMALLOC
   // Linking mimalloc replaces malloc only if the dynamic linker binds malloc to it: ask mimalloc whether it
@@ -19,7 +28,8 @@ std::string AllocatorDescription() {
   std::free(probe);
   const int v = mi_version();  // e.g. 209 for 2.0.9
   return "mimalloc " + std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10) +
-         (serves_malloc ? "" : ", linked but not serving malloc");
+         (serves_malloc ? ", decommit delay " + std::to_string(mi_option_get(mi_option_decommit_delay)) + " ms"
+                        : ", linked but not serving malloc");
 #else
   return "system malloc";
 #endif

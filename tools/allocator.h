@@ -5,8 +5,18 @@
 
 namespace semap::tools {
 
-// "mimalloc X.Y.Z" when the build links mimalloc and a block from malloc() lies in mimalloc's heap,
-// "mimalloc X.Y.Z, linked but not serving malloc" when it does not, "system malloc" otherwise.
+// With mimalloc: freed memory stays committed for kDecommitDelayMs before it goes back to the OS, for pages
+// (MIMALLOC_DECOMMIT_DELAY) and segments (MIMALLOC_SEGMENT_DECOMMIT_DELAY), each unless its environment
+// variable is set. The pipeline frees and allocates the same few hundred MB every frame (SGBM's buffers, the
+// votes' scratch, CGAL's cells); with mimalloc 2.0's defaults (25 and 500 ms) those pages were decommitted
+// between frames and faulted in again: 80 urban frames, PS, half resolution, 2 cores: 2.79 → 3.74 f/s, CPU
+// 44.8 → 33.6 s, RSS 257 → 321 MB (bench/RESULTS.md, session 10). Call first thing in main(), before threads
+// start. No-op without mimalloc.
+inline constexpr long kDecommitDelayMs = 1000;
+void ConfigureAllocator();
+
+// "mimalloc X.Y.Z, decommit delay D ms" when the build links mimalloc and a block from malloc() lies in
+// mimalloc's heap, "mimalloc X.Y.Z, linked but not serving malloc" when it does not, "system malloc" otherwise.
 std::string AllocatorDescription();
 
 }  // namespace semap::tools

@@ -12,6 +12,7 @@
 
 int main(int argc, char** argv) {
   using namespace semap::tools;
+  ConfigureAllocator();
   CLI::App app{"semap: dense 3D visual mapping via semantic simplification (stereo KITTI → manifold mesh)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "semap 0.1.0 (" + AllocatorDescription() + ")");
