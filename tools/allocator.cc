@@ -11,10 +11,9 @@ namespace semap::tools {
 
 void ConfigureAllocator() {
 #ifdef SEMAP_WITH_MIMALLOC
-  if (std::getenv("MIMALLOC_DECOMMIT_DELAY") == nullptr) mi_option_set(mi_option_decommit_delay, kDecommitDelayMs);
-  if (std::getenv("MIMALLOC_SEGMENT_DECOMMIT_DELAY") == nullptr) {
-    mi_option_set(mi_option_segment_decommit_delay, kDecommitDelayMs);
-  }
+  // Defaults, not values: mimalloc reads its MIMALLOC_* variables over them when the option is first used.
+  mi_option_set_default(mi_option_decommit_delay, kDecommitDelayMs);
+  mi_option_set_default(mi_option_segment_decommit_delay, kDecommitDelayMs);
 #endif
 }
 

@@ -7,11 +7,11 @@ namespace semap::tools {
 
 // With mimalloc: freed memory stays committed for kDecommitDelayMs before it goes back to the OS, for pages
 // (MIMALLOC_DECOMMIT_DELAY) and segments (MIMALLOC_SEGMENT_DECOMMIT_DELAY), each unless its environment
-// variable is set. The pipeline frees and allocates the same few hundred MB every frame (SGBM's buffers, the
-// votes' scratch, CGAL's cells); with mimalloc 2.0's defaults (25 and 500 ms) those pages were decommitted
-// between frames and faulted in again: 80 urban frames, PS, half resolution, 2 cores: 2.79 → 3.74 f/s, CPU
-// 44.8 → 33.6 s, RSS 257 → 321 MB (bench/RESULTS.md, session 10). Call first thing in main(), before threads
-// start. No-op without mimalloc.
+// variable is set (they are set as mimalloc's defaults, which its variables override). The pipeline frees and
+// allocates the same few hundred MB every frame (SGBM's buffers, the votes' scratch, CGAL's cells); with
+// mimalloc 2.0's defaults (25 and 500 ms) those pages were decommitted between frames and faulted in again:
+// 80 urban frames, PS, half resolution, 2 cores: 3.86 → 5.30 f/s, CPU −27 %, peak RSS +17 % (bench/RESULTS.md,
+// session 10). Call first thing in main(), before anything allocates. No-op without mimalloc.
 inline constexpr long kDecommitDelayMs = 1000;
 void ConfigureAllocator();
 
