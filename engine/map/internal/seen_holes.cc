@@ -1,8 +1,6 @@
 #include "engine/map/internal/seen_holes.h"
 
-#include <algorithm>
 #include <unordered_map>
-
 
 namespace semap::map_internal {
 namespace {
@@ -114,12 +112,14 @@ std::size_t FillUnseenHoles(Delaunay* dt, const std::vector<CellHandle>& cells, 
     marked += finder.hole().size();
   };
   for (const CellHandle c : cells) {
-    if (dt->is_infinite(c)) continue;
     for (int i = 0; i < 4; ++i) {
       CarvedFacet f;
       if (!AsCarvedFacet(*dt, c, i, &f)) continue;
-      try_fill(f);
-      for (int e = 0; e < 3; ++e) {
+      if (!FacetSeen(f.cell, f.index)) {
+        try_fill(f);  // its exploration meets its unseen neighbours: they are in its hole, or in no hole
+        continue;
+      }
+      for (int e = 0; e < 3; ++e) {  // a seen facet may close the ring of a hole beside it
         CarvedFacet g;
         if (SurfaceNeighbour(*dt, f, e, &g)) try_fill(g);
       }
