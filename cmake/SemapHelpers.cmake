@@ -27,3 +27,19 @@ function(semap_add_test)
   set_tests_properties(${T_NAME} PROPERTIES LABELS "${T_LABELS}" TIMEOUT ${T_TIMEOUT}
                        ENVIRONMENT "SEMAP_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()
+
+# semap_add_module(<target> EXPORT_NAME <name> SOURCES <files...> [PUBLIC <deps...>] [PRIVATE <deps...>])
+# One library of the engine or io, exported as semap::<name>; headers are included as "engine/<module>/x.h"
+# from the source root (installed under include/semap).
+function(semap_add_module target)
+  cmake_parse_arguments(M "" "EXPORT_NAME" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  add_library(${target} ${M_SOURCES})
+  add_library(semap::${M_EXPORT_NAME} ALIAS ${target})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/semap>)
+  target_link_libraries(${target} PUBLIC ${M_PUBLIC} PRIVATE ${M_PRIVATE})
+  semap_set_warnings(${target})
+  set_target_properties(${target} PROPERTIES OUTPUT_NAME ${target} EXPORT_NAME ${M_EXPORT_NAME})
+  set_property(GLOBAL APPEND PROPERTY SEMAP_EXPORTED_TARGETS ${target})
+endfunction()
