@@ -4,7 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "io/mesh/ply_off.h"
+#include "io/file_error.h"
 
 namespace semap::io {
 namespace {

@@ -20,6 +20,9 @@ namespace semap::io {
 
 enum class ColmapEncoding { kText, kBinary };
 
+// The semap extension's file of per-point labels, beside the model (see above).
+inline constexpr const char* kColmapLabelsFile = "points3D_labels.txt";
+
 // Binary when cameras.bin, images.bin and points3D.bin are all in `dir`, else text. Throws FileError /
 // ParseError (naming the file, the line or record and the field) on a missing file, malformed or truncated
 // entry, unknown camera model or wrong parameter count, duplicate id, non-finite number, quaternion that is
