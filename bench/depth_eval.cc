@@ -15,7 +15,7 @@
 
 #include "engine/depth/depth_metrics.h"
 #include "engine/depth/stereo_depth.h"
-#include "io/config/config.h"
+#include "app/config/config.h"
 #include "tests/common/kitti2015_subset.h"
 
 namespace {
@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     cv::setNumThreads(threads);
-    const semap::io::Config config = semap::io::LoadConfig(config_path, overrides);
+    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
     std::vector<semap::test::Stereo2015Frame> frames;
     for (const auto& name : semap::test::ListStereo2015Frames(data)) {
       frames.push_back(semap::test::LoadStereo2015Frame(data, name));

@@ -18,7 +18,7 @@
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/error_breakdown.h"
-#include "io/config/config.h"
+#include "app/config/config.h"
 #include "io/frame_source.h"
 
 namespace {
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   app.add_option("--set", overrides, "section.key=value overrides");
   CLI11_PARSE(app, argc, argv);
   try {
-    const semap::io::Config config = semap::io::LoadConfig(config_path, overrides);
+    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
     semap::io::FrameSourceOptions input = config.input;
     input.load_velodyne = true;
     if (frames > 0) input.max_frames = frames;

@@ -3,7 +3,8 @@
 #   - an engine module includes engine/<other>/ only when it links <other> (directly or through it), and
 #     never another module's internal/ headers; it never includes io/, tools/ or app/;
 #   - CGAL and nanoflann headers appear only in modules that link them, and only where the module links
-#     them PUBLIC may a public header (outside internal/) include them.
+#     them PUBLIC may a public header (outside internal/) include them;
+#   - io/ never includes app/ or tools/, and app/ never includes tools/.
 #   cmake -DSOURCE_DIR=... -DGRAPH_FILE=... -DSTAMP=... -P CheckLayering.cmake
 # GRAPH_FILE (written by engine/CMakeLists.txt): one line per module, "<module>;<kind>;<dep>..." with kind
 # "links" (every direct dependency) or "public" (the PUBLIC ones).
@@ -87,6 +88,21 @@ foreach(module IN LISTS modules)
           list(APPEND errors "${rel}: a public header includes ${path}, which semap_${module} links PRIVATE")
         endif()
       endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+# The layers above the engine: io/ (formats, transports) never includes app/ or tools/; app/ never tools/.
+foreach(rule "io;app|tools" "app;tools")
+  list(GET rule 0 layer)
+  list(GET rule 1 above)
+  file(GLOB_RECURSE files "${SOURCE_DIR}/${layer}/*.h" "${SOURCE_DIR}/${layer}/*.cc")
+  foreach(file IN LISTS files)
+    file(RELATIVE_PATH rel "${SOURCE_DIR}" "${file}")
+    file(STRINGS "${file}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"(${above})/")
+    foreach(inc IN LISTS includes)
+      string(REGEX REPLACE "^[^\"]*\"([^\"]*)\".*$" "\\1" path "${inc}")
+      list(APPEND errors "${rel}: includes ${path} (${layer}/ is below ${above}/)")
     endforeach()
   endforeach()
 endforeach()

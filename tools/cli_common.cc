@@ -35,14 +35,14 @@ CLI::Validator FrameCountCheck() {
       "FRAMES>=0");
 }
 
-io::Config LoadConfigFrom(const CommonArgs& args) { return io::LoadConfig(args.config_path, args.overrides); }
+app::Config LoadConfigFrom(const CommonArgs& args) { return app::LoadConfig(args.config_path, args.overrides); }
 
 int RunGuarded(const CommonArgs& args, const std::function<int()>& body) {
   spdlog::set_level(spdlog::level::from_str(args.log_level));
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
   try {
     return body();
-  } catch (const io::ConfigError& e) {
+  } catch (const app::ConfigError& e) {
     spdlog::error("{}", e.what());
     return kExitUsage;
   } catch (const InvalidOption& e) {

@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "io/config/config.h"
+#include "app/config/config.h"
 
 namespace semap::tools {
 
@@ -29,8 +29,8 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* args);
 // Check of a --frames option: a whole number >= 0 (0 = all frames); "-5" is refused, not taken for "all".
 CLI::Validator FrameCountCheck();
 
-// Loads the config from the common args (throws io::ConfigError).
-io::Config LoadConfigFrom(const CommonArgs& args);
+// Loads the config from the common args (throws app::ConfigError).
+app::Config LoadConfigFrom(const CommonArgs& args);
 
 // Runs a subcommand body, turning exceptions into a clear message on stderr and an exit code.
 int RunGuarded(const CommonArgs& args, const std::function<int()>& body);

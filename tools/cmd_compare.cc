@@ -23,8 +23,8 @@
 #include "io/frame_source.h"
 #include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
-#include "tools/engine_run.h"
-#include "tools/eval_report.h"
+#include "app/run/engine_run.h"
+#include "app/eval/eval_report.h"
 
 namespace semap::tools {
 namespace {
@@ -117,12 +117,12 @@ std::vector<Row> CompareIncremental(const CompareArgs& args, const ClassMap& cla
     overrides.push_back("pipeline.mode=exhaustive");
     overrides.push_back("output.dir=" + (std::filesystem::path(args.out) / (drop ? "no_ground_wall" : name)).string());
     if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
-    const io::Config config = io::LoadConfig(args.common.config_path, overrides);
+    const app::Config config = app::LoadConfig(args.common.config_path, overrides);
     spdlog::info("compare: {}", name);
     Row row;
     row.method = name;
     RoleCountSink counts(class_map, &row);
-    const EngineRun run = RunAndEvaluate(config, args.path, 0.0,
+    const app::EngineRun run = app::RunAndEvaluate(config, args.path, 0.0,
                                          drop ? std::make_unique<DropGroundAndWallStage>(class_map) : nullptr,
                                          {&counts});
     row.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
@@ -131,14 +131,14 @@ std::vector<Row> CompareIncremental(const CompareArgs& args, const ClassMap& cla
     row.lidar_paper = run.evaluation.lidar_paper;
     row.seconds = run.summary.final_stats.elapsed_s;
     row.scene = run.evaluation.scene;
-    WriteTopViews(run.mesh, run.evaluation, config.output.dir);
+    app::WriteTopViews(run.mesh, run.evaluation, config.output.dir);
     rows.push_back(row);
   }
   return rows;
 }
 
 std::vector<Row> CompareSingleFrame(const CompareArgs& args, const ClassMap& class_map) {
-  io::Config config = io::LoadConfig(args.common.config_path, args.common.overrides);
+  app::Config config = app::LoadConfig(args.common.config_path, args.common.overrides);
   config.input.load_velodyne = true;
   if (args.frames > 0) config.input.max_frames = args.frames;
   auto source = io::OpenFrameSource(args.path, config.input);

@@ -13,8 +13,8 @@ void RegisterConfigCommand(CLI::App& app, int* exit_code) {
   cmd->add_flag("--defaults", *defaults, "print the built-in defaults (this is config/default.yaml)");
   cmd->callback([=]() {
     *exit_code = RunGuarded(*args, [&]() {
-      const io::Config config = *defaults ? io::Config{} : LoadConfigFrom(*args);
-      std::cout << io::DumpConfig(config);
+      const app::Config config = *defaults ? app::Config{} : LoadConfigFrom(*args);
+      std::cout << app::DumpConfig(config);
       return kExitOk;
     });
   });

@@ -63,7 +63,7 @@ cv::Mat DepthMapOfCloud(const LabelledCloud& cloud, const Pose3d& world_from_cam
 // sky removal as `semap run` does), densely (depth.max_points_per_frame is not applied: fusion tools take
 // whole depth maps). Writes DIR/depth/NNNNNN.png, DIR/poses.txt ("id" then world_from_cam as 3×4 row-major,
 // one line per frame) and DIR/camera.txt ("width_px height_px fx_px fy_px cx_px cy_px").
-int WriteAllDepthMaps(const io::Config& config, const std::string& path, const std::filesystem::path& out) {
+int WriteAllDepthMaps(const app::Config& config, const std::string& path, const std::filesystem::path& out) {
   io::FrameSourceOptions input = config.input;
   input.load_velodyne = false;
   input.load_labels =
@@ -160,7 +160,7 @@ void RegisterDepthCommand(CLI::App& app, int* exit_code) {
       ->check(FrameCountCheck());
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
-      io::Config config = LoadConfigFrom(args->common);
+      app::Config config = LoadConfigFrom(args->common);
       if (args->all) {
         if (args->frames > 0) config.input.max_frames = args->frames;
         return WriteAllDepthMaps(config, args->path, args->out);

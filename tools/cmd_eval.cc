@@ -6,10 +6,10 @@
 #include <spdlog/spdlog.h>
 
 #include "io/atomic_file.h"
-#include "io/eval/mesh_evaluation.h"
+#include "app/eval/mesh_evaluation.h"
 #include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
-#include "tools/eval_report.h"
+#include "app/eval/eval_report.h"
 
 namespace semap::tools {
 namespace {
@@ -52,36 +52,36 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
       ->needs(out_option);
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
-      const io::Config config = LoadConfigFrom(args->common);
+      const app::Config config = LoadConfigFrom(args->common);
       const std::filesystem::path mesh_path(args->mesh);
       const Mesh mesh = mesh_path.extension() == ".off" ? io::ReadMeshOff(mesh_path) : io::ReadMeshPly(mesh_path);
       // A mesh without faces has no surface to measure: an RMSE of 0 would read as perfect.
       if (mesh.num_triangles() == 0) throw io::FileError(mesh_path, "mesh has no faces: nothing to evaluate");
-      io::MeshEvaluationOptions options;
+      app::MeshEvaluationOptions options;
       if (!args->out.empty()) {
         options.error_images = args->error_images;
         options.error_image_frames = args->error_frames;
       }
-      const auto e = io::EvaluateMesh(mesh, args->path, config.input, config.eval, options);
-      PrintEvaluation(e);
+      const auto e = app::EvaluateMesh(mesh, args->path, config.input, config.eval, options);
+      app::PrintEvaluation(e);
       if (!args->json.empty()) {
-        nlohmann::json j = ToJson(e, /*per_frame=*/true);
+        nlohmann::json j = app::ToJson(e, /*per_frame=*/true);
         j["mesh"] = args->mesh;
         io::WriteFileAtomically(args->json, j.dump(2) + "\n");
       }
       if (!args->pictures.empty()) {
         std::filesystem::create_directories(args->pictures);
-        for (const auto& f : WriteTopViews(mesh, e, args->pictures)) spdlog::info("wrote {}", f.string());
+        for (const auto& f : app::WriteTopViews(mesh, e, args->pictures)) spdlog::info("wrote {}", f.string());
       }
       if (!args->out.empty()) {
         const std::filesystem::path out(args->out);
         std::filesystem::create_directories(out);
-        nlohmann::json j = ToJson(e, /*per_frame=*/true);
+        nlohmann::json j = app::ToJson(e, /*per_frame=*/true);
         j["mesh"] = args->mesh;
         io::WriteFileAtomically(out / "eval.json", j.dump(2) + "\n");
-        io::WriteFileAtomically(out / "eval.md", EvaluationMarkdown(e));
-        std::vector<std::filesystem::path> written = WriteErrorImages(e, out);
-        for (const auto& f : WriteTopViews(mesh, e, out)) written.push_back(f);
+        io::WriteFileAtomically(out / "eval.md", app::EvaluationMarkdown(e));
+        std::vector<std::filesystem::path> written = app::WriteErrorImages(e, out);
+        for (const auto& f : app::WriteTopViews(mesh, e, out)) written.push_back(f);
         spdlog::info("wrote {} and {} ({} pictures)", (out / "eval.json").string(),
                      (out / "eval.md").string(), written.size());
         if (!args->error_frames.empty() && e.error_images.empty()) {

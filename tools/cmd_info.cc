@@ -47,7 +47,7 @@ void PrintComposition(const io::SequenceInfo& info, int sample_frames) {
   std::printf("\n");
 }
 
-int RunInfo(const std::string& path, const io::Config& config, int sample_frames) {
+int RunInfo(const std::string& path, const app::Config& config, int sample_frames) {
   const io::SequenceInfo info = io::DescribeDataset(path, config.input);
   const StereoCalibration& c = info.calibration;
   std::printf("dataset      %s\n", info.root.string().c_str());

@@ -8,14 +8,14 @@
 #include "engine/pipeline/pipeline.h"
 #include "engine/pipeline/semap_stages.h"
 #include "io/atomic_file.h"
-#include "io/eval/mesh_evaluation.h"
+#include "app/eval/mesh_evaluation.h"
 #include "io/mesh/ply_off.h"
 #include "io/output/output_sinks.h"
 #include "tools/allocator.h"
 #include "tools/cli_common.h"
-#include "tools/engine_run.h"
-#include "tools/eval_report.h"
-#include "tools/progress_sink.h"
+#include "app/run/engine_run.h"
+#include "app/eval/eval_report.h"
+#include "app/run/progress_sink.h"
 
 namespace semap::tools {
 namespace {
@@ -60,8 +60,8 @@ std::vector<std::string> Overrides(const RunArgs& a) {
 }
 
 int Run(const RunArgs& args) {
-  const io::Config config = io::LoadConfig(args.common.config_path, Overrides(args));
-  auto source = OpenStreamingSource(config, args.path);
+  const app::Config config = app::LoadConfig(args.common.config_path, Overrides(args));
+  auto source = app::OpenStreamingSource(config, args.path);
   const std::int64_t total = source->size();
   spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers, {}", args.path, total,
                io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
@@ -74,9 +74,9 @@ int Run(const RunArgs& args) {
   if (config.output.frame_stats) stats_sink = std::make_unique<io::StatsFileSink>(config.output);
   std::unique_ptr<io::LcmSink> lcm_sink;
   if (config.lcm.enabled) lcm_sink = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
-  ProgressSink progress(total, args.progress_s);
+  app::ProgressSink progress(total, args.progress_s);
 
-  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source));
+  const std::unique_ptr<Pipeline> engine = app::MakeEnginePipeline(config, std::move(source));
   Pipeline& pipeline = *engine;
   pipeline.AddSink(&mesh_sink);
   if (stats_sink) pipeline.AddSink(stats_sink.get());
@@ -114,15 +114,15 @@ int Run(const RunArgs& args) {
     // as written (mesh.ply holds float32 coordinates): `semap eval` of the written mesh gives the same figures.
     Mesh written = mesh;
     for (Eigen::Vector3d& v : written.vertices) v = v.cast<float>().cast<double>();
-    const io::MeshEvaluation e = io::EvaluateMesh(written, args.path, config.input, config.eval);
-    PrintEvaluation(e);
+    const app::MeshEvaluation e = app::EvaluateMesh(written, args.path, config.input, config.eval);
+    app::PrintEvaluation(e);
     const std::filesystem::path dir(config.output.dir);
-    WritePerFrameCsv(e, dir / "eval_frames.csv");
-    io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
-    io::WriteFileAtomically(dir / "eval.md", EvaluationMarkdown(e));
+    app::WritePerFrameCsv(e, dir / "eval_frames.csv");
+    io::WriteFileAtomically(dir / "eval.json", app::ToJson(e, /*per_frame=*/false).dump(2) + "\n");
+    io::WriteFileAtomically(dir / "eval.md", app::EvaluationMarkdown(e));
     spdlog::info("wrote {}, {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string(),
                  (dir / "eval.md").string());
-    for (const auto& f : WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
+    for (const auto& f : app::WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
   }
   if (summary.sink_errors > 0) {
     spdlog::error("{} output errors; first: {}", summary.sink_errors, summary.first_sink_error);

@@ -33,7 +33,7 @@ void RegisterSegmentCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::Range(0.0, 1.0));
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
-      const io::Config config = LoadConfigFrom(args->common);
+      const app::Config config = LoadConfigFrom(args->common);
       io::FrameSourceOptions input = config.input;
       input.load_velodyne = false;
       const FrameAt at = ReadFrameAt(args->path, args->frame, input);

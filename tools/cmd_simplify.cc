@@ -35,7 +35,7 @@ void RegisterSimplifyCommand(CLI::App& app, int* exit_code) {
   cmd->add_flag("--ascii", args->ascii, "write ASCII PLY instead of binary");
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
-      io::Config config = LoadConfigFrom(args->common);
+      app::Config config = LoadConfigFrom(args->common);
       if (!args->method.empty()) config.simplify.method = SimplifyMethodFromName(args->method);
       const ClassMap class_map = io::LoadClassMap(config.input.class_map);  // empty = Cityscapes
       const LabelledCloud cloud = io::ReadCloudPly(args->cloud);

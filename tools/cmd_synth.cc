@@ -23,7 +23,7 @@ struct SynthArgs {
 };
 
 int RunSynth(const SynthArgs& a) {
-  io::Config config = LoadConfigFrom(a.common);
+  app::Config config = LoadConfigFrom(a.common);
   sim::SynthOptions o = config.synth;
   if (!a.preset.empty()) {
     const std::map<std::string, sim::ScenePreset> presets = {{"urban", sim::ScenePreset::kUrban},

@@ -14,8 +14,8 @@
 #include <spdlog/spdlog.h>
 
 #include "tools/cli_common.h"
-#include "tools/engine_run.h"
-#include "tools/eval_report.h"
+#include "app/run/engine_run.h"
+#include "app/eval/eval_report.h"
 
 namespace semap::tools {
 namespace {
@@ -134,9 +134,9 @@ int Table(const TableArgs& args) {
       overrides.push_back("pipeline.mode=exhaustive");
       overrides.push_back("output.dir=" + (std::filesystem::path(args.out) / name / method).string());
       if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
-      const io::Config config = io::LoadConfig(args.common.config_path, overrides);
+      const app::Config config = app::LoadConfig(args.common.config_path, overrides);
       spdlog::info("table: {} ({}) with {}", name, path, method);
-      const EngineRun run = RunAndEvaluate(config, path, args.progress_s);
+      const app::EngineRun run = app::RunAndEvaluate(config, path, args.progress_s);
       Row r;
       r.sequence = name;
       r.method = method;
@@ -153,7 +153,7 @@ int Table(const TableArgs& args) {
       if (run.evaluation.exact_depth) r.exact_rmse_m = run.evaluation.exact_depth->rmse_m;
       if (run.evaluation.exact_depth_paper) r.exact_rmse_paper_m = run.evaluation.exact_depth_paper->rmse_m;
       r.scene = run.evaluation.scene;
-      WriteTopViews(run.mesh, run.evaluation, config.output.dir);
+      app::WriteTopViews(run.mesh, run.evaluation, config.output.dir);
       spdlog::info(
           "table: {} {}: RMSE {:.4f} m strict, {:.4f} m paper, {:.3f} f/s, completeness {:.1f} %, {:.2f} MB",
           name, method, r.rmse_m, r.rmse_paper_m, r.fps, 100.0 * r.completeness, r.mesh_mb);
@@ -181,7 +181,7 @@ int Table(const TableArgs& args) {
                  {"rmse_paper_m", r.rmse_paper_m},
                  {"exact_depth_rmse_paper_m", r.exact_rmse_paper_m},
                  {"protocols", {{"strict", r.strict_filters}, {"paper", r.paper_filters}}}});
-    if (r.scene) j.back()["scene_mesh"] = ToJson(*r.scene);
+    if (r.scene) j.back()["scene_mesh"] = app::ToJson(*r.scene);
   }
   std::ofstream(json_path) << j.dump(2) << "\n";
   if (!std::filesystem::is_regular_file(md_path) || !std::filesystem::is_regular_file(json_path)) {

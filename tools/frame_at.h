@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "engine/core/frame.h"
-#include "io/config/config.h"
+#include "app/config/config.h"
 #include "io/frame_source.h"
 
 namespace semap::tools {

@@ -1,5 +1,5 @@
 // Fuzzes the YAML config loader (with overrides) and the class-map loader.
-#include "io/config/config.h"
+#include "app/config/config.h"
 #include "io/labels/class_map_yaml.h"
 #include "tests/fuzz/fuzz_common.h"
 
@@ -7,11 +7,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace semap;
   const auto path = fuzz::WriteInput("config.yaml", data, size);
   try {
-    io::LoadConfig(path);
+    app::LoadConfig(path);
   } catch (const std::exception&) {
   }
   try {
-    io::LoadConfig("", {std::string(reinterpret_cast<const char*>(data), size)});
+    app::LoadConfig("", {std::string(reinterpret_cast<const char*>(data), size)});
   } catch (const std::exception&) {
   }
   try {

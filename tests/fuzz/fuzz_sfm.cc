@@ -9,7 +9,7 @@
 
 #include "io/sfm/colmap.h"
 #include "io/sfm/openmvg.h"
-#include "io/sfm/sfm_mapping.h"
+#include "app/sfm/sfm_mapping.h"
 #include "io/sfm/slam_json.h"
 #include "tests/fuzz/fuzz_common.h"
 
@@ -30,7 +30,7 @@ void Read(const std::function<semap::io::SfmReconstruction()>& read) {
     semap::io::SfmReconstruction r = read();
     r.AssertConsistent();  // a reader must never return an inconsistent reconstruction
     // What map-sfm does next: points beyond the map's range are left out, consistently.
-    semap::io::DropFarPoints("fuzz", semap::io::MaxSfmCoordinateM(semap::MapOptions{}), &r);
+    semap::app::DropFarPoints("fuzz", semap::app::MaxSfmCoordinateM(semap::MapOptions{}), &r);
     r.AssertConsistent();
   } catch (const std::exception&) {
   }

@@ -50,4 +50,9 @@ check(cgal_unlinked "engine/depth/mesh.cc: includes CGAL/Surface_mesh.h, but sem
 check(cgal_public_header "engine/map/map.h: a public header includes CGAL/Delaunay_triangulation_3.h"
       engine/map/map.h "#include <CGAL/Delaunay_triangulation_3.h>")
 check(cgal_in_private_source "" engine/map/map.cc "#include <CGAL/Delaunay_triangulation_3.h>")
+check(io_includes_app "io/kitti/reader.cc: includes app/config/config.h (io/ is below app|tools/)"
+      io/kitti/reader.cc "#include \"app/config/config.h\"")
+check(app_includes_tools "app/run/run.cc: includes tools/cli_common.h (app/ is below tools/)"
+      app/run/run.cc "#include \"tools/cli_common.h\"")
+check(layers_in_order "" app/run/run.cc "#include \"io/kitti/reader.h\"" tools/main.cc "#include \"app/run/run.h\"")
 message("layering_test: every case as expected")

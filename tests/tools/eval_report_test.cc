@@ -1,4 +1,4 @@
-// `semap run --eval` and `semap eval --json` (tools/eval_report): per-frame accuracy files a user can plot.
+// `semap run --eval` and `semap eval --json` (app/eval/eval_report): per-frame accuracy files a user can plot.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -18,7 +18,7 @@
 #include "engine/simplify/windowed_simplifier.h"
 #include "io/sfm/sfm_reconstruction.h"
 
-namespace semap::io {
+namespace semap::app {
 
 // The batch map's input: every observed point with its first observing view (in view order) as its camera
 // and its other observations as extra rays (a view observing a point twice gives one ray); camera i is view
@@ -29,7 +29,7 @@ struct SfmBatchInput {
   std::vector<std::uint32_t> point_index;  // cloud point → reconstruction point
   std::size_t unobserved_points = 0;       // points no view observes: left out
 };
-SfmBatchInput MakeBatchInput(const SfmReconstruction& reconstruction);
+SfmBatchInput MakeBatchInput(const io::SfmReconstruction& reconstruction);
 
 // View `view` as a keyframe: the points it observes first (no earlier view does) and the points it observes
 // again. Both ascending, without repeats.
@@ -39,9 +39,9 @@ struct SfmKeyframe {
   std::vector<std::uint32_t> seen_points;
 };
 // One keyframe per view, in view order.
-std::vector<SfmKeyframe> MakeKeyframes(const SfmReconstruction& reconstruction);
+std::vector<SfmKeyframe> MakeKeyframes(const io::SfmReconstruction& reconstruction);
 // The keyframe's new points as map input: camera 0 is the view's centre (frame id = view index).
-LabelledCloud KeyframeCloud(const SfmReconstruction& reconstruction, const SfmKeyframe& keyframe);
+LabelledCloud KeyframeCloud(const io::SfmReconstruction& reconstruction, const SfmKeyframe& keyframe);
 
 // The largest |coordinate| a reconstruction may have for the map of `map`: the map covers a bounded region
 // around the origin (its Steiner lattice holds about ±10^6 cubes of map.steiner_spacing_m). Beyond 1000 km,
@@ -55,12 +55,12 @@ struct FarPoints {
   std::int64_t first_id = 0;
 };
 // Leaves out the points with a coordinate beyond `limit_m` (or not finite), with their observations. A view
-// whose centre is beyond is an error: throws FileError naming `input` and the view.
+// whose centre is beyond is an error: throws io::FileError naming `input` and the view.
 FarPoints DropFarPoints(const std::filesystem::path& input, double limit_m,
-                        SfmReconstruction* reconstruction);
+                        io::SfmReconstruction* reconstruction);
 
 // Simplification applies when the method is not O and the reconstruction has labels.
-bool SimplifiesSfm(const SfmReconstruction& reconstruction, const SimplifyOptions& simplify);
+bool SimplifiesSfm(const io::SfmReconstruction& reconstruction, const SimplifyOptions& simplify);
 
 struct SfmBatchResult {
   Mesh mesh;
@@ -73,7 +73,7 @@ struct SfmBatchResult {
   double map_s = 0.0;
 };
 // Throws InvalidOption for bad options.
-SfmBatchResult MapSfmBatch(const SfmReconstruction& reconstruction, const MapOptions& map,
+SfmBatchResult MapSfmBatch(const io::SfmReconstruction& reconstruction, const MapOptions& map,
                            const SimplifyOptions& simplify, const ClassMap& class_map);
 
 struct SfmKeyframeResult {
@@ -102,7 +102,7 @@ struct SfmKeyframeResult {
 class SfmIncrementalMapper {
  public:
   // Throws InvalidOption for bad options.
-  SfmIncrementalMapper(const SfmReconstruction& reconstruction, const MapOptions& map,
+  SfmIncrementalMapper(const io::SfmReconstruction& reconstruction, const MapOptions& map,
                        const SimplifyOptions& simplify, ClassMap class_map);
 
   std::size_t num_keyframes() const { return keyframes_.size(); }
@@ -116,7 +116,7 @@ class SfmIncrementalMapper {
  private:
   void RefreshLivePoints();
 
-  const SfmReconstruction* reconstruction_;
+  const io::SfmReconstruction* reconstruction_;
   std::vector<SfmKeyframe> keyframes_;
   std::size_t next_ = 0;
   IncrementalMap map_;
@@ -128,4 +128,4 @@ class SfmIncrementalMapper {
   std::vector<std::uint32_t> mapped_points_;  // reconstruction points with a live map id (pruned lazily)
 };
 
-}  // namespace semap::io
+}  // namespace semap::app

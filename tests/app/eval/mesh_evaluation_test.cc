@@ -1,4 +1,4 @@
-#include "io/eval/mesh_evaluation.h"
+#include "app/eval/mesh_evaluation.h"
 
 #include <cstdio>
 #include <limits>
@@ -9,8 +9,10 @@
 #include "io/kitti/ground_truth.h"
 #include "tests/common/test_data.h"
 
-namespace semap::io {
+namespace semap::app {
 namespace {
+
+using namespace io;  // the datasets, ground truth and mesh files the evaluation reads
 
 // A mesh of the surface seen in a disparity map: pixels (x, y), (x+1, y), (x, y+1), (x+1, y+1) with valid
 // disparities within 5 % of each other give two triangles. `keep_columns_below` cuts the mesh at a column.
@@ -148,4 +150,4 @@ TEST(EvaluateMesh, MissingDatasetIsAClearError) {
 }
 
 }  // namespace
-}  // namespace semap::io
+}  // namespace semap::app

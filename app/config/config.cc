@@ -1,10 +1,13 @@
-#include "io/config/config.h"
+#include "app/config/config.h"
 
 #include <sstream>
 
 #include "engine/core/check.h"
 
-namespace semap::io {
+namespace semap::app {
+
+using namespace io;  // the options structs of io/ and the field binder
+
 namespace {
 
 Section* FindSection(std::vector<Section>& sections, const std::string& name) {
@@ -120,4 +123,4 @@ std::string DumpConfig(const Config& config) {
   return os.str();
 }
 
-}  // namespace semap::io
+}  // namespace semap::app

@@ -1,4 +1,4 @@
-#include "tools/engine_run.h"
+#include "app/run/engine_run.h"
 
 #include <stdexcept>
 #include <string>
@@ -8,9 +8,9 @@
 #include "engine/pipeline/semap_stages.h"
 #include "io/frame_source.h"
 #include "io/output/output_sinks.h"
-#include "tools/progress_sink.h"
+#include "app/run/progress_sink.h"
 
-namespace semap::tools {
+namespace semap::app {
 
 namespace {
 
@@ -34,7 +34,7 @@ class LabelSizeWarnings : public FrameReader {
 
 }  // namespace
 
-std::unique_ptr<io::FrameSource> OpenStreamingSource(const io::Config& config, const std::string& dataset) {
+std::unique_ptr<io::FrameSource> OpenStreamingSource(const Config& config, const std::string& dataset) {
   io::FrameSourceOptions input = config.input;
   input.load_velodyne = false;
   input.load_labels =
@@ -42,7 +42,7 @@ std::unique_ptr<io::FrameSource> OpenStreamingSource(const io::Config& config, c
   return io::OpenFrameSource(dataset, input);
 }
 
-std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::unique_ptr<io::FrameSource> source,
+std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_ptr<io::FrameSource> source,
                                              std::unique_ptr<SimplifyStage> simplify) {
   const ClassMap class_map = source->class_map();
   if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
@@ -68,7 +68,7 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::uniq
   return pipeline;
 }
 
-EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, double progress_s,
+EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, double progress_s,
                          std::unique_ptr<SimplifyStage> simplify, const std::vector<PipelineSink*>& extra_sinks) {
   auto source = OpenStreamingSource(config, dataset);
   const std::int64_t total = source->size();
@@ -94,8 +94,8 @@ EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, d
                              std::to_string(s.frames_failed) + " failed)");
   }
   run.mesh = mesh_sink.mesh();
-  run.evaluation = io::EvaluateMesh(run.mesh, dataset, config.input, config.eval);
+  run.evaluation = EvaluateMesh(run.mesh, dataset, config.input, config.eval);
   return run;
 }
 
-}  // namespace semap::tools
+}  // namespace semap::app

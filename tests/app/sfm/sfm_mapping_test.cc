@@ -1,6 +1,6 @@
 // A reconstruction as map input: batch input and keyframes from the observations, the incremental mapper
 // (same votes as the batch map, observations of finalised or simplified points skipped), batch mapping.
-#include "io/sfm/sfm_mapping.h"
+#include "app/sfm/sfm_mapping.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,10 @@
 #include "tests/engine/map/manifold_checker.h"
 #include "tests/io/sfm/sfm_test_util.h"
 
-namespace semap::io {
+namespace semap::app {
 namespace {
+
+using namespace io;  // the reconstructions and their readers
 
 // Three views, four points: point 0 seen by views 1 and 2, point 1 by view 0 (twice) and 2, point 2 by no
 // view, point 3 by view 2.
@@ -225,4 +227,4 @@ TEST(SfmMapping, PointsBeyondTheMapsRangeAreLeftOutWithTheirObservations) {
 }
 
 }  // namespace
-}  // namespace semap::io
+}  // namespace semap::app

@@ -9,25 +9,25 @@
 #include "engine/core/mesh.h"
 #include "engine/pipeline/pipeline.h"
 #include "engine/pipeline/stages.h"
-#include "io/config/config.h"
-#include "io/eval/mesh_evaluation.h"
+#include "app/config/config.h"
+#include "app/eval/mesh_evaluation.h"
 #include "io/frame_source.h"
 
-namespace semap::tools {
+namespace semap::app {
 
 // The frame source of a streaming run: the dataset with config.input, except that Velodyne scans are not
 // loaded (they serve evaluation only, so a missing one must not cost a frame).
-std::unique_ptr<io::FrameSource> OpenStreamingSource(const io::Config& config, const std::string& dataset);
+std::unique_ptr<io::FrameSource> OpenStreamingSource(const Config& config, const std::string& dataset);
 
 // The engine's stages on `source` as `config` says: SGBM + labels, `simplify` (or the configured windowed
 // simplification when null), the incremental map. Sinks are the caller's to add.
-std::unique_ptr<Pipeline> MakeEnginePipeline(const io::Config& config, std::unique_ptr<io::FrameSource> source,
+std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_ptr<io::FrameSource> source,
                                              std::unique_ptr<SimplifyStage> simplify = nullptr);
 
 struct EngineRun {
   PipelineSummary summary;  // fps (frames / seconds of the whole incremental build), stage times
   Mesh mesh;                // the final mesh (also written to config.output.dir)
-  io::MeshEvaluation evaluation;  // against Velodyne (and exact depth for generated sequences)
+  MeshEvaluation evaluation;  // against Velodyne (and exact depth for generated sequences)
 };
 
 // Streams `dataset` through the engine as `config` says (writing the mesh and the per-frame stats to
@@ -36,8 +36,8 @@ struct EngineRun {
 // is a std::runtime_error naming it.
 // `simplify` replaces the configured simplification stage when given; `extra_sinks` also receive the
 // frames (not owned).
-EngineRun RunAndEvaluate(const io::Config& config, const std::string& dataset, double progress_s,
+EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, double progress_s,
                          std::unique_ptr<SimplifyStage> simplify = nullptr,
                          const std::vector<PipelineSink*>& extra_sinks = {});
 
-}  // namespace semap::tools
+}  // namespace semap::app

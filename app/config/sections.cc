@@ -1,9 +1,12 @@
 // Binds every stage's options struct to its config section. One Bind() per options struct;
 // the doc strings here are what config/default.yaml shows.
 #include "engine/core/check.h"
-#include "io/config/config.h"
+#include "app/config/config.h"
 
-namespace semap::io {
+namespace semap::app {
+
+using namespace io;  // the options structs of io/ and the field binder
+
 namespace {
 
 void Bind(FieldBinder& b, FrameSourceOptions& o) {
@@ -307,4 +310,4 @@ std::vector<Section> BindSections(Config& c) {
   return s;
 }
 
-}  // namespace semap::io
+}  // namespace semap::app

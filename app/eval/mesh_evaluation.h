@@ -17,7 +17,7 @@
 #include "engine/eval/surface_metrics.h"
 #include "io/frame_source.h"
 
-namespace semap::io {
+namespace semap::app {
 
 // One frame's figures (the same filters, that frame's pixels only).
 struct FrameAccuracy {
@@ -87,8 +87,8 @@ struct MeshEvaluation {
 // frames without a pose are skipped) and compares `mesh` with them. Throws FileError for an unreadable
 // dataset; frames that fail to read are skipped and counted.
 // `options` adds the breakdown's bins and the error images (throws InvalidOption on bad options).
-MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, FrameSourceOptions input,
+MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, io::FrameSourceOptions input,
                             const DepthAccuracyOptions& accuracy = {},
                             const MeshEvaluationOptions& options = {});
 
-}  // namespace semap::io
+}  // namespace semap::app

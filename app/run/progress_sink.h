@@ -6,7 +6,7 @@
 
 #include "engine/pipeline/stages.h"
 
-namespace semap::tools {
+namespace semap::app {
 
 // Prints at most every `interval_s`: on a terminal the line is rewritten in place, otherwise one line per
 // interval (logs stay readable). Called from the pipeline's output thread.
@@ -25,4 +25,4 @@ class ProgressSink : public PipelineSink {
   std::chrono::steady_clock::time_point last_print_{};
 };
 
-}  // namespace semap::tools
+}  // namespace semap::app

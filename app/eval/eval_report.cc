@@ -1,4 +1,4 @@
-#include "tools/eval_report.h"
+#include "app/eval/eval_report.h"
 
 #include <spdlog/spdlog.h>
 
@@ -12,7 +12,7 @@
 #include "io/image/image_files.h"
 #include "io/mesh/ply_off.h"
 
-namespace semap::tools {
+namespace semap::app {
 namespace {
 
 void Print(const char* what, const DepthAccuracy& a, const char* protocol,
@@ -151,7 +151,7 @@ nlohmann::json ToJson(const SurfaceMetrics& s) {
           {"truth_samples", s.truth_samples}};
 }
 
-nlohmann::json ToJson(const io::MeshEvaluation& e, bool per_frame) {
+nlohmann::json ToJson(const MeshEvaluation& e, bool per_frame) {
   nlohmann::json j{{"vertices", e.vertices}, {"triangles", e.triangles}, {"off_bytes", e.off_bytes},
                    {"frames", e.frames}, {"frames_unreadable", e.frames_unreadable}};
   if (e.frames_with_lidar > 0) j["lidar"] = ToJson(e.lidar);
@@ -177,7 +177,7 @@ nlohmann::json ToJson(const io::MeshEvaluation& e, bool per_frame) {
   j["breakdown"] = breakdown;
   if (per_frame) {
     j["per_frame"] = nlohmann::json::array();
-    for (const io::FrameAccuracy& f : e.per_frame) {
+    for (const FrameAccuracy& f : e.per_frame) {
       nlohmann::json fj{{"frame_id", f.frame_id}};
       if (f.lidar) fj["lidar"] = ToJson(*f.lidar);
       if (f.exact_depth) fj["exact_depth"] = ToJson(*f.exact_depth);
@@ -187,7 +187,7 @@ nlohmann::json ToJson(const io::MeshEvaluation& e, bool per_frame) {
   return j;
 }
 
-void PrintEvaluation(const io::MeshEvaluation& e) {
+void PrintEvaluation(const MeshEvaluation& e) {
   std::printf("mesh          %zu vertices, %zu triangles, %.3f MB as OFF\n", e.vertices, e.triangles,
               static_cast<double>(e.off_bytes) / 1e6);
   std::printf("frames        %lld evaluated (%lld with Velodyne, %lld with exact depth)\n",
@@ -218,7 +218,7 @@ void PrintEvaluation(const io::MeshEvaluation& e) {
   }
 }
 
-std::vector<std::filesystem::path> WriteTopViews(const Mesh& mesh, const io::MeshEvaluation& e,
+std::vector<std::filesystem::path> WriteTopViews(const Mesh& mesh, const MeshEvaluation& e,
                                                  const std::filesystem::path& dir) {
   const Eigen::Vector3d up = e.camera_up.norm() > 0.0 ? e.camera_up : Eigen::Vector3d::UnitZ();
   std::vector<std::filesystem::path> written;
@@ -236,7 +236,7 @@ std::vector<std::filesystem::path> WriteTopViews(const Mesh& mesh, const io::Mes
   return written;
 }
 
-std::string EvaluationMarkdown(const io::MeshEvaluation& e) {
+std::string EvaluationMarkdown(const MeshEvaluation& e) {
   std::string md = "# Mesh evaluation\n\n";
   md += "Mesh: " + std::to_string(e.vertices) + " vertices, " + std::to_string(e.triangles) + " triangles, " +
         Fixed("%.3f", static_cast<double>(e.off_bytes) / 1e6) +
@@ -273,7 +273,7 @@ std::string EvaluationMarkdown(const io::MeshEvaluation& e) {
   }
   if (!e.error_images.empty()) {
     md += "\n## Per-pixel error images\n\n";
-    for (const io::FrameErrorImage& image : e.error_images) {
+    for (const FrameErrorImage& image : e.error_images) {
       char name[64];
       std::snprintf(name, sizeof(name), "error_%s_%06lld.png", image.reference.c_str(),
                     static_cast<long long>(image.frame_id));
@@ -284,11 +284,11 @@ std::string EvaluationMarkdown(const io::MeshEvaluation& e) {
   return md;
 }
 
-std::vector<std::filesystem::path> WriteErrorImages(const io::MeshEvaluation& e,
+std::vector<std::filesystem::path> WriteErrorImages(const MeshEvaluation& e,
                                                     const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   std::vector<std::filesystem::path> written;
-  for (const io::FrameErrorImage& image : e.error_images) {
+  for (const FrameErrorImage& image : e.error_images) {
     char name[64];
     std::snprintf(name, sizeof(name), "error_%s_%06lld.png", image.reference.c_str(),
                   static_cast<long long>(image.frame_id));
@@ -298,12 +298,12 @@ std::vector<std::filesystem::path> WriteErrorImages(const io::MeshEvaluation& e,
   return written;
 }
 
-void WritePerFrameCsv(const io::MeshEvaluation& e, const std::filesystem::path& path) {
+void WritePerFrameCsv(const MeshEvaluation& e, const std::filesystem::path& path) {
   io::AtomicFile file(path);
   std::ostream& out = file.stream();
   out << "frame_id,lidar_rmse_m,lidar_mae_m,lidar_median_m,lidar_bias_m,lidar_completeness,"
          "exact_rmse_m,exact_mae_m,exact_median_m,exact_bias_m,exact_completeness\n";
-  for (const io::FrameAccuracy& f : e.per_frame) {
+  for (const FrameAccuracy& f : e.per_frame) {
     out << f.frame_id;
     CsvFields(out, f.lidar);
     CsvFields(out, f.exact_depth);
@@ -312,4 +312,4 @@ void WritePerFrameCsv(const io::MeshEvaluation& e, const std::filesystem::path& 
   file.Commit();
 }
 
-}  // namespace semap::tools
+}  // namespace semap::app

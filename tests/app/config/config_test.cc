@@ -1,4 +1,4 @@
-#include "io/config/config.h"
+#include "app/config/config.h"
 
 #include <fstream>
 #include <sstream>
@@ -7,7 +7,7 @@
 
 #include "tests/common/test_data.h"
 
-namespace semap::io {
+namespace semap::app {
 namespace {
 
 std::filesystem::path WriteYaml(const std::string& text) {
@@ -27,7 +27,7 @@ std::string ErrorOf(const std::filesystem::path& path, const std::vector<std::st
 
 TEST(Config, DefaultsLoadWithoutFile) {
   const Config c = LoadConfig("");
-  EXPECT_EQ(c.input.layout, DatasetLayout::kAuto);
+  EXPECT_EQ(c.input.layout, io::DatasetLayout::kAuto);
   EXPECT_EQ(c.input.max_frames, 0);
 }
 
@@ -35,7 +35,7 @@ TEST(Config, FileAndOverridesApplyInOrder) {
   const auto path = WriteYaml("input:\n  max_frames: 20\n  layout: kitti_odometry\n");
   Config c = LoadConfig(path);
   EXPECT_EQ(c.input.max_frames, 20);
-  EXPECT_EQ(c.input.layout, DatasetLayout::kKittiOdometry);
+  EXPECT_EQ(c.input.layout, io::DatasetLayout::kKittiOdometry);
   c = LoadConfig(path, {"input.max_frames=5", "input.load_velodyne=false"});
   EXPECT_EQ(c.input.max_frames, 5);
   EXPECT_FALSE(c.input.load_velodyne);
@@ -121,4 +121,4 @@ TEST(Config, CommittedDefaultYamlMatchesTheCode) {
 }
 
 }  // namespace
-}  // namespace semap::io
+}  // namespace semap::app

@@ -1,4 +1,4 @@
-#include "tools/progress_sink.h"
+#include "app/run/progress_sink.h"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
-namespace semap::tools {
+namespace semap::app {
 
 ProgressSink::ProgressSink(std::int64_t total_frames, double interval_s)
     : total_frames_(total_frames), interval_s_(interval_s), tty_(::isatty(STDERR_FILENO) != 0) {}
@@ -50,4 +50,4 @@ void ProgressSink::OnFrameError(std::int64_t frame_id, const std::string& stage,
 
 void ProgressSink::OnFinish(const FrameStats& stats, const MeshDelta&) { Print(stats, true); }
 
-}  // namespace semap::tools
+}  // namespace semap::app

@@ -1,4 +1,4 @@
-#include "io/eval/mesh_evaluation.h"
+#include "app/eval/mesh_evaluation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,9 @@
 #include "io/kitti/ground_truth.h"
 #include "io/mesh/ply_off.h"
 
-namespace semap::io {
+namespace semap::app {
+
+using namespace io;  // the frame sources, mesh files and ground truth of io/
 namespace {
 
 // Exact depth map of frame `id` of a generated sequence (depth/data/%010d.png beside image_02), if any.
@@ -165,4 +167,4 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
   return result;
 }
 
-}  // namespace semap::io
+}  // namespace semap::app

@@ -1,4 +1,4 @@
-// The semap configuration: one options struct per stage, loaded from YAML with `--set key=value` overrides.
+// The semap configuration (app/: it knows every module): one options struct per stage, loaded from YAML with `--set key=value` overrides.
 #pragma once
 
 #include <filesystem>
@@ -18,7 +18,7 @@
 #include "io/lcm/lcm_publisher.h"
 #include "io/output/output_sinks.h"
 
-namespace semap::io {
+namespace semap::app {
 
 // A config error a user can act on: names the file and/or key.
 class ConfigError : public std::runtime_error {
@@ -29,11 +29,11 @@ class ConfigError : public std::runtime_error {
 // Every stage's options. Defaults are the paper's values where it gives them.
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
-  FrameSourceOptions input;  // where frames come from and what is loaded with them
+  io::FrameSourceOptions input;  // where frames come from and what is loaded with them
   sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
   PipelineOptions pipeline;  // stage threads, queues, modes
-  OutputOptions output;      // files written by a run
-  LcmOptions lcm;            // mesh / stats publishing over LCM
+  io::OutputOptions output;      // files written by a run
+  io::LcmOptions lcm;            // mesh / stats publishing over LCM
   DepthAccuracyOptions eval; // accuracy against Velodyne / exact depth
   DepthOptions depth;        // stereo matching and point cloud
   SemanticsOptions semantics;  // where per-pixel labels come from
@@ -42,7 +42,7 @@ struct Config {
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
-std::vector<Section> BindSections(Config& config);
+std::vector<io::Section> BindSections(Config& config);
 
 // Loads the defaults, then the YAML file (if not empty), then each "section.key=value" override, then
 // runs every section's Check(). Unknown sections/keys, malformed values and out-of-range values throw
@@ -52,4 +52,4 @@ Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std:
 // The YAML text of `config` with each section and field preceded by its doc comment.
 std::string DumpConfig(const Config& config);
 
-}  // namespace semap::io
+}  // namespace semap::app

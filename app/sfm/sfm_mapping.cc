@@ -1,4 +1,4 @@
-#include "io/sfm/sfm_mapping.h"
+#include "app/sfm/sfm_mapping.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,7 +10,9 @@
 #include "engine/map/batch_map.h"
 #include "io/file_error.h"
 
-namespace semap::io {
+namespace semap::app {
+
+using namespace io;  // the reconstruction types of io/sfm
 
 namespace {
 
@@ -295,4 +297,4 @@ void SfmIncrementalMapper::RefreshLivePoints() {
   mapped_points_.resize(kept);
 }
 
-}  // namespace semap::io
+}  // namespace semap::app
