@@ -1,0 +1,97 @@
+#include "app/run/stream_run.h"
+
+#include <filesystem>
+
+#include <spdlog/spdlog.h>
+
+#include "app/eval/eval_report.h"
+#include "app/eval/mesh_evaluation.h"
+#include "app/run/engine_run.h"
+#include "app/run/progress_sink.h"
+#include "io/atomic_file.h"
+#include "io/mesh/ply_off.h"
+#include "io/output/output_sinks.h"
+
+namespace semap::app {
+
+StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request) {
+  auto source = OpenStreamingSource(config, request.dataset);
+  const std::int64_t total = source->size();
+  spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers, {}", request.dataset, total,
+               io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
+               config.pipeline.mode == PipelineOptions::Mode::kRealtime ? "realtime" : "exhaustive",
+               config.pipeline.depth_workers, request.start_note);
+
+  // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
+  io::MeshFileSink mesh_sink(config.output);
+  std::unique_ptr<io::StatsFileSink> stats_sink;
+  if (config.output.frame_stats) stats_sink = std::make_unique<io::StatsFileSink>(config.output);
+  std::unique_ptr<io::LcmSink> lcm_sink;
+  if (config.lcm.enabled) lcm_sink = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
+  ProgressSink progress(total, request.progress_s);
+
+  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source));
+  Pipeline& pipeline = *engine;
+  pipeline.AddSink(&mesh_sink);
+  if (stats_sink) pipeline.AddSink(stats_sink.get());
+  if (lcm_sink) pipeline.AddSink(lcm_sink.get());
+  pipeline.AddSink(&progress);
+
+  if (request.on_running) request.on_running(&pipeline);
+  const PipelineSummary summary = pipeline.Run();
+  if (request.on_running) request.on_running(nullptr);
+
+  const FrameStats& s = summary.final_stats;
+  spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
+               s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps, summary.stopped_early ? " (stopped early)" : "");
+  for (const auto& st : s.stages) {
+    spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
+                 st.p95_ms, st.max_ms);
+  }
+  const Mesh mesh = mesh_sink.mesh();
+  spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF", mesh.num_vertices(), mesh.num_triangles(),
+               static_cast<double>(io::OffSizeBytes(mesh)) / 1e6);
+  for (const auto& f : mesh_sink.written()) spdlog::info("wrote {}", f.string());
+  if (lcm_sink) {
+    const auto c = lcm_sink->publisher().counters();
+    spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
+                 c.other_messages, c.send_failures, c.dropped);
+  }
+  if (request.evaluate && mesh.num_triangles() == 0) {
+    spdlog::warn("--eval: the mesh has no faces: nothing to evaluate");
+  } else if (request.evaluate) {
+    // After the run, so that it does not count in the frame rate: every frame's camera against the final mesh,
+    // as written (mesh.ply holds float32 coordinates): `semap eval` of the written mesh gives the same figures.
+    Mesh written = mesh;
+    for (Eigen::Vector3d& v : written.vertices) v = v.cast<float>().cast<double>();
+    const MeshEvaluation e = EvaluateMesh(written, request.dataset, config.input, config.eval);
+    PrintEvaluation(e);
+    const std::filesystem::path dir(config.output.dir);
+    WritePerFrameCsv(e, dir / "eval_frames.csv");
+    io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
+    io::WriteFileAtomically(dir / "eval.md", EvaluationMarkdown(e));
+    spdlog::info("wrote {}, {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string(),
+                 (dir / "eval.md").string());
+    for (const auto& f : WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
+  }
+  if (summary.sink_errors > 0) {
+    spdlog::error("{} output errors; first: {}", summary.sink_errors, summary.first_sink_error);
+    return StreamRunOutcome::kOutputErrors;
+  }
+  if (!summary.fatal_error.empty()) {
+    spdlog::error("run stopped: {}", summary.fatal_error);
+    return StreamRunOutcome::kStopped;
+  }
+  if (s.frames_processed == 0 && s.frames_failed > 0) {
+    // Not a success with an empty mesh: nothing of the sequence could be used.
+    spdlog::error("no frame could be processed: all {} frames failed (see the warnings above{})",
+                  s.frames_failed,
+                  config.output.frame_stats
+                      ? " and " + (std::filesystem::path(config.output.dir) / "errors.jsonl").string()
+                      : std::string());
+    return StreamRunOutcome::kNothingMapped;
+  }
+  return StreamRunOutcome::kDone;
+}
+
+}  // namespace semap::app
