@@ -68,7 +68,7 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   }
 
   // Votes.
-  const RayGeometry geometry{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()};
+  const RayGeometry geometry(options);
   RayVotes votes;
   auto trace = [&](std::uint32_t point, std::uint32_t camera) {
     if (!kept[point]) return;

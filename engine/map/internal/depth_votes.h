@@ -63,13 +63,18 @@ struct VotingView {
 };
 
 // The depth-vote geometry: the paper's ray geometry and the stereo depth noise.
+// (MapOptions declares each value's default and meaning.)
 struct DepthVoteGeometry {
+  explicit DepthVoteGeometry(const MapOptions& options)
+      : ray(options),
+        disparity_sigma_px(options.disparity_sigma_px),
+        seen_noise_sigmas(options.seen_noise_sigmas) {}
   RayGeometry ray;
   // σ of the disparity (px): a pixel's depth z is uncertain by σ_z = z² · σ / (f·B).
-  double disparity_sigma_px = 0.5;
+  double disparity_sigma_px;
   // A facet is seen as a surface where the point seen through its centroid lies within ray.extension_m +
-  // seen_noise_sigmas · σ_z of its plane (MapOptions::seen_noise_sigmas).
-  double seen_noise_sigmas = 0.0;
+  // seen_noise_sigmas · σ_z of its plane.
+  double seen_noise_sigmas;
 };
 
 struct VoteIncrement {

@@ -54,8 +54,8 @@ double Lap(std::chrono::steady_clock::time_point* since) {
 
 IncrementalState::IncrementalState(const MapOptions& options)
     : options_(options),
-      geometry_{options.sigma_free_m, options.sigma_matter_m, options.ray_extension_m()},
-      depth_geometry_{geometry_, options.disparity_sigma_px, options.seen_noise_sigmas},
+      geometry_(options),
+      depth_geometry_(options),
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
       lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/map/internal/triangulation.h"
+#include "engine/map/map_options.h"
 
 namespace semap::map_internal {
 
@@ -19,10 +20,15 @@ struct RayVotes {
   std::vector<Entry> entries;
 };
 
+// The paper's ray geometry, as MapOptions sets it (the defaults are declared there only).
 struct RayGeometry {
-  double sigma_free_m = 0.05;
-  double sigma_matter_m = 0.01;
-  double extension_m = 0.1;
+  explicit RayGeometry(const MapOptions& options)
+      : sigma_free_m(options.sigma_free_m),
+        sigma_matter_m(options.sigma_matter_m),
+        extension_m(options.ray_extension_m()) {}
+  double sigma_free_m;
+  double sigma_matter_m;
+  double extension_m;  // MapOptions::ray_extension_m()
 };
 
 // Where along a ray the cells it must vote on lie: distances from the camera, projected on the ray.

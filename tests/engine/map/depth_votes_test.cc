@@ -60,7 +60,12 @@ std::array<Eigen::Vector3d, 4> RandomTet(std::mt19937* rng, double z_lo, double 
 
 double Rays(std::int64_t q) { return DequantiseVote(q); }
 
-DepthVoteGeometry PaperGeometry() { return {{0.05, 0.01, 0.1}, 0.0}; }
+// The paper's values (MapOptions' defaults) with exact depth (no disparity noise band).
+DepthVoteGeometry PaperGeometry() {
+  MapOptions options;
+  options.disparity_sigma_px = 0.0;
+  return DepthVoteGeometry(options);
+}
 
 TEST(DepthVotes, FreeVoteOfACellBeforeAWallCountsTheRaysCrossingIt) {
   const VotingView view(WallView(10.0f));
