@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-namespace semap::internal {
+namespace semap::core_internal {
 
 void AssertionFailed(const char* expr, const char* file, int line, const std::string& msg) {
   std::fprintf(stderr, "semap: internal error: assertion '%s' failed at %s:%d %s\n", expr, file, line,
@@ -11,4 +11,4 @@ void AssertionFailed(const char* expr, const char* file, int line, const std::st
   std::abort();
 }
 
-}  // namespace semap::internal
+}  // namespace semap::core_internal

@@ -19,9 +19,9 @@ class InvalidOption : public std::invalid_argument {
   std::string field_;
 };
 
-namespace internal {
+namespace core_internal {
 [[noreturn]] void AssertionFailed(const char* expr, const char* file, int line, const std::string& msg);
-}  // namespace internal
+}  // namespace core_internal
 
 }  // namespace semap
 
@@ -31,7 +31,7 @@ namespace internal {
     if (!(cond)) {                                                                      \
       std::ostringstream semap_assert_os_;                                              \
       static_cast<void>(semap_assert_os_ __VA_OPT__(<<) __VA_ARGS__);                   \
-      ::semap::internal::AssertionFailed(#cond, __FILE__, __LINE__, semap_assert_os_.str()); \
+      ::semap::core_internal::AssertionFailed(#cond, __FILE__, __LINE__, semap_assert_os_.str()); \
     }                                                                                   \
   } while (false)
 

@@ -26,7 +26,7 @@
 #endif
 
 namespace semap {
-namespace parallel_internal {
+namespace core_internal {
 
 inline void Release([[maybe_unused]] void* edge) {
 #ifdef SEMAP_TSAN_ANNOTATIONS
@@ -40,7 +40,7 @@ inline void Acquire([[maybe_unused]] void* edge) {
 #endif
 }
 
-}  // namespace parallel_internal
+}  // namespace core_internal
 
 // Calls body(first, last) on disjoint sub-ranges [first, last) covering [begin, end), each of about `grain`
 // indices or more, in parallel on TBB's workers (and the calling thread); returns when every call has
@@ -49,13 +49,13 @@ template <typename Index, typename Body>
 void ParallelFor(Index begin, Index end, std::size_t grain, const Body& body) {
   // Two addresses naming the edges for TSan: caller → bodies (fork) and bodies → caller (join).
   char fork = 0, join = 0;
-  parallel_internal::Release(&fork);
+  core_internal::Release(&fork);
   tbb::parallel_for(tbb::blocked_range<Index>(begin, end, grain), [&](const tbb::blocked_range<Index>& r) {
-    parallel_internal::Acquire(&fork);
+    core_internal::Acquire(&fork);
     body(r.begin(), r.end());
-    parallel_internal::Release(&join);
+    core_internal::Release(&join);
   });
-  parallel_internal::Acquire(&join);
+  core_internal::Acquire(&join);
 }
 
 }  // namespace semap

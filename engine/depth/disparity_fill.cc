@@ -4,7 +4,7 @@
 
 #include "engine/core/check.h"
 
-namespace semap::internal {
+namespace semap::depth_internal {
 
 void FillDisparity(int max_gap_px, int border_px, float gap_confidence, cv::Mat* disparity,
                    cv::Mat* confidence) {
@@ -42,4 +42,4 @@ void FillDisparity(int max_gap_px, int border_px, float gap_confidence, cv::Mat*
   }
 }
 
-}  // namespace semap::internal
+}  // namespace semap::depth_internal

@@ -184,7 +184,7 @@ DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) 
     }
   }
   result.confidence = cv::Mat(left.size(), CV_32F);
-  internal::FillDisparity(o.fill_max_gap_px, o.fill_left_border ? o.num_disparities : 0, o.filled_confidence,
+  depth_internal::FillDisparity(o.fill_max_gap_px, o.fill_left_border ? o.num_disparities : 0, o.filled_confidence,
                           &result.disparity_px, &result.confidence);
   return result;
 }

@@ -11,7 +11,7 @@
 #include <concurrentqueue/blockingconcurrentqueue.h>
 #include <concurrentqueue/lightweightsemaphore.h>
 
-namespace semap::internal {
+namespace semap::pipeline_internal {
 
 template <typename T>
 class BoundedQueue {
@@ -54,4 +54,4 @@ class BoundedQueue {
   moodycamel::LightweightSemaphore free_slots_;
 };
 
-}  // namespace semap::internal
+}  // namespace semap::pipeline_internal

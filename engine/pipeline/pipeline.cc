@@ -164,11 +164,11 @@ void PinCurrentThread(const std::vector<int>& cpus) {
 
 struct Pipeline::Impl {
   Pipeline& p;
-  internal::BoundedQueue<SegmentJob> to_segment;
-  internal::BoundedQueue<Item> to_depth;
-  internal::BoundedQueue<Item> to_simplify;
-  internal::BoundedQueue<Item> to_map;
-  internal::BoundedQueue<Item> to_output;
+  pipeline_internal::BoundedQueue<SegmentJob> to_segment;
+  pipeline_internal::BoundedQueue<Item> to_depth;
+  pipeline_internal::BoundedQueue<Item> to_simplify;
+  pipeline_internal::BoundedQueue<Item> to_map;
+  pipeline_internal::BoundedQueue<Item> to_output;
   std::atomic<bool> error_stop{false};
   std::mutex error_mutex;
   std::string fatal_error;

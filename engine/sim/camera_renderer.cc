@@ -160,7 +160,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
   cv::Mat radiance(h, w, CV_32FC3, cv::Scalar::all(0.0));
   const Eigen::Matrix3d r = scene_from_cam.linear();
   const Vector3d c = scene_from_cam.translation();
-  const internal::TextureContext ctx{options_.seed, options_.block_pitch_m, options_.road_width_m};
+  const sim_internal::TextureContext ctx{options_.seed, options_.block_pitch_m, options_.road_width_m};
   const double r_max2 =
       (std::pow(std::max(cal.cx_px, w - cal.cx_px), 2) + std::pow(std::max(cal.cy_px, h - cal.cy_px), 2));
   for (int y = 0; y < h; ++y) {
@@ -176,7 +176,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
       const int t = id_row[x];
       Vector3f rgb;
       if (t < 0) {
-        rgb = internal::SkyColor(ctx, d.normalized());
+        rgb = sim_internal::SkyColor(ctx, d.normalized());
       } else {
         const auto& tri = scene_.triangles[t];
         const Vector3d& v0 = scene_.vertices[tri[0]];
@@ -193,7 +193,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
         const double footprint =
             z * ray_cam.norm() / cal.fx_px * std::min(kMaxFootprintStretch, 1.0 / std::max(cos_inc, 1e-6));
         const Vector3f albedo =
-            internal::Albedo(ctx, scene_.materials[t], scene_.object_ids[t], p, nf, footprint);
+            sim_internal::Albedo(ctx, scene_.materials[t], scene_.object_ids[t], p, nf, footprint);
         float light = kAmbient * (0.85f + 0.15f * nf.z()) +
                       kSunStrength * std::max(0.0f, nf.dot(kSunDirection.cast<float>()));
         // Contact darkening at the foot of walls and objects.
@@ -212,7 +212,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
   out.color = cv::Mat(h, w, CV_8UC3);
   const float sigma = static_cast<float>(options_.image_noise_sigma);
   for (int y = 0; y < h; ++y) {
-    internal::Rng rng(internal::HashCombine(exposure.noise_seed, static_cast<std::uint64_t>(y)));
+    sim_internal::Rng rng(sim_internal::HashCombine(exposure.noise_seed, static_cast<std::uint64_t>(y)));
     const auto* src = radiance.ptr<cv::Vec3f>(y);
     auto* dst = out.color.ptr<cv::Vec3b>(y);
     for (int x = 0; x < w; ++x) {

@@ -19,7 +19,7 @@ LidarScan LidarScanner::Scan(const Pose3d& scene_from_velo, std::uint64_t noise_
   scan.labels.reserve(scan.points_velo.capacity());
   const Eigen::Matrix3d r = scene_from_velo.linear();
   const Eigen::Vector3d origin = scene_from_velo.translation();
-  internal::Rng rng(noise_seed);
+  sim_internal::Rng rng(noise_seed);
   for (int a = 0; a < o.lidar_azimuth_steps; ++a) {
     // Spin order as the real sensor: azimuth outer, beams inner; start facing backwards (KITTI's cut).
     const double az = M_PI - 2.0 * M_PI * a / o.lidar_azimuth_steps;
@@ -35,7 +35,7 @@ LidarScan LidarScanner::Scan(const Pose3d& scene_from_velo, std::uint64_t noise_
       const double range = hit->t + noise;
       if (range <= 0.0) continue;
       const Eigen::Vector3d p = range * dir_velo;
-      const float refl = internal::LidarReflectance(scene_.materials[hit->triangle]);
+      const float refl = sim_internal::LidarReflectance(scene_.materials[hit->triangle]);
       scan.points_velo.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
                                     static_cast<float>(p.z()), refl);
       scan.labels.push_back(scene_.labels[hit->triangle]);

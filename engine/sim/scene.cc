@@ -16,9 +16,9 @@ namespace {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
-using internal::Rng;
-using internal::SceneBuilder;
-using internal::Surface;
+using sim_internal::Rng;
+using sim_internal::SceneBuilder;
+using sim_internal::Surface;
 
 // Side of the square cells used to group triangles for view-frustum culling.
 constexpr double kChunkSizeM = 16.0;
@@ -69,9 +69,9 @@ class CityBuilder {
 
   // Sidewalk ring, curbs and lot ground of block (i, j); `detailed` adds the frontage and street furniture.
   void Block(int i, int j, bool detailed) {
-    Rng rng(internal::HashCombine(
-        internal::HashCombine(o_.seed, 0x626c6f63ULL),
-        internal::HashCombine(static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(j))));
+    Rng rng(sim_internal::HashCombine(
+        sim_internal::HashCombine(o_.seed, 0x626c6f63ULL),
+        sim_internal::HashCombine(static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(j))));
     const double p = o_.block_pitch_m, hw = 0.5 * o_.road_width_m, sw = o_.sidewalk_width_m,
                  h = o_.curb_height_m;
     const double x0 = i * p + hw, x1 = (i + 1) * p - hw, y0 = j * p + hw, y1 = (j + 1) * p - hw;

@@ -14,7 +14,7 @@ constexpr double kExposurePeriodFrames = 73.0;
 enum Stream : std::uint64_t { kLeftNoise = 1, kRightNoise = 2, kLidarNoise = 3, kExposure = 4 };
 
 std::uint64_t StreamSeed(std::uint64_t seed, int frame, Stream s) {
-  return internal::HashCombine(internal::HashCombine(seed, static_cast<std::uint64_t>(frame)), s);
+  return sim_internal::HashCombine(sim_internal::HashCombine(seed, static_cast<std::uint64_t>(frame)), s);
 }
 
 }  // namespace
@@ -42,7 +42,7 @@ Pose3d SyntheticSequence::scene_from_cam3(int frame) const {
 }
 
 double SyntheticSequence::ExposureGain(int frame) const {
-  internal::Rng rng(internal::HashCombine(options_.seed, kExposure));
+  sim_internal::Rng rng(sim_internal::HashCombine(options_.seed, kExposure));
   const double phase = rng.Uniform(0.0, 2.0 * M_PI);
   return 1.0 + options_.exposure_variation * std::sin(2.0 * M_PI * frame / kExposurePeriodFrames + phase);
 }

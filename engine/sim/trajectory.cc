@@ -29,7 +29,7 @@ Eigen::Vector2d PathPiece::PositionAt(double s) const {
 
 Trajectory Trajectory::Generate(const SynthOptions& o, double imu_height_m) {
   o.Check();
-  internal::Rng rng(internal::HashCombine(o.seed, 0x7472616aULL));
+  sim_internal::Rng rng(sim_internal::HashCombine(o.seed, 0x7472616aULL));
   const double step_m = o.speed_mps / o.frame_rate_hz;
   const double needed_m = step_m * (o.num_frames - 1) + 1e-9;
   const double pitch = o.block_pitch_m, off = o.lane_offset_m, r = o.turn_radius_m;

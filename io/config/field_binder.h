@@ -16,7 +16,7 @@
 
 namespace semap::io {
 
-namespace field_binder_internal {
+namespace config_internal {
 
 // Non-finite numbers (.inf, .nan) are refused for every floating-point option: no parameter means anything
 // with them, and they would pass range checks written as comparisons.
@@ -52,7 +52,7 @@ YAML::Node Dump(const std::vector<T>& values) {
   return n;
 }
 
-}  // namespace field_binder_internal
+}  // namespace config_internal
 
 // One bound field: its key inside the section, a one-line doc, and how to read and write it.
 struct BoundField {
@@ -72,10 +72,10 @@ class FieldBinder {
     fields_.push_back({std::move(key), std::move(doc),
                        [value](const YAML::Node& n) {
                          T v = n.as<T>();
-                         field_binder_internal::CheckFinite(v);
+                         config_internal::CheckFinite(v);
                          *value = std::move(v);
                        },
-                       [value]() { return field_binder_internal::Dump(*value); }});
+                       [value]() { return config_internal::Dump(*value); }});
   }
 
   template <typename E>

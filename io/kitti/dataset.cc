@@ -19,18 +19,18 @@ bool IsStereo2015(const fs::path& p) {
   return fs::is_directory(p / "image_2") && fs::exists(p / "calib_cam_to_cam.txt");
 }
 
-std::unique_ptr<internal::SequenceSource> Open(const fs::path& path, const FrameSourceOptions& options) {
+std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path, const FrameSourceOptions& options) {
   options.Check();
   std::error_code ec;
   if (!fs::is_directory(path, ec)) DetectLayout(path);  // throws the missing-folder / not-a-folder error
   const DatasetLayout layout = options.layout == DatasetLayout::kAuto ? DetectLayout(path) : options.layout;
   switch (layout) {
     case DatasetLayout::kKittiRaw:
-      return internal::OpenKittiRaw(path, options);
+      return kitti_internal::OpenKittiRaw(path, options);
     case DatasetLayout::kKittiOdometry:
-      return internal::OpenKittiOdometry(path, options);
+      return kitti_internal::OpenKittiOdometry(path, options);
     case DatasetLayout::kKittiStereo2015:
-      return internal::OpenKittiStereo2015(path, options);
+      return kitti_internal::OpenKittiStereo2015(path, options);
     case DatasetLayout::kAuto:
       break;
   }
@@ -40,7 +40,7 @@ std::unique_ptr<internal::SequenceSource> Open(const fs::path& path, const Frame
 // The selected frames read options.loops times (see OpenFrameSource). Each pass re-opens the dataset.
 class LoopedSource : public FrameSource {
  public:
-  LoopedSource(fs::path path, const FrameSourceOptions& options, std::unique_ptr<internal::SequenceSource> first)
+  LoopedSource(fs::path path, const FrameSourceOptions& options, std::unique_ptr<kitti_internal::SequenceSource> first)
       : path_(std::move(path)), options_(options), source_(std::move(first)) {
     id_span_ = source_->info().last_frame_id - source_->info().first_frame_id + 1;
     pass_frames_ = source_->size();
@@ -117,7 +117,7 @@ class LoopedSource : public FrameSource {
 
   fs::path path_;
   FrameSourceOptions options_;
-  std::unique_ptr<internal::SequenceSource> source_;
+  std::unique_ptr<kitti_internal::SequenceSource> source_;
   std::int64_t id_span_ = 0;
   std::int64_t pass_frames_ = 0;
   std::int64_t pass_ = 0;
@@ -141,7 +141,7 @@ DatasetLayout DetectLayout(const fs::path& path) {
   if (!fs::is_directory(path, ec)) throw FileError(path, "not a folder (expected a dataset folder)");
   if (IsStereo2015(path)) return DatasetLayout::kKittiStereo2015;
   if (IsOdometry(path)) return DatasetLayout::kKittiOdometry;
-  if (internal::FindRawDrive(path)) return DatasetLayout::kKittiRaw;
+  if (kitti_internal::FindRawDrive(path)) return DatasetLayout::kKittiRaw;
   throw FileError(path,
                   "cannot detect the dataset layout: expected a KITTI raw drive (image_02/data) or its date "
                   "folder, an odometry sequence (calib.txt + image_0|image_2, or sequences/NN) or a "

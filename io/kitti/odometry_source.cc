@@ -6,7 +6,7 @@
 #include "io/kitti/internal/sequence_source.h"
 #include "io/kitti/sequence_files.h"
 
-namespace semap::io::internal {
+namespace semap::io::kitti_internal {
 namespace {
 
 namespace fs = std::filesystem;
@@ -100,4 +100,4 @@ std::unique_ptr<SequenceSource> OpenKittiOdometry(const fs::path& path, const Fr
   return std::make_unique<KittiOdometrySource>(std::move(scan), std::move(world_from_cam));
 }
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::kitti_internal

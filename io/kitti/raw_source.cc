@@ -8,7 +8,7 @@
 #include "io/kitti/oxts.h"
 #include "io/kitti/sequence_files.h"
 
-namespace semap::io::internal {
+namespace semap::io::kitti_internal {
 namespace {
 
 namespace fs = std::filesystem;
@@ -145,4 +145,4 @@ std::unique_ptr<SequenceSource> OpenKittiRaw(const fs::path& path, const FrameSo
                                           std::move(missing_calibration));
 }
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::kitti_internal

@@ -5,7 +5,7 @@
 #include "io/kitti/calibration.h"
 #include "io/kitti/internal/sequence_source.h"
 
-namespace semap::io::internal {
+namespace semap::io::kitti_internal {
 namespace {
 
 namespace fs = std::filesystem;
@@ -56,4 +56,4 @@ std::unique_ptr<SequenceSource> OpenKittiStereo2015(const fs::path& path, const 
   return std::make_unique<KittiStereo2015Source>(std::move(scan));
 }
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::kitti_internal

@@ -18,9 +18,9 @@
 namespace semap::io {
 namespace {
 
-using internal::PlyElement;
-using internal::PlyProperty;
-using internal::PlyTable;
+using mesh_internal::PlyElement;
+using mesh_internal::PlyProperty;
+using mesh_internal::PlyTable;
 
 static_assert(std::endian::native == std::endian::little, "the PLY writer assumes a little-endian host");
 
@@ -145,7 +145,7 @@ std::vector<std::array<std::uint8_t, 3>> ReadRgb(const PlyElement& e) {
   const PlyProperty* g = Optional(e, "green");
   const PlyProperty* b = Optional(e, "blue");
   if (r == nullptr || g == nullptr || b == nullptr) return {};
-  const bool unit = r->type == internal::PlyType::kFloat32 || r->type == internal::PlyType::kFloat64;
+  const bool unit = r->type == mesh_internal::PlyType::kFloat32 || r->type == mesh_internal::PlyType::kFloat64;
   std::vector<std::array<std::uint8_t, 3>> out(e.count);
   for (size_t i = 0; i < out.size(); ++i) {
     out[i] = {ToByte(r->values[i], unit), ToByte(g->values[i], unit), ToByte(b->values[i], unit)};
@@ -285,7 +285,7 @@ void WriteMeshPly(const std::filesystem::path& path, const Mesh& mesh, PlyEncodi
 }
 
 Mesh ReadMeshPly(const std::filesystem::path& path) {
-  const PlyTable table = internal::ReadPlyTable(path);
+  const PlyTable table = mesh_internal::ReadPlyTable(path);
   const PlyElement& v = RequireElement(path, table, "vertex");
   Mesh mesh;
   mesh.vertices = ReadXyz(path, v);
@@ -446,7 +446,7 @@ void WriteCloudPly(const std::filesystem::path& path, const LabelledCloud& cloud
 }
 
 LabelledCloud ReadCloudPly(const std::filesystem::path& path) {
-  const PlyTable table = internal::ReadPlyTable(path);
+  const PlyTable table = mesh_internal::ReadPlyTable(path);
   const PlyElement& v = RequireElement(path, table, "vertex");
   LabelledCloud cloud;
   cloud.positions_world = ReadXyz(path, v);

@@ -3,7 +3,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace semap::internal {
+namespace semap::depth_internal {
 
 // `disparity` (CV_32F, invalid ≤ 0) is filled in place; `confidence` is (re)allocated to its size:
 // 1 for valid input pixels, `gap_confidence` for pixels filled in a gap, 0 for border-filled pixels and
@@ -15,4 +15,4 @@ namespace semap::internal {
 void FillDisparity(int max_gap_px, int border_px, float gap_confidence, cv::Mat* disparity,
                    cv::Mat* confidence);
 
-}  // namespace semap::internal
+}  // namespace semap::depth_internal

@@ -5,7 +5,7 @@
 
 #include "engine/sim/internal/random.h"
 
-namespace semap::sim::internal {
+namespace semap::sim::sim_internal {
 namespace {
 
 using Eigen::Vector3d;
@@ -227,4 +227,4 @@ float LidarReflectance(Material m) {
   return 0.0f;
 }
 
-}  // namespace semap::sim::internal
+}  // namespace semap::sim::sim_internal

@@ -6,7 +6,7 @@
 
 #include "engine/sim/scene.h"
 
-namespace semap::sim::internal {
+namespace semap::sim::sim_internal {
 
 // What the texture functions need to know about the world.
 struct TextureContext {
@@ -26,4 +26,4 @@ Eigen::Vector3f SkyColor(const TextureContext& ctx, const Eigen::Vector3d& d);
 // Reflectance in [0, 1] of a material as seen by the scanner.
 float LidarReflectance(Material material);
 
-}  // namespace semap::sim::internal
+}  // namespace semap::sim::sim_internal

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace semap::sim::internal {
+namespace semap::sim::sim_internal {
 
 // SplitMix64 finaliser: a good 64-bit mix of one value.
 inline std::uint64_t Mix64(std::uint64_t x) {
@@ -114,4 +114,4 @@ inline float Fbm(double x, double y, double z, double base_wavelength_m, int oct
   return sum / norm;
 }
 
-}  // namespace semap::sim::internal
+}  // namespace semap::sim::sim_internal

@@ -5,7 +5,7 @@
 
 #include "engine/core/check.h"
 
-namespace semap::sim::internal {
+namespace semap::sim::sim_internal {
 
 SceneBuilder::SceneBuilder(Scene* scene) : scene_(scene) { SEMAP_ASSERT(scene != nullptr); }
 
@@ -150,4 +150,4 @@ void SceneBuilder::AddRoundedBox(const Eigen::Vector3d& center, const Eigen::Vec
   for (const auto& t : faces) AddTriangle(base + t[0], base + t[1], base + t[2], s);
 }
 
-}  // namespace semap::sim::internal
+}  // namespace semap::sim::sim_internal

@@ -6,7 +6,7 @@
 #include "engine/sim/internal/random.h"
 #include "engine/sim/scene.h"
 
-namespace semap::sim::internal {
+namespace semap::sim::sim_internal {
 
 // The appearance shared by the triangles of one primitive.
 struct Surface {
@@ -51,4 +51,4 @@ class SceneBuilder {
   std::vector<std::pair<std::vector<Eigen::Vector3d>, std::vector<std::array<std::uint32_t, 3>>>> spheres_;
 };
 
-}  // namespace semap::sim::internal
+}  // namespace semap::sim::sim_internal

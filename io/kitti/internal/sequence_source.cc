@@ -10,7 +10,7 @@
 #include "io/labels/class_map_yaml.h"
 #include "io/labels/label_images.h"
 
-namespace semap::io::internal {
+namespace semap::io::kitti_internal {
 namespace {
 
 namespace fs = std::filesystem;
@@ -197,4 +197,4 @@ Frame SequenceSource::ReadFrame(size_t index) {
   return f;
 }
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::kitti_internal

@@ -12,7 +12,7 @@
 
 #include "io/frame_source.h"
 
-namespace semap::io::internal {
+namespace semap::io::kitti_internal {
 
 struct FrameEntry {
   std::int64_t id = 0;  // number in the file name
@@ -97,4 +97,4 @@ std::unique_ptr<SequenceSource> OpenKittiStereo2015(const std::filesystem::path&
 // holds no raw drive. Throws FileError(path) when it holds several.
 std::optional<std::filesystem::path> FindRawDrive(const std::filesystem::path& path);
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::kitti_internal

@@ -12,7 +12,7 @@
 
 #include "io/file_error.h"
 
-namespace semap::io::internal {
+namespace semap::io::mesh_internal {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "the PLY reader assumes a little-endian host");
@@ -261,4 +261,4 @@ PlyTable ReadPlyTable(const std::filesystem::path& path) {
   return table;
 }
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::mesh_internal

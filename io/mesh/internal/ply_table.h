@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace semap::io::internal {
+namespace semap::io::mesh_internal {
 
 enum class PlyType : std::uint8_t { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
 
@@ -42,4 +42,4 @@ struct PlyTable {
 // problem (missing file, bad header, unsupported format, truncated data, malformed value).
 PlyTable ReadPlyTable(const std::filesystem::path& path);
 
-}  // namespace semap::io::internal
+}  // namespace semap::io::mesh_internal

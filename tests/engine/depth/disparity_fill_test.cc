@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace semap::internal {
+namespace semap::depth_internal {
 namespace {
 
 cv::Mat Row(std::initializer_list<float> values) {
@@ -43,4 +43,4 @@ TEST(FillDisparity, BorderBeyondTheBandAndEmptyRowsStayInvalid) {
 }
 
 }  // namespace
-}  // namespace semap::internal
+}  // namespace semap::depth_internal

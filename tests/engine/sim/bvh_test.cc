@@ -28,7 +28,7 @@ std::optional<RayHit> BruteForce(const Scene& s, const Eigen::Vector3d& o, const
 }
 
 Scene RandomTriangles(int n, std::uint64_t seed) {
-  internal::Rng rng(seed);
+  sim_internal::Rng rng(seed);
   Scene s;
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d c(rng.Uniform(-20, 20), rng.Uniform(-20, 20), rng.Uniform(-5, 5));
@@ -45,7 +45,7 @@ TEST(TriangleBvh, AgreesWithBruteForce) {
   const Scene s = RandomTriangles(3000, 5);
   const TriangleBvh bvh(s);
   EXPECT_GT(bvh.num_nodes(), 1u);
-  internal::Rng rng(9);
+  sim_internal::Rng rng(9);
   int hits = 0;
   for (int k = 0; k < 2000; ++k) {
     const Eigen::Vector3d o(rng.Uniform(-30, 30), rng.Uniform(-30, 30), rng.Uniform(-10, 10));

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace semap::sim::internal {
+namespace semap::sim::sim_internal {
 namespace {
 
 TEST(Random, NormalsHaveUnitVarianceAndAreDeterministic) {
@@ -35,4 +35,4 @@ TEST(Random, NoiseIsInRangeAndFadesToItsMean) {
 }
 
 }  // namespace
-}  // namespace semap::sim::internal
+}  // namespace semap::sim::sim_internal

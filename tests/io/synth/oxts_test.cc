@@ -35,7 +35,7 @@ Pose3d DevkitPose(const OxtsPacket& p, double scale) {
 }
 
 TEST(Oxts, InverseMatchesTheDevkitForwardConversion) {
-  sim::internal::Rng rng(3);
+  sim::sim_internal::Rng rng(3);
   const double scale = std::cos(49.0 * M_PI / 180.0);
   for (int k = 0; k < 200; ++k) {
     Pose3d pose = Pose3d::Identity();
