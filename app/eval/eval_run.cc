@@ -1,0 +1,58 @@
+#include "app/eval/eval_run.h"
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "app/eval/eval_report.h"
+#include "app/eval/mesh_evaluation.h"
+#include "io/atomic_file.h"
+#include "io/mesh/ply_off.h"
+
+namespace semap::app {
+
+bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
+  const std::filesystem::path mesh_path(request.mesh);
+  const Mesh mesh = mesh_path.extension() == ".off" ? io::ReadMeshOff(mesh_path) : io::ReadMeshPly(mesh_path);
+  // A mesh without faces has no surface to measure: an RMSE of 0 would read as perfect.
+  if (mesh.num_triangles() == 0) throw io::FileError(mesh_path, "mesh has no faces: nothing to evaluate");
+  MeshEvaluationOptions options;
+  if (!request.out.empty()) {
+    options.error_images = request.error_images;
+    options.error_image_frames = request.error_frames;
+  }
+  const auto e = EvaluateMesh(mesh, request.dataset, config.input, config.eval, options);
+  PrintEvaluation(e);
+  if (!request.json.empty()) {
+    nlohmann::json j = ToJson(e, /*per_frame=*/true);
+    j["mesh"] = request.mesh.string();
+    io::WriteFileAtomically(request.json, j.dump(2) + "\n");
+  }
+  if (!request.pictures.empty()) {
+    std::filesystem::create_directories(request.pictures);
+    for (const auto& f : WriteTopViews(mesh, e, request.pictures)) spdlog::info("wrote {}", f.string());
+  }
+  if (!request.out.empty()) {
+    const std::filesystem::path out(request.out);
+    std::filesystem::create_directories(out);
+    nlohmann::json j = ToJson(e, /*per_frame=*/true);
+    j["mesh"] = request.mesh.string();
+    io::WriteFileAtomically(out / "eval.json", j.dump(2) + "\n");
+    io::WriteFileAtomically(out / "eval.md", EvaluationMarkdown(e));
+    std::vector<std::filesystem::path> written = WriteErrorImages(e, out);
+    for (const auto& f : WriteTopViews(mesh, e, out)) written.push_back(f);
+    spdlog::info("wrote {} and {} ({} pictures)", (out / "eval.json").string(),
+                 (out / "eval.md").string(), written.size());
+    if (!request.error_frames.empty() && e.error_images.empty()) {
+      spdlog::warn(
+          "--error-frames: none of the named frames was evaluated (ids as on disk, with a pose)");
+    }
+  }
+  if (e.frames_with_lidar == 0 && !e.exact_depth) {
+    spdlog::error("{}: no frame with a pose and Velodyne or exact depth to compare with",
+                  request.dataset.string());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace semap::app
