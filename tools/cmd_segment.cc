@@ -8,7 +8,7 @@
 #include "engine/semantics/segmenter.h"
 #include "io/image/image_files.h"
 #include "tools/cli_common.h"
-#include "tools/frame_at.h"
+#include "app/depth/frame_at.h"
 
 namespace semap::tools {
 
@@ -36,7 +36,7 @@ void RegisterSegmentCommand(CLI::App& app, int* exit_code) {
       const app::Config config = LoadConfigFrom(args->common);
       io::FrameSourceOptions input = config.input;
       input.load_velodyne = false;
-      const FrameAt at = ReadFrameAt(args->path, args->frame, input);
+      const app::FrameAt at = app::ReadFrameAt(args->path, args->frame, input);
       SemanticsOptions semantics = config.semantics;
       semantics.source = LabelSource::kEnet;  // this command always runs the built-in segmenter
       auto segmenter = MakeSegmenter(semantics);

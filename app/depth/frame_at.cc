@@ -1,10 +1,10 @@
-#include "tools/frame_at.h"
+#include "app/depth/frame_at.h"
 
 #include <memory>
 #include <stdexcept>
 #include <string>
 
-namespace semap::tools {
+namespace semap::app {
 
 FrameAt ReadFrameAt(const std::filesystem::path& path, int index, io::FrameSourceOptions input) {
   if (index < 0) throw std::invalid_argument("--frame must be >= 0 (got " + std::to_string(index) + ")");
@@ -23,4 +23,4 @@ FrameAt ReadFrameAt(const std::filesystem::path& path, int index, io::FrameSourc
   return {std::move(*frame), source->class_map()};
 }
 
-}  // namespace semap::tools
+}  // namespace semap::app

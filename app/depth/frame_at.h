@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "engine/core/frame.h"
 #include "app/config/config.h"
+#include "engine/core/frame.h"
 #include "io/frame_source.h"
 
-namespace semap::tools {
+namespace semap::app {
 
 struct FrameAt {
   Frame frame;
@@ -21,4 +21,4 @@ struct FrameAt {
 // the path and index.
 FrameAt ReadFrameAt(const std::filesystem::path& path, int index, io::FrameSourceOptions input);
 
-}  // namespace semap::tools
+}  // namespace semap::app
