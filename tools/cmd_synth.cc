@@ -1,12 +1,8 @@
-// `semap synth`: generate a synthetic KITTI-raw street sequence with exact ground truth.
-#include <spdlog/spdlog.h>
-
-#include <chrono>
-#include <filesystem>
+// `semap synth`: generate a synthetic KITTI-raw street sequence with exact ground truth (the options from the
+// config and the command line here, the generation in app/synth/generate.h).
 #include <map>
 
-#include "engine/core/class_map.h"
-#include "io/synth/kitti_raw_writer.h"
+#include "app/synth/generate.h"
 #include "tools/cli_common.h"
 
 namespace semap::tools {
@@ -37,41 +33,7 @@ int RunSynth(const SynthArgs& a) {
   if (a.turns >= 0) o.num_turns = a.turns;
   o.Check();
 
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  spdlog::info("synth: preset {}, {} frames, seed {}, {:.1f} m/s, {} turns -> {}",
-               sim::ScenePresetName(o.preset), o.num_frames, o.seed, o.speed_mps, o.num_turns, a.out);
-  const sim::SyntheticSequence sequence(o);
-  const double build_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  spdlog::info("scene: {} triangles, {} chunks, BVH {} nodes; drive {:.0f} m with {} turns ({:.2f} s)",
-               sequence.scene().num_triangles(), sequence.scene().chunks.size(), sequence.bvh().num_nodes(),
-               sequence.trajectory().length_m(), sequence.trajectory().num_turns(), build_s);
-
-  auto last_report = Clock::now();
-  const auto t1 = Clock::now();
-  const io::SynthWriteSummary summary = io::WriteSyntheticKittiRaw(sequence, a.out, [&](int done, int total) {
-    const auto now = Clock::now();
-    if (done == total || now - last_report > std::chrono::seconds(2)) {
-      last_report = now;
-      const double s = std::chrono::duration<double>(now - t1).count();
-      spdlog::info("frame {}/{} ({:.1f} frames/s)", done, total, done / std::max(s, 1e-9));
-    }
-  });
-  const double write_s = std::chrono::duration<double>(Clock::now() - t1).count();
-  const double total_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  spdlog::info("wrote {} frames to {} in {:.2f} s ({:.2f} frames/s rendering+writing, {:.2f} s total)",
-               summary.num_frames, summary.layout.drive_dir.string(), write_s, summary.num_frames / write_s,
-               total_s);
-  spdlog::info("velodyne: {:.0f} points per scan on average",
-               static_cast<double>(summary.lidar_points) / std::max(1, summary.num_frames));
-  const ClassMap classes = ClassMap::Cityscapes();
-  const auto& h = summary.label_pixels;
-  spdlog::info(
-      "class composition (pixels of image_02): ground {:.1f}%, wall {:.1f}%, vegetation {:.1f}%, "
-      "car {:.1f}%, sky {:.1f}%",
-      100.0 * h.RoleShare(classes, ClassRole::kGround), 100.0 * h.RoleShare(classes, ClassRole::kWall),
-      100.0 * h.Share(sim::label::kVegetation), 100.0 * h.Share(sim::label::kCar),
-      100.0 * h.Share(sim::label::kSky));
+  app::GenerateSequence(o, a.out);
   return kExitOk;
 }
 
