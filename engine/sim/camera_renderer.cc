@@ -160,7 +160,7 @@ CameraImage CameraRenderer::Render(const StereoCalibration& cal, const Pose3d& s
   cv::Mat radiance(h, w, CV_32FC3, cv::Scalar::all(0.0));
   const Eigen::Matrix3d r = scene_from_cam.linear();
   const Vector3d c = scene_from_cam.translation();
-  const sim_internal::TextureContext ctx{options_.seed, options_.block_pitch_m, options_.road_width_m};
+  const sim_internal::TextureContext ctx(options_);
   const double r_max2 =
       (std::pow(std::max(cal.cx_px, w - cal.cx_px), 2) + std::pow(std::max(cal.cy_px, h - cal.cy_px), 2));
   for (int y = 0; y < h; ++y) {

@@ -5,14 +5,18 @@
 #include <cstdint>
 
 #include "engine/sim/scene.h"
+#include "engine/sim/synth_options.h"
 
 namespace semap::sim::sim_internal {
 
-// What the texture functions need to know about the world.
+// What the texture functions need to know about the world, as SynthOptions sets it (its defaults are declared
+// there only).
 struct TextureContext {
-  std::uint64_t seed = 0;
-  double block_pitch_m = 70.0;  // road markings follow the street centre lines
-  double road_width_m = 12.0;
+  explicit TextureContext(const SynthOptions& options)
+      : seed(options.seed), block_pitch_m(options.block_pitch_m), road_width_m(options.road_width_m) {}
+  std::uint64_t seed;
+  double block_pitch_m;  // road markings follow the street centre lines
+  double road_width_m;
 };
 
 // Albedo (display-referred RGB in [0, 1]) of `material` at scene point `p` on a surface with normal `n`.
