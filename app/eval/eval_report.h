@@ -1,4 +1,5 @@
-// Printing and writing a mesh evaluation (io/eval), shared by `semap eval` and `semap run --eval`.
+// Printing and writing a mesh evaluation (app/eval/mesh_evaluation.h), shared by `semap eval` and
+// `semap run --eval`.
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,5 @@
-// `semap compare PATH` (tools/cmd_compare.cc parses it): every simplification method on the same input, the paper's method plot.
+// `semap compare PATH` (tools/cmd_compare.cc parses it): every simplification method on the same input,
+// the paper's method plot.
 // Mode `incremental` streams a sequence once per method through the engine; mode `single-frame` builds
 // one batch map per frame (for the stereo-2015 frames, which have no poses), with depth and labels
 // computed once per frame and shared by the methods. Writes compare.md, compare.csv and compare.png
