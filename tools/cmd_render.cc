@@ -1,13 +1,9 @@
 // `semap render MESH --out view.png`: the mesh as a user sees it from above (or obliquely), drawn by semap's
 // software renderer (engine/eval/top_view.h): vertex colours, height or distance to a true surface.
-#include <filesystem>
-
 #include <spdlog/spdlog.h>
 
-#include "engine/eval/surface_metrics.h"
+#include "app/eval/render_mesh.h"
 #include "engine/eval/top_view.h"
-#include "io/image/image_files.h"
-#include "io/mesh/ply_off.h"
 #include "tools/cli_common.h"
 
 namespace semap::tools {
@@ -23,51 +19,17 @@ struct RenderArgs {
   TopViewOptions view;
 };
 
-Mesh ReadMesh(const std::filesystem::path& path) {
-  return path.extension() == ".off" ? io::ReadMeshOff(path) : io::ReadMeshPly(path);
-}
-
-// The up axis named on the command line, or (auto) guessed from the mesh: the axis along which its bounding
-// box is thinnest (a street is longer and wider than high), taken as up for x and z (KITTI raw's IMU world
-// frame: z up) and as down for y (camera frames, KITTI odometry: y down).
-Eigen::Vector3d UpAxis(const std::string& name, const Mesh& mesh) {
-  if (name != "auto") {
-    const double sign = name[0] == '-' ? -1.0 : 1.0;
-    return sign * Eigen::Vector3d::Unit(name.back() - 'x');
-  }
-  if (mesh.vertices.empty()) return Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d lo = mesh.vertices.front(), hi = lo;
-  for (const Eigen::Vector3d& v : mesh.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  int axis = 0;
-  (hi - lo).minCoeff(&axis);
-  return (axis == 1 ? -1.0 : 1.0) * Eigen::Vector3d::Unit(axis);
-}
-
 int Render(const RenderArgs& args) {
-  const Mesh mesh = ReadMesh(args.mesh);
-  const Eigen::Vector3d up = UpAxis(args.up, mesh);
-  TopViewOptions options = args.view;
-  options.colour = args.colour == "height" ? TopViewColour::kHeight
-                   : args.colour == "error" ? TopViewColour::kError
-                                            : TopViewColour::kMesh;
-  std::unique_ptr<SurfaceDistance> to_truth;
-  std::function<double(const Eigen::Vector3d&)> distance;
-  if (options.colour == TopViewColour::kError) {
+  app::RenderRequest request{args.mesh, args.out, args.up, TopViewColour::kMesh, args.truth, args.view};
+  if (args.colour == "height") request.colour = TopViewColour::kHeight;
+  if (args.colour == "error") {
     if (args.truth.empty()) {
       spdlog::error("--colour error needs --truth MESH (e.g. a generated sequence's scene_mesh.ply)");
       return kExitUsage;
     }
-    to_truth = std::make_unique<SurfaceDistance>(ReadMesh(args.truth));
-    distance = [&](const Eigen::Vector3d& p) { return (*to_truth)(p); };
+    request.colour = TopViewColour::kError;
   }
-  const TopView view = RenderTopView(mesh, up, options, distance);
-  io::WritePng(args.out, view.image);
-  spdlog::info("{}: {} triangles seen along up = ({:g}, {:g}, {:g}), {} coloured, {:.3f} m/px, {} px covered -> {}",
-               args.mesh, mesh.num_triangles(), up.x(), up.y(), up.z(), TopViewColourName(options.colour),
-               view.metres_per_px, cv::countNonZero(view.triangle >= 0), args.out);
+  app::RenderMeshFile(request);
   return kExitOk;
 }
 
