@@ -5,10 +5,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/run/progress_sink.h"
+#include "app/run/run_outputs.h"
 #include "engine/pipeline/semap_stages.h"
 #include "io/frame_source.h"
-#include "io/output/output_sinks.h"
-#include "app/run/progress_sink.h"
 
 namespace semap::app {
 
@@ -72,16 +72,13 @@ EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, doubl
                          std::unique_ptr<SimplifyStage> simplify, const std::vector<PipelineSink*>& extra_sinks) {
   auto source = OpenStreamingSource(config, dataset);
   const std::int64_t total = source->size();
-  io::MeshFileSink mesh_sink(config.output);
-  std::unique_ptr<io::StatsFileSink> stats_sink;
-  if (config.output.frame_stats) stats_sink = std::make_unique<io::StatsFileSink>(config.output);
+  RunOutputs outputs(config, RunOutputs::Lcm::kOff);
   std::unique_ptr<ProgressSink> progress;
   if (progress_s > 0.0) progress = std::make_unique<ProgressSink>(total, progress_s);
 
   const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source), std::move(simplify));
   Pipeline& pipeline = *engine;
-  pipeline.AddSink(&mesh_sink);
-  if (stats_sink) pipeline.AddSink(stats_sink.get());
+  for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
   if (progress) pipeline.AddSink(progress.get());
   for (PipelineSink* sink : extra_sinks) pipeline.AddSink(sink);
   EngineRun run;
@@ -93,7 +90,7 @@ EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, doubl
     throw std::runtime_error(dataset + ": no frame could be processed (all " +
                              std::to_string(s.frames_failed) + " failed)");
   }
-  run.mesh = mesh_sink.mesh();
+  run.mesh = outputs.mesh();
   run.evaluation = EvaluateMesh(run.mesh, dataset, config.input, config.eval);
   return run;
 }

@@ -8,9 +8,9 @@
 #include "app/eval/mesh_evaluation.h"
 #include "app/run/engine_run.h"
 #include "app/run/progress_sink.h"
+#include "app/run/run_outputs.h"
 #include "io/atomic_file.h"
 #include "io/mesh/ply_off.h"
-#include "io/output/output_sinks.h"
 
 namespace semap::app {
 
@@ -23,18 +23,12 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
                config.pipeline.depth_workers, request.start_note);
 
   // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
-  io::MeshFileSink mesh_sink(config.output);
-  std::unique_ptr<io::StatsFileSink> stats_sink;
-  if (config.output.frame_stats) stats_sink = std::make_unique<io::StatsFileSink>(config.output);
-  std::unique_ptr<io::LcmSink> lcm_sink;
-  if (config.lcm.enabled) lcm_sink = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
+  RunOutputs outputs(config);
   ProgressSink progress(total, request.progress_s);
 
   const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source));
   Pipeline& pipeline = *engine;
-  pipeline.AddSink(&mesh_sink);
-  if (stats_sink) pipeline.AddSink(stats_sink.get());
-  if (lcm_sink) pipeline.AddSink(lcm_sink.get());
+  for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
   pipeline.AddSink(&progress);
 
   if (request.on_running) request.on_running(&pipeline);
@@ -48,15 +42,10 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
     spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
                  st.p95_ms, st.max_ms);
   }
-  const Mesh mesh = mesh_sink.mesh();
+  const Mesh mesh = outputs.mesh();
   spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF", mesh.num_vertices(), mesh.num_triangles(),
                static_cast<double>(io::OffSizeBytes(mesh)) / 1e6);
-  for (const auto& f : mesh_sink.written()) spdlog::info("wrote {}", f.string());
-  if (lcm_sink) {
-    const auto c = lcm_sink->publisher().counters();
-    spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
-                 c.other_messages, c.send_failures, c.dropped);
-  }
+  outputs.LogWritten();
   if (request.evaluate && mesh.num_triangles() == 0) {
     spdlog::warn("--eval: the mesh has no faces: nothing to evaluate");
   } else if (request.evaluate) {

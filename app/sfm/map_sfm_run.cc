@@ -8,12 +8,12 @@
 #include <memory>
 
 #include "app/run/progress_sink.h"
+#include "app/run/run_outputs.h"
 #include "app/sfm/sfm_mapping.h"
 #include "engine/pipeline/pipeline.h"
 #include "engine/pipeline/timing_stats.h"
 #include "io/labels/class_map_yaml.h"
 #include "io/mesh/ply_off.h"
-#include "io/output/output_sinks.h"
 
 namespace semap::app {
 namespace {
@@ -33,24 +33,16 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The sinks of a run, each optional but the mesh files.
+// The run's outputs and its progress line, fed by the mapping loop itself (no pipeline).
 struct Sinks {
-  explicit Sinks(const Config& config, std::int64_t keyframes, double progress_s)
-      : mesh(config.output), progress(keyframes, progress_s) {
-    if (config.output.frame_stats) stats = std::make_unique<io::StatsFileSink>(config.output);
-    if (config.lcm.enabled)
-      lcm = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
-  }
+  Sinks(const Config& config, std::int64_t keyframes, double progress_s)
+      : outputs(config), progress(keyframes, progress_s) {}
   template <typename F>
   void ForEach(F f) {
-    f(mesh);
-    if (stats) f(*stats);
-    if (lcm) f(*lcm);
+    for (PipelineSink* sink : outputs.sinks()) f(*sink);
     f(progress);
   }
-  io::MeshFileSink mesh;
-  std::unique_ptr<io::StatsFileSink> stats;
-  std::unique_ptr<io::LcmSink> lcm;
+  RunOutputs outputs;
   ProgressSink progress;
 };
 
@@ -189,16 +181,10 @@ void MapSfm(const Config& config, const MapSfmRequest& request) {
     RunBatch(r, config, class_map, &sinks, &final_stats);
   }
 
-  const Mesh mesh = sinks.mesh.mesh();
+  const Mesh mesh = sinks.outputs.mesh();
   spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF; peak RSS {:.0f} MB", mesh.num_vertices(),
                mesh.num_triangles(), static_cast<double>(io::OffSizeBytes(mesh)) / 1e6, PeakRssMb());
-  for (const auto& f : sinks.mesh.written()) spdlog::info("wrote {}", f.string());
-  if (sinks.lcm) {
-    const auto c = sinks.lcm->publisher().counters();
-    spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
-                 c.other_messages, c.send_failures, c.dropped);
-  }
+  sinks.outputs.LogWritten();
 }
-
 
 }  // namespace semap::app

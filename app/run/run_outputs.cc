@@ -1,0 +1,30 @@
+#include "app/run/run_outputs.h"
+
+#include <spdlog/spdlog.h>
+
+namespace semap::app {
+
+RunOutputs::RunOutputs(const Config& config, Lcm lcm) : mesh_(config.output) {
+  if (config.output.frame_stats) stats_ = std::make_unique<io::StatsFileSink>(config.output);
+  if (lcm == Lcm::kAsConfigured && config.lcm.enabled) {
+    lcm_ = std::make_unique<io::LcmSink>(std::make_unique<io::LcmPublisher>(config.lcm));
+  }
+}
+
+std::vector<PipelineSink*> RunOutputs::sinks() {
+  std::vector<PipelineSink*> all{&mesh_};
+  if (stats_) all.push_back(stats_.get());
+  if (lcm_) all.push_back(lcm_.get());
+  return all;
+}
+
+void RunOutputs::LogWritten() {
+  for (const auto& f : mesh_.written()) spdlog::info("wrote {}", f.string());
+  if (lcm_) {
+    const auto c = lcm_->publisher().counters();
+    spdlog::info("LCM: {} mesh messages, {} other, {} send failures, {} dropped", c.mesh_messages,
+                 c.other_messages, c.send_failures, c.dropped);
+  }
+}
+
+}  // namespace semap::app

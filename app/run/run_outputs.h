@@ -1,0 +1,36 @@
+// What a run writes and publishes, as its configuration says: shared by `semap run`, `semap map-sfm` and the
+// in-process runs of `semap table` / `semap compare`.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "app/config/config.h"
+#include "engine/core/mesh.h"
+#include "engine/pipeline/stages.h"
+#include "io/output/output_sinks.h"
+
+namespace semap::app {
+
+// The mesh files (always), the per-frame stats (output.frame_stats) and LCM (lcm.enabled, unless left out).
+// Made before any work, so that an unusable output folder or LCM URL is reported first. The sinks are called
+// from one thread at a time (the pipeline's output thread, or the caller's).
+class RunOutputs {
+ public:
+  enum class Lcm { kAsConfigured, kOff };
+  explicit RunOutputs(const Config& config, Lcm lcm = Lcm::kAsConfigured);
+
+  // The sinks, in the order each frame reaches them: mesh files, stats, LCM.
+  std::vector<PipelineSink*> sinks();
+  // The mesh as written so far (the whole mesh once the run has finished).
+  Mesh mesh() const { return mesh_.mesh(); }
+  // Logs the files written and, with LCM, the publisher's counters.
+  void LogWritten();
+
+ private:
+  io::MeshFileSink mesh_;
+  std::unique_ptr<io::StatsFileSink> stats_;
+  std::unique_ptr<io::LcmSink> lcm_;
+};
+
+}  // namespace semap::app
