@@ -11,10 +11,9 @@
 namespace semap::app {
 
 bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
-  const std::filesystem::path mesh_path(request.mesh);
-  const Mesh mesh = mesh_path.extension() == ".off" ? io::ReadMeshOff(mesh_path) : io::ReadMeshPly(mesh_path);
+  const Mesh mesh = io::ReadMesh(request.mesh);
   // A mesh without faces has no surface to measure: an RMSE of 0 would read as perfect.
-  if (mesh.num_triangles() == 0) throw io::FileError(mesh_path, "mesh has no faces: nothing to evaluate");
+  if (mesh.num_triangles() == 0) throw io::FileError(request.mesh, "mesh has no faces: nothing to evaluate");
   MeshEvaluationOptions options;
   if (!request.out.empty()) {
     options.error_images = request.error_images;
@@ -22,11 +21,14 @@ bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
   }
   const auto e = EvaluateMesh(mesh, request.dataset, config.input, config.eval, options);
   PrintEvaluation(e);
-  if (!request.json.empty()) {
+  // The figures with every frame's, for --json and the report folder alike.
+  std::string json;
+  if (!request.json.empty() || !request.out.empty()) {
     nlohmann::json j = ToJson(e, /*per_frame=*/true);
     j["mesh"] = request.mesh.string();
-    io::WriteFileAtomically(request.json, j.dump(2) + "\n");
+    json = j.dump(2) + "\n";
   }
+  if (!request.json.empty()) io::WriteFileAtomically(request.json, json);
   if (!request.pictures.empty()) {
     std::filesystem::create_directories(request.pictures);
     for (const auto& f : WriteTopViews(mesh, e, request.pictures)) spdlog::info("wrote {}", f.string());
@@ -34,9 +36,7 @@ bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
   if (!request.out.empty()) {
     const std::filesystem::path out(request.out);
     std::filesystem::create_directories(out);
-    nlohmann::json j = ToJson(e, /*per_frame=*/true);
-    j["mesh"] = request.mesh.string();
-    io::WriteFileAtomically(out / "eval.json", j.dump(2) + "\n");
+    io::WriteFileAtomically(out / "eval.json", json);
     io::WriteFileAtomically(out / "eval.md", EvaluationMarkdown(e));
     std::vector<std::filesystem::path> written = WriteErrorImages(e, out);
     for (const auto& f : WriteTopViews(mesh, e, out)) written.push_back(f);

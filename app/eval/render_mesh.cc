@@ -13,10 +13,6 @@
 namespace semap::app {
 namespace {
 
-Mesh ReadMesh(const std::filesystem::path& path) {
-  return path.extension() == ".off" ? io::ReadMeshOff(path) : io::ReadMeshPly(path);
-}
-
 // The up axis named on the command line, or (auto) guessed from the mesh: the axis along which its bounding
 // box is thinnest (a street is longer and wider than high), taken as up for x and z (KITTI raw's IMU world
 // frame: z up) and as down for y (camera frames, KITTI odometry: y down).
@@ -39,7 +35,7 @@ Eigen::Vector3d UpAxis(const std::string& name, const Mesh& mesh) {
 }  // namespace
 
 void RenderMeshFile(const RenderRequest& args) {
-  const Mesh mesh = ReadMesh(args.mesh);
+  const Mesh mesh = io::ReadMesh(args.mesh);
   const Eigen::Vector3d up = UpAxis(args.up, mesh);
   TopViewOptions options = args.view;
   options.colour = args.colour;
@@ -47,7 +43,7 @@ void RenderMeshFile(const RenderRequest& args) {
   std::function<double(const Eigen::Vector3d&)> distance;
   if (options.colour == TopViewColour::kError) {
     SEMAP_ASSERT(!args.truth.empty(), "an error colouring needs the true surface");
-    to_truth = std::make_unique<SurfaceDistance>(ReadMesh(args.truth));
+    to_truth = std::make_unique<SurfaceDistance>(io::ReadMesh(args.truth));
     distance = [&](const Eigen::Vector3d& p) { return (*to_truth)(p); };
   }
   const TopView view = RenderTopView(mesh, up, options, distance);

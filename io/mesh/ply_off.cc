@@ -385,6 +385,10 @@ Mesh ReadMeshOff(const std::filesystem::path& path) {
   return mesh;
 }
 
+Mesh ReadMesh(const std::filesystem::path& path) {
+  return path.extension() == ".off" ? ReadMeshOff(path) : ReadMeshPly(path);
+}
+
 // --- PLY point cloud
 // ----------------------------------------------------------------------------------------
 

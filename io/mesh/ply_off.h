@@ -25,6 +25,8 @@ Mesh ReadMeshPly(const std::filesystem::path& path);
 // at float precision (the shortest text that reads back to the same float).
 void WriteMeshOff(const std::filesystem::path& path, const Mesh& mesh);
 Mesh ReadMeshOff(const std::filesystem::path& path);
+// ReadMeshOff for a path ending in .off, ReadMeshPly otherwise.
+Mesh ReadMesh(const std::filesystem::path& path);
 // Bytes of the mesh written as ASCII OFF (the paper's mesh-size measure), without writing a file.
 std::uint64_t OffSizeBytes(const Mesh& mesh);
 

@@ -19,10 +19,6 @@
 namespace semap::tools::view {
 namespace {
 
-Mesh ReadMesh(const std::filesystem::path& path) {
-  return path.extension() == ".off" ? io::ReadMeshOff(path) : io::ReadMeshPly(path);
-}
-
 // frames.jsonl of a run folder: one StatsPoint per line; a line that does not parse ends the reading (a run
 // killed mid-line), with a warning.
 std::vector<StatsPoint> ReadFrameStats(const std::filesystem::path& path) {
@@ -99,7 +95,7 @@ std::unique_ptr<ViewModel> LoadFinished(const std::filesystem::path& path,
     throw io::FileError(path, "no such run folder or mesh file");
   }
   info.name = path.string();
-  const Mesh mesh = ReadMesh(mesh_path);
+  const Mesh mesh = io::ReadMesh(mesh_path);
 
   ClassMap class_map = ClassMap::Cityscapes();
   std::vector<PosePoint> poses;
@@ -114,7 +110,7 @@ std::unique_ptr<ViewModel> LoadFinished(const std::filesystem::path& path,
   }
   std::vector<float> error_m;
   if (!truth.empty()) {
-    const Mesh truth_mesh = ReadMesh(truth);
+    const Mesh truth_mesh = io::ReadMesh(truth);
     if (truth_mesh.num_triangles() == 0) throw io::FileError(truth, "the true surface has no triangle");
     const SurfaceDistance distance(truth_mesh);
     error_m.reserve(mesh.num_vertices());

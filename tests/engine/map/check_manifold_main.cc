@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   const std::filesystem::path path = argv[1];
   semap::Mesh mesh;
   try {
-    mesh = path.extension() == ".off" ? semap::io::ReadMeshOff(path) : semap::io::ReadMeshPly(path);
+    mesh = semap::io::ReadMesh(path);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 2;
