@@ -23,33 +23,56 @@ const char* DatasetLayoutName(DatasetLayout layout);
 enum class CameraPair { kAuto, kGray, kColor };
 
 struct FrameSourceOptions {
-  // Layout of the dataset folder; auto detects it from the folder's contents.
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   DatasetLayout layout = DatasetLayout::kAuto;
-  // First frame index to read (0-based, as numbered on disk).
   int first_frame = 0;
-  // Number of frames to read; 0 = until the end of the sequence.
   int max_frames = 0;
-  // Read the Velodyne scans when present (needed for evaluation only).
   bool load_velodyne = true;
   // Read the label images (not a config key: a run sets it from semantics.source, so that with `none` or
   // `enet` a missing or damaged label image does not cost the frame).
   bool load_labels = true;
-  // Folder of label PNGs (one per frame, same stem); empty = the layout's own (e.g. semantic/data of a
-  // generated sequence) when present, else none.
   std::string labels_dir;
-  // YAML class map naming the id scheme of the label images; empty = Cityscapes 20 classes.
   std::string class_map;
-  // Odometry layout: gray pair (image_0/1) or colour pair (image_2/3); auto = colour when present.
   CameraPair odometry_pair = CameraPair::kAuto;
-  // Frame period used for timestamps when the dataset has none (KITTI records at 10 Hz).
   double default_frame_period_s = 0.1;
-  // Read the selected frames this many times in a row (long soak runs from a short sequence). Pass k is
-  // moved by k shifts along the longest axis of the first pass's camera track, so that the map meets new
-  // ground; its ids and timestamps follow on from the previous pass (see OpenFrameSource).
   int loops = 1;
-  // Gap between the camera tracks of consecutive passes, m (keep it above 2 × depth.max_depth_m so that
-  // what one pass sees does not overlap the next).
   double loop_gap_m = 100.0;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Enum("layout", &layout,
+           {{"auto", DatasetLayout::kAuto},
+            {"kitti_raw", DatasetLayout::kKittiRaw},
+            {"kitti_odometry", DatasetLayout::kKittiOdometry},
+            {"kitti_stereo2015", DatasetLayout::kKittiStereo2015}},
+           "dataset layout; auto detects it from the folder's contents");
+    v.Field("first_frame", &first_frame, "first frame index to read (0-based, as numbered on disk)");
+    v.Field("max_frames", &max_frames, "number of frames to read; 0 = to the end of the sequence");
+    v.Field("load_velodyne", &load_velodyne,
+            "read the Velodyne scans when present (needed for evaluation only)");
+    v.Field("labels_dir", &labels_dir,
+            "folder of label PNGs, one per frame with the image's stem; empty = the layout's own (e.g. "
+            "semantic/data of a "
+            "generated sequence) if any");
+    v.Field("class_map", &class_map,
+            "YAML class map naming the id scheme of the label images; empty = Cityscapes 20 classes");
+    v.Enum(
+        "odometry_pair", &odometry_pair,
+        {{"auto", CameraPair::kAuto}, {"gray", CameraPair::kGray}, {"color", CameraPair::kColor}},
+        "KITTI odometry: stereo pair to read (gray image_0/1, colour image_2/3; auto = colour if present)");
+    v.Field("default_frame_period_s", &default_frame_period_s,
+            "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)");
+    // The map meets new ground on every pass (see OpenFrameSource).
+    v.Field("loops", &loops,
+            "read the frames this many times in a row (soak runs); pass k is shifted k times along the "
+            "longest axis of "
+            "the first pass's track, its ids and timestamps following on");
+    // Above 2 × depth.max_depth_m, what one pass sees does not overlap the next.
+    v.Field("loop_gap_m", &loop_gap_m,
+            "gap between the camera tracks of consecutive passes, m (keep above 2 x depth.max_depth_m)");
+  }
 
   void Check() const;
 };

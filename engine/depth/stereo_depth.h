@@ -18,63 +18,96 @@ enum class SgbmMode { kSgbm, kHh, kThreeWay, kHh4 };
 const char* SgbmModeName(SgbmMode mode);
 
 struct DepthOptions {
-  // --- Matching (OpenCV StereoSGBM; see cv::StereoSGBM::create) ---
-  // Disparity search range in px at full resolution (multiple of 16). KITTI at 1242 px: 128 covers ≥ 2.9 m.
-  int num_disparities = 128;
-  // Matched block size in px (odd, 1..11).
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
+
+  // Matching (OpenCV StereoSGBM; see cv::StereoSGBM::create).
+  int num_disparities = 128;  // KITTI at 1242 px: covers >= 2.9 m
   int block_size = 7;
-  // Smoothness penalties for disparity changes of 1 px (P1) and > 1 px (P2); 0 = 8·C·block² and 32·C·block²
-  // with C the number of image channels (OpenCV's recommendation). Requires P2 > P1 when both are set.
   int p1 = 0;
   int p2 = 0;
-  // Margin in % by which the best cost must beat the second best (0 = no uniqueness test).
   int uniqueness_ratio = 5;
-  // Speckle filter: connected regions of at most this many px (0 = off) whose disparity varies by at most
-  // speckle_range px are invalidated.
   int speckle_window_size = 100;
   int speckle_range_px = 2;
-  // OpenCV's built-in left-right check (disp12MaxDiff, from the same cost volume; -1 = off). OpenCV 4.6
-  // applies it in modes sgbm/hh/hh4 only, not in 3way.
   int disp12_max_diff_px = 1;
-  // Explicit left-right consistency check (any mode): a second SGBM pass matches the right image against the
-  // left; a left pixel u with disparity d is kept when the right disparity at u − d differs by at most this
-  // many px. Costs a second matching pass. -1 = off.
   float left_right_max_diff_px = -1.0f;
-  // Truncation of the x-derivative prefilter (OpenCV preFilterCap; 0 = OpenCV's default).
   int pre_filter_cap = 31;
   SgbmMode mode = SgbmMode::kThreeWay;
-  // Match at half resolution (both images downscaled by 2, disparity upscaled back): about 4× faster.
   bool half_resolution = false;
 
-  // --- Post-processing of the disparity ---
-  // Fill horizontal gaps of invalid disparity of at most this many px lying between two valid pixels on a row
-  // with the smaller (farther, background) of the two (KITTI's interpolation rule); 0 = off.
+  // Post-processing of the disparity.
   int fill_max_gap_px = 64;
-  // Fill the unmatched band on the left image border (the first num_disparities columns, which SGBM cannot
-  // match) with the first valid disparity of the row. The filled pixels have confidence 0.
   bool fill_left_border = true;
-  // Confidence given to pixels filled by the small-gap filling (matched pixels get 1).
   float filled_confidence = 0.5f;
 
-  // --- Point cloud ---
-  // Depth range of the emitted points (camera-frame z).
+  // Point cloud.
   double min_depth_m = 1.0;
   double max_depth_m = 40.0;
-  // Only every pixel_stride-th pixel on every pixel_stride-th row gives a point (1 = every pixel). With
-  // half_resolution the stride is doubled (one point per matched half-resolution pixel, no duplicates).
   int pixel_stride = 1;
-  // Point budget per frame after the stride, by uniform decimation (0 = dense). The default is what the
-  // incremental map sustains at about 1 frame/s on one core (bench/RESULTS.md); dense SGBM frames have ~350k.
   int max_points_per_frame = 10000;
-  // Pixels whose confidence is below this give no point. The default 1 keeps matched pixels only: the filled
-  // pixels improve the disparity map (D1) but are guesses, kept out of the map.
   float min_point_confidence = 1.0f;
-  // The depth map handed to the map's visibility votes keeps one pixel in vote_stride_px on every
-  // vote_stride_px-th row (full-resolution px; each stands for vote_stride_px² rays). Every valid pixel there
-  // votes, whatever the point budget above.
   int vote_stride_px = 1;
 
-  // Throws InvalidOption naming the field on a value out of range.
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("num_disparities", &num_disparities,
+            "disparity search range in px at full resolution (multiple of 16)");
+    v.Field("block_size", &block_size, "SGBM matched block size in px (odd, 1..11)");
+    v.Field("p1", &p1,
+            "SGBM penalty for 1 px disparity changes; 0 = 8*channels*block_size^2 (OpenCV's recommendation)");
+    v.Field(
+        "p2", &p2,
+        "SGBM penalty for larger disparity changes; 0 = 32*channels*block_size^2; must exceed p1 when both "
+        "are set");
+    v.Field("uniqueness_ratio", &uniqueness_ratio,
+            "margin in % by which the best cost must beat the second best (0 = no uniqueness test)");
+    v.Field("speckle_window_size", &speckle_window_size,
+            "speckle filter: connected regions of at most this many px whose disparity varies by at most "
+            "speckle_range_px are invalidated (0 = off)");
+    v.Field("speckle_range_px", &speckle_range_px, "speckle filter: disparity variation within a region");
+    // OpenCV 4.6 applies disp12MaxDiff in modes sgbm/hh/hh4 only, not in 3way.
+    v.Field("disp12_max_diff_px", &disp12_max_diff_px,
+            "OpenCV's left-right check from the same cost volume: max left/right disparity difference in px "
+            "(-1 = off)");
+    v.Field(
+        "left_right_max_diff_px", &left_right_max_diff_px,
+        "explicit left-right check (any mode) with a second matching pass, right against left: a pixel is "
+        "kept when the two disparities differ by at most this many px (-1 = off)");
+    v.Field("pre_filter_cap", &pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
+    v.Enum("mode", &mode,
+           {{"sgbm", SgbmMode::kSgbm},
+            {"hh", SgbmMode::kHh},
+            {"3way", SgbmMode::kThreeWay},
+            {"hh4", SgbmMode::kHh4}},
+           "OpenCV SGBM mode");
+    v.Field("half_resolution", &half_resolution,
+            "match at half resolution, disparity upscaled back (about 4x faster; doubles pixel_stride)");
+    v.Field("fill_max_gap_px", &fill_max_gap_px,
+            "fill horizontal gaps up to this many px between two valid pixels of a row with the background "
+            "(smaller) disparity, KITTI's interpolation rule (0 = off)");
+    v.Field("fill_left_border", &fill_left_border,
+            "extend each row's first valid disparity over the unmatched left band (confidence 0)");
+    v.Field("filled_confidence", &filled_confidence, "confidence of gap-filled pixels (matched = 1)");
+    v.Field("min_depth_m", &min_depth_m, "nearest point kept (camera-frame z, m)");
+    v.Field("max_depth_m", &max_depth_m, "farthest point kept (camera-frame z, m)");
+    v.Field("pixel_stride", &pixel_stride,
+            "one point every pixel_stride px on every pixel_stride-th row (1 = every pixel; doubled with "
+            "half_resolution: one point per matched pixel)");
+    // The default is what the incremental map sustains at about 1 frame/s on one core (bench/RESULTS.md);
+    // dense SGBM frames have ~350k.
+    v.Field("max_points_per_frame", &max_points_per_frame,
+            "point budget per frame after the stride, by uniform decimation (0 = none)");
+    // The default keeps matched pixels only: the filled pixels improve the disparity map (D1) but are
+    // guesses, kept out of the map.
+    v.Field("min_point_confidence", &min_point_confidence, "pixels below this confidence give no point");
+    v.Field(
+        "vote_stride_px", &vote_stride_px,
+        "the map's visibility votes read one pixel in vote_stride_px on every vote_stride_px-th row of the "
+        "depth map, each standing for vote_stride_px² rays (map.visibility: depth); every valid one votes, "
+        "whatever max_points_per_frame");
+  }
+
   void Check() const;
 };
 

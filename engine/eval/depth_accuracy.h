@@ -22,19 +22,36 @@
 namespace semap {
 
 struct DepthAccuracyOptions {
-  // Reference depths nearer than this are ignored (m).
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   double min_depth_m = 1.0;
-  // Reference depths farther than this are ignored (m); the depth stage's range.
-  double max_depth_m = 40.0;
-  // Errors larger than this are left out of the error figures (0 = keep all; the 2018 authors used 2 m).
-  double max_abs_error_m = 0.0;
-  // Generated sequences, against the exact scene mesh (engine/eval/surface_metrics.h): τ of accuracy and
-  // completeness (m), and the pixel stride at which the exact depth maps give the observed true surface.
+  double max_depth_m = 40.0;  // the depth stage's range
+  double max_abs_error_m = 0.0;  // the 2018 authors used 2 m
   double surface_threshold_m = 0.2;
   int surface_pixel_stride = 8;
-  // Points sampled uniformly by area on the mesh for the by-area accuracy (fixed seed): the shares' standard
-  // sampling error is at most 0.5 / sqrt(n), 0.16 % at 100,000.
   int surface_area_samples = 100000;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("min_depth_m", &min_depth_m,
+            "reference depths (camera-frame z, not range) nearer than this are ignored, m");
+    v.Field("max_depth_m", &max_depth_m, "reference depths farther than this are ignored, m");
+    v.Field("max_abs_error_m", &max_abs_error_m,
+            "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all");
+    // Against the exact scene mesh: engine/eval/surface_metrics.h.
+    v.Field("surface_threshold_m", &surface_threshold_m,
+            "generated sequences: distance τ of accuracy / completeness against the exact scene mesh");
+    v.Field("surface_pixel_stride", &surface_pixel_stride,
+            "generated sequences: exact depth maps sampled every this many pixels give the observed true "
+            "surface");
+    // The shares' standard sampling error is at most 0.5 / sqrt(n), 0.16 % at 100,000.
+    v.Field(
+        "surface_area_samples", &surface_area_samples,
+        "generated sequences: points sampled uniformly by area on the mesh for the by-area accuracy (fixed "
+        "seed)");
+  }
+
   void Check() const;
 };
 

@@ -34,75 +34,125 @@ enum class Visibility {
 };
 
 struct MapOptions {
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
+
+  // Votes.
   Visibility visibility = Visibility::kDepth;
-  // kDepth: views kept to vote the cells an insertion creates (≥ 1).
   int vote_window_frames = 8;
-  // kDepth: a new point whose projection lies within merge_radius_px (full-resolution px) of a live vertex's
-  // in its own view, at a depth within merge_depth_fraction of that vertex's, is that vertex seen again: it
-  // adds to the vertex's support instead of becoming a vertex.
   double merge_radius_px = 3.0;
   double merge_depth_fraction = 0.03;
-  // kDepth: σ of the stereo disparity (px). A pixel's depth z is uncertain by σ_z = z²·σ/(f·B): a cell is
-  // voted free only before that band, matter within it (0 = the paper's votes, exact points).
   double disparity_sigma_px = 0.5;
-
-  double sigma_free_m = 0.05;    // σ_free of the free-space weight (paper: 0.05 m)
-  double sigma_matter_m = 0.01;  // σ_matter of the matter weight (paper: 0.01 m)
-  // The ray is extended behind its point by ray_extension_factor · σ_matter (paper: 10).
-  double ray_extension_factor = 10.0;
-  // Rays longer than this (camera to point) are not traced and their point is not inserted; 0 = no limit.
+  double sigma_free_m = 0.05;    // paper: 0.05 m
+  double sigma_matter_m = 0.01;  // paper: 0.01 m
+  double ray_extension_factor = 10.0;  // paper: 10
   double max_ray_length_m = 0.0;
-  // kRays: a new point closer than this to an existing point (or an earlier point of the same frame) is
-  // merged into it: only its ray is added. 0 = never merge.
   double merge_distance_m = 0.05;
 
+  // Surface extraction.
   SurfaceExtraction extraction = SurfaceExtraction::kCarveAndRepair;
-  // Region growing retries the cells the manifold test refused, in up to this many passes (≥ 1).
   int grow_passes = 3;
-  // kCarveAndRepair: the cost, in vote units (one unit = one ray's full weight), of carving one cell that is
-  // not free to make a vertex regular, on top of its matter excess; compared with the free votes given up
-  // by uncarving instead (≥ 0). Measured insensitive between 0.5 and 2.
   double repair_fill_cost = 0.5;
-
-  // Bounding Steiner points: a jittered lattice of this spacing around every point and camera keeps the
-  // convex hull (and its infinite cells) away from the data, so the carved region never touches the hull.
   double steiner_spacing_m = 20.0;
-  // Lattice cubes added around the cube of each point/camera, in every direction (≥ 1).
   int steiner_margin_cubes = 1;
-  // Mesh triangles touching a Steiner vertex are artefacts of the bounding box; drop them from the output
-  // mesh (the internal surface stays a closed 2-manifold either way).
   bool drop_steiner_triangles = true;
-  // kDepth: a surface facet no view saw as a surface (the point a view saw through its centroid never within
-  // ray_extension_m + seen_noise_sigmas σ_z of its plane) is left out of the mesh: where free space meets
-  // space no view saw (above the field of view, behind a facade, past the far range) is no surface (no lids,
-  // no roofs of guesses). The mesh is open there. See engine/map/internal/depth_votes.h. A wider tolerance
-  // keeps more of the far, noisy surface and more guesses with it (80 urban frames, PS: σ multiples 0 / 0.5 /
-  // 1 / 3 put 1.7 / 3.3 / 4.4 / 6.2 % of the area farther than 2 m from the truth; bench/RESULTS.md).
   bool drop_unseen_surface = true;
   double seen_noise_sigmas = 0.0;
-  // kDepth with drop_unseen_surface: a hole of at most this many unseen surface facets, connected across
-  // edges and ringed by seen facets, is taken as seen (0 = never). Its facets missed the tolerance above by
-  // their vertices' stereo noise, not for want of a view: the views saw a surface all around (a facade mapped
-  // from afar, seen closer later). Lids and ceilings are large unseen regions and stay out
-  // (engine/map/internal/seen_holes.h). The default fills single facets whose three neighbours were seen: 200
-  // urban frames, PS: strict RMSE vs Velodyne 3.89 → 3.45 m for 1 point less area within 0.2 m of the truth;
-  // 4 facets: 2.99 m for 4.8 points less (bench/RESULTS.md, session 10).
   int fill_unseen_holes_facets = 1;
 
-  // Memory bound: points older than finalise_age_frames frames, or farther than finalise_distance_m from the
-  // latest camera (and older than finalise_min_age_frames) are finalised: the triangles touching them are
-  // emitted once, then their rays, cells and vertices are released. 0 = never finalise by that criterion.
-  // By distance by default: finalising by age cut regions still in view (a drive that turns into a street it
-  // saw from afar lost half its surface there; bench/RESULTS.md), while beyond the depth range behind the
-  // camera nothing changes any more. The age is counted from a point's last sight (depth) or insertion (rays).
+  // Memory bound (finalisation).
   int finalise_age_frames = 0;
   double finalise_distance_m = 50.0;
   int finalise_min_age_frames = 5;
-  // Finalisation runs every this many frames (≥ 1): each run retraces the rays through the released cells,
-  // so batching the releases amortises that cost; the live window grows by up to this many frames.
   int finalise_every_frames = 10;
 
-  // Throws semap::InvalidOption naming the offending field.
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Enum("visibility", &visibility, {{"depth", Visibility::kDepth}, {"rays", Visibility::kRays}},
+           "where the visibility votes come from: depth (each frame's depth map, every valid pixel a ray; "
+           "cells sampled against it) | rays (one exact walk per point ray, the paper's votes; also for SfM "
+           "input)");
+    v.Field("vote_window_frames", &vote_window_frames,
+            "depth: the views of this many last frames vote the cells an insertion creates (>= 1)");
+    v.Field(
+        "merge_radius_px", &merge_radius_px,
+        "depth: a new point projecting within this many full-resolution px of a live vertex in its own view "
+        "(and within merge_depth_fraction of its depth) is that vertex seen again: it adds to the vertex's "
+        "support instead of becoming a vertex");
+    v.Field("merge_depth_fraction", &merge_depth_fraction, "depth: see merge_radius_px");
+    v.Field(
+        "disparity_sigma_px", &disparity_sigma_px,
+        "depth: σ of the stereo disparity, px; a pixel's depth z is uncertain by z²σ/(f·B): cells are voted "
+        "free only before that band, matter within it (0 = exact points, the paper's votes)");
+    v.Field("sigma_free_m", &sigma_free_m, "σ_free of the free-space weight 1 - exp(-d²/(2σ²)), metres");
+    v.Field("sigma_matter_m", &sigma_matter_m, "σ_matter of the matter weight 1 - exp(-d²/(2σ²)), metres");
+    v.Field("ray_extension_factor", &ray_extension_factor,
+            "rays are extended behind their point by this many σ_matter (matter votes)");
+    v.Field("max_ray_length_m", &max_ray_length_m,
+            "points farther than this from their camera are neither traced nor inserted; 0 = no limit");
+    v.Field("merge_distance_m", &merge_distance_m,
+            "rays: a new point this close to an existing one (or to an earlier point of the same frame) is "
+            "merged "
+            "into it (only its ray is added); 0 = exact duplicates only");
+    v.Enum("extraction", &extraction,
+           {{"carve_and_repair", SurfaceExtraction::kCarveAndRepair},
+            {"greedy_growth", SurfaceExtraction::kGreedyGrowth}},
+           "manifold surface extraction: carve_and_repair (carve every free cell, repair the manifold "
+           "locally, grow) | greedy_growth (the paper's region growing from the most free cell)");
+    v.Field("grow_passes", &grow_passes,
+            "region-growing passes retrying the cells the manifold test refused (>= 1)");
+    // Measured insensitive between 0.5 and 2.
+    v.Field("repair_fill_cost", &repair_fill_cost,
+            "carve_and_repair: cost in ray weights of carving a non-free cell to make a vertex regular "
+            "(besides its matter excess), against the free votes given up by uncarving instead (>= 0)");
+    // The jittered lattice keeps the convex hull (and its infinite cells) away from the data, so the carved
+    // region never touches the hull.
+    v.Field("steiner_spacing_m", &steiner_spacing_m,
+            "spacing of the bounding Steiner lattice around every point and camera, metres");
+    v.Field("steiner_margin_cubes", &steiner_margin_cubes,
+            "lattice cubes added around the cube of each point and camera, in every direction (>= 1)");
+    // Those triangles are artefacts of the bounding box; the internal surface stays a closed 2-manifold.
+    v.Field("drop_steiner_triangles", &drop_steiner_triangles,
+            "leave triangles touching a Steiner vertex out of the mesh");
+    // Where free space meets space no view saw (above the field of view, behind a facade, past the far range)
+    // is no surface: no lids, no roofs of guesses; the mesh is open there. See
+    // engine/map/internal/depth_votes.h.
+    v.Field("drop_unseen_surface", &drop_unseen_surface,
+            "depth: leave out surface triangles no view saw as a surface (no lids over unseen space)");
+    // A wider tolerance keeps more of the far, noisy surface and more guesses with it (80 urban frames, PS: σ
+    // multiples 0 / 0.5 / 1 / 3 put 1.7 / 3.3 / 4.4 / 6.2 % of the area farther than 2 m from the truth;
+    // bench/RESULTS.md).
+    v.Field(
+        "seen_noise_sigmas", &seen_noise_sigmas,
+        "depth: a triangle is seen as a surface when the point a view saw through its centroid lies within "
+        "the ray extension + this many depth σ of its plane");
+    // Such a hole's facets missed the tolerance by their vertices' stereo noise, not for want of a view: the
+    // views saw a surface all around (a facade mapped from afar, seen closer later). Lids and ceilings are
+    // large unseen regions and stay out (engine/map/internal/seen_holes.h). The default fills single facets
+    // whose three neighbours were seen: 200 urban frames, PS: strict RMSE vs Velodyne 3.89 → 3.45 m for 1
+    // point less area within 0.2 m of the truth; 4 facets: 2.99 m for 4.8 points less (bench/RESULTS.md,
+    // session 10).
+    v.Field("fill_unseen_holes_facets", &fill_unseen_holes_facets,
+            "depth: a hole of at most this many unseen triangles, connected across edges and ringed by seen "
+            "ones, counts as seen; 0 = never");
+    // Finalising emits the triangles touching a point once, then releases its rays, cells and vertices. By
+    // distance by default: finalising by age cut regions still in view (a drive that turns into a street it
+    // saw from afar lost half its surface there; bench/RESULTS.md), while beyond the depth range behind the
+    // camera nothing changes any more.
+    v.Field(
+        "finalise_age_frames", &finalise_age_frames,
+        "finalise (emit once, then release) points older than this many frames, counted from a point's last "
+        "sight (depth) or insertion (rays); 0 = never by age");
+    v.Field("finalise_distance_m", &finalise_distance_m,
+            "finalise points farther than this from the latest camera; 0 = never by distance");
+    v.Field("finalise_min_age_frames", &finalise_min_age_frames, "minimum age before finalising by distance");
+    v.Field(
+        "finalise_every_frames", &finalise_every_frames,
+        "run finalisation every this many frames (>= 1): batching the releases amortises the retracing they "
+        "cause; the live window grows by up to this many frames");
+  }
+
   void Check() const;
 
   double ray_extension_m() const { return ray_extension_factor * sigma_matter_m; }

@@ -19,27 +19,43 @@ struct PipelineOptions {
   };
   enum class OnError { kSkipFrame, kStop };
 
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   Mode mode = Mode::kExhaustive;
-  // Realtime mode: frames are read at their timestamps; when a sequence has none, at this rate (KITTI: 10 Hz).
-  double realtime_rate_hz = 10.0;
-  // Depth worker threads (SGBM is the heaviest per-frame stage; frames are reordered after it).
+  double realtime_rate_hz = 10.0;  // KITTI: 10 Hz
   int depth_workers = 2;
-  // Capacity of each queue between stages (frames).
   int queue_capacity = 4;
-  // What a stage exception does: skip the frame (count it) or stop the run (drain and finish).
   OnError on_error = OnError::kSkipFrame;
-  // A frame whose camera moved faster than this since the last accepted frame (a GPS/OXTS jump) is skipped
-  // and counted, like a frame with a non-finite or non-rigid pose; 0 = no speed check. The time between the
-  // frames is taken as at least 1 / realtime_rate_hz, so repeated timestamps do not reject every frame.
   double max_speed_mps = 100.0;
-  // CPUs the pipeline's threads may run on (e.g. {0, 1}); empty = no pinning.
   std::vector<int> cpu_affinity;
-  // The map stage extracts and publishes the mesh's change every this many frames (and at the end); the
-  // frames between integrate into the map only. Extracting the whole live surface and diffing it costs about
-  // as much as the votes (80 urban frames, PS, half-resolution SGBM: 98 of 305 ms per frame; bench/RESULTS.md,
-  // "Mesh cadence"), while a viewer or a logger needs the mesh at a few Hz, not at the sensor's rate. 5 is
-  // 2 Hz on a 10 Hz stream. 1 = every frame. The final mesh is the same for any value (tested).
   int mesh_every_frames = 5;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Enum("mode", &mode, {{"exhaustive", Mode::kExhaustive}, {"realtime", Mode::kRealtime}},
+           "exhaustive: every frame processed (the paper's table); realtime: read at sensor rate, drop when "
+           "behind");
+    v.Field("realtime_rate_hz", &realtime_rate_hz,
+            "realtime mode: frames are read at their timestamps, or at this rate when the sequence has none");
+    v.Field("depth_workers", &depth_workers,
+            "threads running SGBM depth, the heaviest per-frame stage (frames are reordered after them)");
+    v.Field("queue_capacity", &queue_capacity, "frames each queue between stages holds at most");
+    v.Enum("on_error", &on_error, {{"skip", OnError::kSkipFrame}, {"stop", OnError::kStop}},
+           "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
+    // The time between the frames is taken as at least 1 / realtime_rate_hz, so repeated timestamps do not
+    // reject every frame. A frame with a non-finite or non-rigid pose is skipped and counted the same way.
+    v.Field("max_speed_mps", &max_speed_mps,
+            "skip (and count) a frame whose camera moved faster than this since the last accepted frame, m/s "
+            "(a GPS/OXTS pose jump); 0 = no check");
+    v.Field("cpu_affinity", &cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+    // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
+    // half-resolution SGBM: 98 of 305 ms per frame; bench/RESULTS.md, "Mesh cadence"), while a viewer or a
+    // logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.
+    v.Field("mesh_every_frames", &mesh_every_frames,
+            "the map extracts and publishes the mesh's change every this many frames (and at the end), "
+            "integrating every frame; 1 = every frame; the final mesh is the same for any value");
+  }
 
   void Check() const;
 };

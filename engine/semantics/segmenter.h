@@ -22,36 +22,62 @@ enum class LabelSource {
 const char* LabelSourceName(LabelSource source);
 
 struct SemanticsOptions {
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   LabelSource source = LabelSource::kAuto;
-  // ENet Cityscapes model (Torch7 .net file, read with cv::dnn::readNetFromTorch).
   std::string enet_model_path = "../shared/models/enet-cityscapes/enet-model.net";
-  // Network input size in px (the model was trained at 1024x512).
-  int enet_input_width_px = 1024;
+  int enet_input_width_px = 1024;  // the model was trained at 1024x512
   int enet_input_height_px = 512;
-  // Keep the image's aspect ratio: scale it to fit the network input and pad the rest (border replicated)
-  // instead of stretching it. KITTI's 1242×375 frames stretched to 1024×512 look nothing like Cityscapes.
   bool enet_keep_aspect = true;
-  // Threads of the network's forward pass (cv::setNumThreads is process-wide: 0 = leave OpenCV's setting).
   int enet_threads = 0;
-  // ENet in `semap run` (the streaming pipeline) runs on its own thread, on keyframes only: the first frame,
-  // then every enet_every_frames frames. Frames between keyframes take the labels of the nearest earlier
-  // keyframe as enet_propagation says (see keyframe_labels.h). 1 = every frame, segmented in the depth workers
-  // (each its own network, frames in parallel), as before keyframes. The default keeps a run with ENet labels
-  // near the frame rate of a run with label files at no measured loss of label accuracy (bench/RESULTS.md,
-  // "ENet off the critical path"). Outside the pipeline (compare --mode single-frame, depth, segment) every
-  // frame is segmented.
   int enet_every_frames = 6;
-  // How a frame between keyframes gets its labels: reproject (through its depth and the relative pose) or
-  // reuse (the keyframe's label image as it is).
   LabelPropagation enet_propagation = LabelPropagation::kReproject;
-  // A label image of another size than the left image: resize with nearest neighbour (and report it) or
-  // refuse (error).
   LabelSizePolicy size_mismatch = LabelSizePolicy::kResizeNearest;
-  // Points whose pixel is labelled sky (the class map's class named "sky", e.g. Cityscapes 11, the label of
-  // the generated sequences' pixels without surface) give no point: texture-less sky matched by SGBM is no
-  // surface, and its points close the map with a ceiling over the street. Nothing happens with a class map
-  // without a sky class or with unlabelled frames.
   bool drop_sky = true;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Enum("source", &source,
+           {{"auto", LabelSource::kAuto},
+            {"disk", LabelSource::kDisk},
+            {"enet", LabelSource::kEnet},
+            {"none", LabelSource::kNone}},
+           "label source: auto = label images from disk when present else unlabelled, enet = built-in "
+           "segmenter");
+    v.Field("enet_model_path", &enet_model_path,
+            "ENet Cityscapes Torch7 model file (read with cv::dnn::readNetFromTorch)");
+    v.Field("enet_input_width_px", &enet_input_width_px, "ENet input width in px (multiple of 8)");
+    v.Field("enet_input_height_px", &enet_input_height_px, "ENet input height in px (multiple of 8)");
+    // KITTI's 1242×375 frames stretched to 1024×512 look nothing like Cityscapes.
+    v.Field(
+        "enet_keep_aspect", &enet_keep_aspect,
+        "keep the image's aspect ratio in the network input (scale to fit, pad with the border replicated) "
+        "instead of stretching it");
+    v.Field("enet_threads", &enet_threads,
+            "OpenCV threads of ENet's forward pass (cv::setNumThreads is process-wide; 0 = unchanged)");
+    // The default keeps a run with ENet labels near the frame rate of a run with label files at no measured
+    // loss of label accuracy (bench/RESULTS.md, "ENet off the critical path"). Outside the pipeline (compare
+    // --mode single-frame, depth, segment) every frame is segmented. See keyframe_labels.h.
+    v.Field(
+        "enet_every_frames", &enet_every_frames,
+        "semap run: ENet on its own thread on keyframes only, the first frame then every enet_every_frames "
+        "frames (1 = every frame, in the depth workers, each its own network)");
+    v.Enum(
+        "enet_propagation", &enet_propagation,
+        {{"reproject", LabelPropagation::kReproject}, {"reuse", LabelPropagation::kReuse}},
+        "labels of frames between keyframes: reproject the keyframe's (frame depth + relative pose) or reuse "
+        "them as they are");
+    v.Enum("size_mismatch", &size_mismatch,
+           {{"resize", LabelSizePolicy::kResizeNearest}, {"refuse", LabelSizePolicy::kRefuse}},
+           "label image of another size than the image: resize with nearest neighbour (warned) or refuse");
+    // Texture-less sky matched by SGBM is no surface, and its points close the map with a ceiling over the
+    // street. The generated sequences label their pixels without surface sky.
+    v.Field(
+        "drop_sky", &drop_sky,
+        "pixels labelled sky (the class map's class named sky, e.g. Cityscapes 11) give no point; nothing "
+        "happens with a class map without sky or with unlabelled frames");
+  }
 
   void Check() const;
 };

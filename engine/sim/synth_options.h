@@ -15,35 +15,23 @@ const char* ScenePresetName(ScenePreset preset);
 // Defaults give a KITTI-like sequence: 1242x375 images, fx 721.5 px, 0.54 m baseline, 10 Hz, HDL-64-like
 // scans.
 struct SynthOptions {
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   // --- Sequence -------------------------------------------------------------------------------------
   ScenePreset preset = ScenePreset::kUrban;
-  // Number of frames to generate.
   int num_frames = 100;
-  // Seed of every random choice (scene, trajectory, noise).
   std::uint64_t seed = 1;
-  // Vehicle speed in m/s (KITTI residential drives: 5-10 m/s).
   double speed_mps = 8.0;
-  // Number of 90-degree turns at intersections along the drive (fewer when the drive is too short).
   int num_turns = 1;
-  // Frame rate of cameras and scanner (KITTI: 10 Hz).
   double frame_rate_hz = 10.0;
-  // Amplitude of the small roll/pitch oscillation of the vehicle body (radians).
   double body_wobble_rad = 0.004;
 
   // --- World layout (Manhattan grid of blocks) ---------------------------------------------------------
-  // Distance between parallel street centre lines (block pitch).
   double block_pitch_m = 70.0;
-  // Width of the carriageway (kerb to kerb).
   double road_width_m = 12.0;
-  // Width of the sidewalk ring around each block.
   double sidewalk_width_m = 3.5;
-  // Height of the sidewalk above the road (the curb).
   double curb_height_m = 0.12;
-  // Lateral offset of the vehicle to the right of the street centre line.
   double lane_offset_m = 2.0;
-  // Radius of the arcs driven through intersections.
   double turn_radius_m = 6.0;
-  // Blocks closer than this to the drive get full-detail content.
   double content_distance_m = 60.0;
 
   // --- Camera (rectified stereo pair, the left one is KITTI's cam 2) --------------------------------------
@@ -54,37 +42,87 @@ struct SynthOptions {
   double cx_px = 609.5593;
   double cy_px = 172.854;
   double baseline_m = 0.54;
-  // Nearest rendered depth (camera z).
   double near_m = 0.3;
-  // Standard deviation of the additive Gaussian image noise, in 8-bit grey levels.
   double image_noise_sigma = 2.0;
-  // Standard deviation of the Gaussian optical blur, in pixels (0 = none).
   double blur_sigma_px = 0.6;
-  // Exposure (gain) of the right camera relative to the left one.
   double right_exposure_gain = 0.94;
-  // Relative frame-to-frame exposure variation (slow, both cameras).
   double exposure_variation = 0.06;
-  // Strength of the radial vignetting (relative brightness loss in the image corners).
   double vignetting = 0.25;
 
   // --- Scanner (Velodyne HDL-64E-like, one instantaneous scan per frame) ---------------------------------
   int lidar_beams = 64;
-  // Rays per beam and revolution.
   int lidar_azimuth_steps = 2048;
-  // Elevation of the top and bottom beam in degrees.
   double lidar_top_deg = 2.0;
   double lidar_bottom_deg = -24.8;
   double lidar_min_range_m = 2.0;
   double lidar_max_range_m = 120.0;
-  // Standard deviation of the Gaussian range noise; 0 gives exact points (exactness tests).
   double lidar_range_noise_m = 0.02;
 
   // --- Geo-reference of the first frame (OXTS) -------------------------------------------------------------
   double origin_latitude_deg = 49.0;
   double origin_longitude_deg = 8.4;
   double origin_altitude_m = 115.0;
-  // Heading of the first street, degrees counter-clockwise from East.
   double origin_heading_deg = 30.0;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Enum("preset", &preset,
+           {{"urban", ScenePreset::kUrban},
+            {"vegetated", ScenePreset::kVegetated},
+            {"mixed", ScenePreset::kMixed}},
+           "scene composition: urban (long facades, wide ground), vegetated (trees, bushes, cars), mixed");
+    v.Field("num_frames", &num_frames, "number of frames to generate");
+    v.Field(
+        "seed", &seed,
+        "seed of every random choice (scene, trajectory, noise); the same seed gives byte-identical output");
+    v.Field("speed_mps", &speed_mps, "vehicle speed in m/s (KITTI residential drives: 5-10)");
+    v.Field("num_turns", &num_turns, "90-degree turns at intersections (fewer if the drive is too short)");
+    v.Field("frame_rate_hz", &frame_rate_hz, "camera and scanner rate in Hz (KITTI: 10)");
+    v.Field("body_wobble_rad", &body_wobble_rad,
+            "amplitude of the small roll/pitch oscillation of the vehicle body (rad)");
+    v.Field("block_pitch_m", &block_pitch_m,
+            "distance between parallel street centre lines, the block pitch of the Manhattan grid (m)");
+    v.Field("road_width_m", &road_width_m, "carriageway width, kerb to kerb (m)");
+    v.Field("sidewalk_width_m", &sidewalk_width_m, "width of the sidewalk ring around each block (m)");
+    v.Field("curb_height_m", &curb_height_m, "sidewalk height above the road, the curb (m)");
+    v.Field("lane_offset_m", &lane_offset_m, "vehicle offset to the right of the street centre line (m)");
+    v.Field("turn_radius_m", &turn_radius_m, "radius of the arcs driven through intersections (m)");
+    v.Field("content_distance_m", &content_distance_m,
+            "blocks closer than this to the drive get full-detail content (m)");
+    v.Field("image_width_px", &image_width_px, "image width (px)");
+    v.Field("image_height_px", &image_height_px, "image height (px)");
+    v.Field("fx_px", &fx_px, "focal length x (px)");
+    v.Field("fy_px", &fy_px, "focal length y (px)");
+    v.Field("cx_px", &cx_px, "principal point x (px)");
+    v.Field("cy_px", &cy_px, "principal point y (px)");
+    v.Field("baseline_m", &baseline_m, "stereo baseline (m)");
+    v.Field("near_m", &near_m, "nearest rendered depth, camera z (m)");
+    v.Field("image_noise_sigma", &image_noise_sigma,
+            "standard deviation of the additive Gaussian image noise, in 8-bit grey levels");
+    v.Field("blur_sigma_px", &blur_sigma_px,
+            "standard deviation of the Gaussian optical blur (px), 0 = none");
+    v.Field("right_exposure_gain", &right_exposure_gain, "exposure of the right camera relative to the left");
+    v.Field("exposure_variation", &exposure_variation,
+            "relative slow frame-to-frame exposure drift (both cameras)");
+    v.Field("vignetting", &vignetting,
+            "strength of the radial vignetting: relative brightness loss in the image corners");
+    v.Field("lidar_beams", &lidar_beams,
+            "scanner beams (Velodyne HDL-64E: 64; one instantaneous scan per frame)");
+    v.Field("lidar_azimuth_steps", &lidar_azimuth_steps, "rays per beam and revolution");
+    v.Field("lidar_top_deg", &lidar_top_deg, "elevation of the top beam (deg)");
+    v.Field("lidar_bottom_deg", &lidar_bottom_deg, "elevation of the bottom beam (deg)");
+    v.Field("lidar_min_range_m", &lidar_min_range_m, "minimum scanner range (m)");
+    v.Field("lidar_max_range_m", &lidar_max_range_m, "maximum scanner range (m)");
+    v.Field("lidar_range_noise_m", &lidar_range_noise_m,
+            "standard deviation of the Gaussian range noise (m); 0 = exact points (exactness tests)");
+    v.Field("origin_latitude_deg", &origin_latitude_deg, "latitude of the first frame (OXTS, deg)");
+    v.Field("origin_longitude_deg", &origin_longitude_deg, "longitude of the first frame (OXTS, deg)");
+    v.Field("origin_altitude_m", &origin_altitude_m, "altitude of the first frame (OXTS, m)");
+    v.Field("origin_heading_deg", &origin_heading_deg,
+            "heading of the first street, deg counter-clockwise from east");
+  }
 
   void Check() const;
 };

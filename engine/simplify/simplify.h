@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/core/class_map.h"
@@ -48,43 +49,97 @@ SimplifyMethod SimplifyMethodFromName(const std::string& name);
 bool IsSemanticMethod(SimplifyMethod method);
 
 struct SimplifyOptions {
-  SimplifyMethod method = SimplifyMethod::kProbabilistic;  // which simplification (see SimplifyMethod)
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
+  SimplifyMethod method = SimplifyMethod::kProbabilistic;
 
   // Regions rho_i.
-  double region_radius_m = 0.3;  // radius of the spherical regions (R methods, PS, LSB/ASB/PSB)
-  int region_k = 32;             // neighbours per region for the K methods (the centre included)
-  int density_samples = 4096;    // regions per group whose densities estimate D̄ (LS/AS/ACS/PS); 0 = all
-  int normal_k = 12;             // neighbours of the PCA tangent-plane normal (and GB's surface variation)
+  double region_radius_m = 0.3;
+  int region_k = 32;
+  int density_samples = 4096;
+  int normal_k = 12;
 
   // Conservation factor (LS / AS / ACS).
-  double target_conservation = 0.4;  // c̄: share of points kept in a region of average density (paper 0.4/0.5)
-  double adaptive_stretch = 1.0;     // w of AS/ACS's f(x) = 0.5 + w x / (2 (1 + w |x|)), x in units of D̄
-  double min_conservation = 0.0;     // lower clamp of c (paper: 0; > 0 never empties a very dense region)
+  double target_conservation = 0.4;  // paper: 0.4 / 0.5
+  double adaptive_stretch = 1.0;
+  double min_conservation = 0.0;  // paper: 0
 
   // Probabilistic simplification (PS / PSB).
-  int ps_region_divisor = 8;         // N_r = |points of the class group| / divisor (paper: 8)
-  double ps_boundary_share = 0.1;    // i(p̃) = 1 (interior, P_I) when p̃ < this, else P_B (paper: 0.1)
-  double ps_interior_sigma_m = 0.2;  // σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²)) on the class plane
-  double ps_boundary_sigma_m = 0.1;  // σ of P_B = exp(−d² / (2 σ²)), d = distance to the SVM boundary
-  double ps_svm_c = 10.0;            // soft-margin C of the linear SVM (coordinates in region radii)
-  int ps_svm_max_samples = 256;      // training points per SVM at most (evenly strided over the region)
+  int ps_region_divisor = 8;       // paper: 8
+  double ps_boundary_share = 0.1;  // paper: 0.1
+  double ps_interior_sigma_m = 0.2;
+  double ps_boundary_sigma_m = 0.1;
+  double ps_svm_c = 10.0;
+  int ps_svm_max_samples = 256;
 
   // Class planes (RANSAC per target group).
-  double ransac_threshold_m = 0.05;  // inlier distance to the plane
-  int ransac_iterations = 200;       // hypotheses per group
-  int ransac_max_points = 20000;     // inliers are counted on at most this many random points of the group
+  double ransac_threshold_m = 0.05;
+  int ransac_iterations = 200;
+  int ransac_max_points = 20000;
 
   // Baselines.
-  double gb_flatness_threshold = 0.01;     // GB: surface variation λ0/(λ0+λ1+λ2) below this is "flat"
-  double gb_flat_keep_probability = 0.4;   // GB: a flat point is kept with this probability; others always
-  double voxel_size_m = 0.1;               // voxel: edge of the grid cells
-  int hierarchy_cluster_size = 10;         // hierarchy: CGAL size (max points per cluster)
-  double hierarchy_max_variation = 0.333;  // hierarchy: CGAL maximum_variation (surface variation bound)
+  double gb_flatness_threshold = 0.01;
+  double gb_flat_keep_probability = 0.4;
+  double voxel_size_m = 0.1;
+  int hierarchy_cluster_size = 10;
+  double hierarchy_max_variation = 0.333;
 
   // Streaming (WindowedSimplifier).
-  int window_frames = 5;  // W: frames whose decided points give densities, planes and neighbourhoods
+  int window_frames = 5;
 
-  std::uint64_t seed = 42;  // seed of the std::mt19937_64 behind every random choice
+  std::uint64_t seed = 42;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    std::vector<std::pair<std::string, SimplifyMethod>> methods;
+    for (auto m : AllSimplifyMethods()) methods.emplace_back(SimplifyMethodName(m), m);
+    v.Enum("method", &method, methods,
+           "O = none; LSR/LSK, ASR/ASK, ACSR/ACSK = linear / adaptive / adaptive-class with radius / KNN "
+           "regions; PS = probabilistic; baselines without semantics: LSB, ASB, PSB, GB (curvature), voxel, "
+           "hierarchy (CGAL)");
+    v.Field("region_radius_m", &region_radius_m,
+            "radius of the spherical regions (R methods, PS, LSB/ASB/PSB)");
+    v.Field("region_k", &region_k, "neighbours per region of the K methods (the centre included)");
+    v.Field("density_samples", &density_samples,
+            "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS/PS); 0 = all");
+    v.Field("normal_k", &normal_k,
+            "neighbours of the PCA tangent-plane normals (ranking r) and of GB's surface variation");
+    v.Field("target_conservation", &target_conservation,
+            "c̄: share of points kept in a region of average density (paper: 0.4 / 0.5)");
+    v.Field("adaptive_stretch", &adaptive_stretch,
+            "w of AS/ACS's f(x) = 0.5 + w x / (2 (1 + w |x|)), x in units of D̄");
+    v.Field("min_conservation", &min_conservation,
+            "lower clamp of c (paper: 0; above 0 never empties a very dense region)");
+    v.Field("ps_region_divisor", &ps_region_divisor,
+            "PS: N_r = |points of the class group| / divisor (paper: 8)");
+    v.Field("ps_boundary_share", &ps_boundary_share,
+            "PS: regions with a share of other labels p̃ below this are interior and use P_I, others P_B "
+            "(paper: 0.1)");
+    v.Field("ps_interior_sigma_m", &ps_interior_sigma_m,
+            "PS: σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²)) on the class plane");
+    v.Field("ps_boundary_sigma_m", &ps_boundary_sigma_m,
+            "PS: σ of P_B = exp(−d² / (2 σ²)), d to the SVM boundary");
+    v.Field("ps_svm_c", &ps_svm_c, "PS: soft-margin C of the linear SVM (coordinates in region radii)");
+    v.Field("ps_svm_max_samples", &ps_svm_max_samples,
+            "PS: training points per SVM at most (evenly strided over the region)");
+    v.Field("ransac_threshold_m", &ransac_threshold_m, "class planes: RANSAC inlier distance to the plane");
+    v.Field("ransac_iterations", &ransac_iterations, "class planes: RANSAC hypotheses per class group");
+    v.Field("ransac_max_points", &ransac_max_points,
+            "class planes: inliers counted on at most this many random points of the group");
+    v.Field("gb_flatness_threshold", &gb_flatness_threshold,
+            "GB: surface variation λ0/(λ0+λ1+λ2) below this is flat");
+    v.Field("gb_flat_keep_probability", &gb_flat_keep_probability,
+            "GB: probability of keeping a flat point (others are always kept)");
+    v.Field("voxel_size_m", &voxel_size_m, "voxel: grid cell edge");
+    v.Field("hierarchy_cluster_size", &hierarchy_cluster_size, "hierarchy: CGAL maximum cluster size");
+    v.Field("hierarchy_max_variation", &hierarchy_max_variation, "hierarchy: CGAL maximum surface variation");
+    v.Field("window_frames", &window_frames,
+            "streaming: frames whose kept points stay in the window and give densities, planes and "
+            "neighbourhoods (should cover the frames that overlap)");
+    v.Field("seed", &seed,
+            "seed of the random generator behind every random choice (same seed, same output)");
+  }
 
   void Check() const;
 };

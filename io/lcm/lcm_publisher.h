@@ -25,32 +25,51 @@ class LCM;
 namespace semap::io {
 
 struct LcmOptions {
-  // Publish over LCM at all (`semap run --lcm-url` turns it on).
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   bool enabled = false;
-  // LCM provider URL; ttl=0 keeps the multicast on this host.
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
-  // Channel names are <prefix>MESH_BLOCK, MESH_END, FRAME_STATS, CAMERA_POSE.
   std::string channel_prefix = "SEMAP_";
-  // Edge of the cubic cells that cut the mesh into blocks (a triangle belongs to the cell of its centroid).
   double block_size_m = 4.0;
-  // Bound on every mesh message (bytes of the encoded message): larger blocks are sent in parts. Up to ~65000
-  // a message is one UDP datagram, so one lost datagram loses one part only.
   int max_message_bytes = 60000;
-  // Budget of the steady round-robin re-send of every block's whole state, and of the closing rounds, in
-  // bytes per second; a late subscriber converges in about (mesh bytes) / budget.
   double resend_bytes_per_s = 1.0e6;
-  // Ceiling on all mesh traffic (changes and re-sends), bytes per second: messages are spaced so that a
-  // subscriber's socket buffer is not overrun by a burst (a stock kernel's holds about three full
-  // messages); changes published meanwhile are coalesced, never dropped.
   double max_bytes_per_s = 8.0e6;
-  // Re-send rounds over every block at the end of the run (within the budget), each followed by the block
-  // index, before the run's last message: what a late or lossy subscriber needs to complete the mesh.
   int closing_rounds = 2;
-  // At most this long for the closing rounds (a long drive's mesh at a small budget would take longer); the
-  // run's last message is sent anyway.
   double closing_max_s = 30.0;
-  // Stats/pose messages waiting to be sent at most; further ones are dropped and counted.
   int queue_capacity = 64;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("enabled", &enabled,
+            "publish meshes, frame stats and poses over LCM (semap run --lcm-url turns it on)");
+    v.Field("url", &url, "LCM provider URL; ttl=0 keeps multicast on this host");
+    v.Field("channel_prefix", &channel_prefix,
+            "channel prefix: <prefix>MESH_BLOCK, MESH_END, FRAME_STATS, CAMERA_POSE");
+    v.Field("block_size_m", &block_size_m,
+            "edge of the cubic cells that cut the mesh into blocks (a triangle goes to its centroid's cell)");
+    v.Field("max_message_bytes", &max_message_bytes,
+            "bound on every mesh message, bytes encoded; larger blocks go in parts (<= ~65000: one UDP "
+            "datagram each, "
+            "so one lost datagram loses one part only)");
+    v.Field("resend_bytes_per_s", &resend_bytes_per_s,
+            "budget of the round-robin re-send of block states and of the closing rounds, bytes/s (late "
+            "subscribers converge in about mesh bytes / budget)");
+    // A stock kernel's socket buffer holds about three full messages.
+    v.Field("max_bytes_per_s", &max_bytes_per_s,
+            "ceiling on all mesh traffic (changes and re-sends), bytes/s: messages are spaced so that a "
+            "subscriber's "
+            "socket buffer keeps up; changes published meanwhile are coalesced, never dropped");
+    // What a late or lossy subscriber needs to complete the mesh.
+    v.Field("closing_rounds", &closing_rounds,
+            "re-send rounds over every block at the end of the run (within the budget), each followed by the "
+            "block "
+            "index, before the run's last message");
+    v.Field("closing_max_s", &closing_max_s,
+            "at most this long for the closing rounds, s; the run's last message is sent anyway");
+    v.Field("queue_capacity", &queue_capacity,
+            "stats/pose messages queued at most; more are dropped and counted");
+  }
 
   void Check() const;
 };

@@ -14,16 +14,24 @@
 namespace semap::io {
 
 struct OutputOptions {
-  // Folder receiving mesh.ply / mesh.off / frames.csv / frames.jsonl / summary.json.
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   std::string dir = "semap_out";
-  // Write the final mesh as binary PLY (with colour and label).
   bool mesh_ply = true;
-  // Write the final mesh as ASCII OFF (the paper's mesh-size measure).
   bool mesh_off = true;
-  // Write the PLY as ASCII instead of binary little-endian.
   bool ply_ascii = false;
-  // Per-frame statistics as CSV (frames.csv) and JSON lines (frames.jsonl).
   bool frame_stats = true;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("dir", &dir, "output folder (mesh.ply, mesh.off, frames.csv, frames.jsonl, summary.json)");
+    v.Field("mesh_ply", &mesh_ply,
+            "write the final mesh as PLY (binary unless ply_ascii) with colour and label");
+    v.Field("mesh_off", &mesh_off, "write the final mesh as ASCII OFF (the paper's size measure)");
+    v.Field("ply_ascii", &ply_ascii, "ASCII PLY instead of binary little-endian");
+    v.Field("frame_stats", &frame_stats, "per-frame statistics as frames.csv and frames.jsonl");
+  }
 
   void Check() const;
 };

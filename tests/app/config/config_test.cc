@@ -1,6 +1,9 @@
 #include "app/config/config.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -108,6 +111,79 @@ TEST(Config, DumpRoundTripsAndDocumentsEveryKey) {
     previous = line;
   }
   EXPECT_GT(fields, 0);
+}
+
+// What an options struct's Describe() declares: each key with its text and the bytes of its member.
+struct DescribedField {
+  std::string key;
+  std::string text;
+  std::uintptr_t begin = 0;
+  std::uintptr_t end = 0;
+};
+
+class DescribeRecorder {
+ public:
+  template <typename T>
+  void Field(std::string key, T* value, std::string text) {
+    Add(std::move(key), value, std::move(text));
+  }
+  template <typename E>
+  void Enum(std::string key, E* value, std::vector<std::pair<std::string, E>> names, std::string text) {
+    EXPECT_GE(names.size(), 2u) << key;
+    Add(std::move(key), value, std::move(text));
+  }
+  std::vector<DescribedField> fields;
+
+ private:
+  template <typename T>
+  void Add(std::string key, T* value, std::string text) {
+    const auto begin = reinterpret_cast<std::uintptr_t>(value);
+    fields.push_back({std::move(key), std::move(text), begin, begin + sizeof(T)});
+  }
+};
+
+// Each key once, with a text; each described member inside the struct and described once; and no gap
+// between described members wide enough to hold an undescribed member of 8 bytes or more (a double, a
+// string, a vector): padding is narrower than that. (Members that are not config keys are narrower too:
+// FrameSourceOptions::load_labels, a bool.)
+template <typename Options>
+void ExpectEveryMemberDescribedOnce(Options& options, const std::string& name) {
+  DescribeRecorder r;
+  options.Describe(r);
+  ASSERT_FALSE(r.fields.empty()) << name;
+  std::set<std::string> keys;
+  for (const auto& f : r.fields) {
+    EXPECT_TRUE(keys.insert(f.key).second) << name << "." << f.key << " described twice";
+    EXPECT_FALSE(f.text.empty()) << name << "." << f.key << " has no text";
+  }
+  auto fields = r.fields;
+  std::sort(fields.begin(), fields.end(), [](const auto& a, const auto& b) { return a.begin < b.begin; });
+  const auto struct_begin = reinterpret_cast<std::uintptr_t>(&options);
+  const auto struct_end = struct_begin + sizeof(Options);
+  constexpr std::uintptr_t kNarrowerThanAnyWideMember = 8;
+  std::uintptr_t covered_to = struct_begin;
+  for (const auto& f : fields) {
+    ASSERT_GE(f.begin, covered_to) << name << "." << f.key << " overlaps the member described before it";
+    EXPECT_LT(f.begin - covered_to, kNarrowerThanAnyWideMember)
+        << name << ": an undescribed member of " << (f.begin - covered_to) << " bytes before " << f.key;
+    covered_to = f.end;
+  }
+  EXPECT_LE(covered_to, struct_end) << name;
+  EXPECT_LT(struct_end - covered_to, kNarrowerThanAnyWideMember) << name << ": an undescribed member at the end";
+}
+
+TEST(Config, EveryOptionsStructDescribesEachMemberOnce) {
+  Config c;
+  ExpectEveryMemberDescribedOnce(c.input, "input");
+  ExpectEveryMemberDescribedOnce(c.synth, "synth");
+  ExpectEveryMemberDescribedOnce(c.pipeline, "pipeline");
+  ExpectEveryMemberDescribedOnce(c.output, "output");
+  ExpectEveryMemberDescribedOnce(c.lcm, "lcm");
+  ExpectEveryMemberDescribedOnce(c.eval, "eval");
+  ExpectEveryMemberDescribedOnce(c.depth, "depth");
+  ExpectEveryMemberDescribedOnce(c.semantics, "semantics");
+  ExpectEveryMemberDescribedOnce(c.simplify, "simplify");
+  ExpectEveryMemberDescribedOnce(c.map, "map");
 }
 
 TEST(Config, CommittedDefaultYamlMatchesTheCode) {
