@@ -1,6 +1,10 @@
 #include "tests/common/test_data.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <string>
+#include <system_error>
 
 namespace semap::test {
 
@@ -19,14 +23,44 @@ bool UnderCi() {
   return env && std::string(env) == "true";
 }
 
+namespace {
+
+// Owns the process's scratch folder: removes it at exit.
+class ProcessScratch {
+ public:
+  ProcessScratch()
+      : root_(std::filesystem::temp_directory_path() / ("semap_test_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(root_);  // a folder left by an earlier process of the same pid
+    std::filesystem::create_directories(root_);
+  }
+  ~ProcessScratch() {
+    if (const char* keep = std::getenv("SEMAP_KEEP_TEST_DIRS"); keep && *keep) return;
+    std::error_code ignored;  // nothing to report to at exit
+    std::filesystem::remove_all(root_, ignored);
+  }
+  ProcessScratch(const ProcessScratch&) = delete;
+  ProcessScratch& operator=(const ProcessScratch&) = delete;
+  const std::filesystem::path& root() const { return root_; }
+
+ private:
+  std::filesystem::path root_;
+};
+
+}  // namespace
+
+const std::filesystem::path& ProcessTempRoot() {
+  static const ProcessScratch scratch;
+  return scratch.root();
+}
+
 std::filesystem::path TempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = "semap_test";
-  if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
+  std::string name = "test";
+  if (info) name = std::string(info->test_suite_name()) + "_" + info->name();
   for (auto& ch : name) {
     if (ch == '/') ch = '_';
   }
-  const auto dir = std::filesystem::temp_directory_path() / name;
+  const auto dir = ProcessTempRoot() / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

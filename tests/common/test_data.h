@@ -15,7 +15,11 @@ std::filesystem::path SharedDir();
 std::filesystem::path SourceDir();
 // True when running under CI (environment variable CI=true).
 bool UnderCi();
-// A fresh, empty temporary folder for the current test (removed at the start of the next run).
+// This test process's scratch folder under the system's temp directory (semap_test_<pid>), made on first use
+// and removed with everything in it when the process exits (kept when SEMAP_KEEP_TEST_DIRS is set). Two
+// suites running at once never share a folder.
+const std::filesystem::path& ProcessTempRoot();
+// A fresh, empty folder for the current test inside ProcessTempRoot() (emptied again on each call).
 std::filesystem::path TempDir();
 
 }  // namespace semap::test

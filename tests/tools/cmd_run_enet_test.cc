@@ -22,7 +22,7 @@ constexpr const char* kModel = "models/enet-cityscapes/enet-model.net";
 
 class RunEnet : public ::testing::Test {
  protected:
-  static fs::path Sequence() { return fs::temp_directory_path() / "semap_test_RunEnet_sequence"; }
+  static fs::path Sequence() { return test::ProcessTempRoot() / "RunEnet_sequence"; }
 
   static void SetUpTestSuite() {
     fs::remove_all(Sequence());

@@ -71,7 +71,7 @@ bool CatchesSignal(pid_t pid, int signal) {
 // The generated sequence (once per test binary) and each test's own copy of it.
 class RunFaults : public ::testing::Test {
  protected:
-  static fs::path Pristine() { return fs::temp_directory_path() / "semap_test_RunFaults_sequence"; }
+  static fs::path Pristine() { return test::ProcessTempRoot() / "RunFaults_sequence"; }
 
   static void SetUpTestSuite() {
     fs::remove_all(Pristine());

@@ -4,8 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <string>
 
@@ -15,10 +13,9 @@
 namespace semap::test {
 
 // The sequence folder with `frames` urban frames (seed 1), generated on first use.
-// (TempDir() is per test and emptied on each call, so the sequence lives in a folder of this process.)
+// (TempDir() is per test and emptied on each call, so the sequence lives in the process's folder.)
 inline std::filesystem::path SmallGeneratedSequence(int frames) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("semap_small_urban_" + std::to_string(frames) + "_" + std::to_string(getpid()));
+  const std::filesystem::path dir = ProcessTempRoot() / ("small_urban_" + std::to_string(frames));
   if (!std::filesystem::exists(dir / "done")) {
     const CliRun r = RunSemap("synth --preset urban --seed 1 --frames " + std::to_string(frames) +
                               " --set synth.image_width_px=480 --set synth.image_height_px=144"

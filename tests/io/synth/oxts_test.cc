@@ -7,13 +7,14 @@
 #include "engine/sim/internal/random.h"
 #include "engine/sim/synthetic_sequence.h"
 #include "io/synth/kitti_raw_writer.h"
+#include "tests/common/test_data.h"
 
 namespace semap::io {
 namespace {
 
 // The packet as a reader gets it back from an OXTS file written by the generator's writer.
 OxtsPacket ThroughFile(const OxtsPacket& p) {
-  const auto path = std::filesystem::temp_directory_path() / "semap_oxts_roundtrip.txt";
+  const auto path = test::ProcessTempRoot() / "oxts_roundtrip.txt";
   WriteOxtsFile(path, p);
   return ReadOxtsFile(path);
 }
