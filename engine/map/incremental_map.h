@@ -35,6 +35,7 @@ struct MapUpdateResult {
   std::size_t cells_carved = 0;     // local growth
   std::size_t points_finalised = 0;
   std::size_t vertices_removed = 0;  // finalised points and released Steiner vertices
+  std::size_t vertices_refined = 0;  // kDepth: vertices replaced by a nearer sighting (refine_depth_ratio)
   // Wall time of the update's steps.
   double locate_ms = 0.0;    // merging, conflict regions and the rays through them
   double insert_ms = 0.0;    // vertex insertion into the triangulation

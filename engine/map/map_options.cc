@@ -19,6 +19,10 @@ void MapOptions::Check() const {
                      "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(merge_depth_fraction) && merge_depth_fraction >= 0.0 && merge_depth_fraction < 1.0,
                      "merge_depth_fraction", merge_depth_fraction, "must be in [0, 1)");
+  SEMAP_CHECK_OPTION(refine_depth_ratio >= 0.0 && refine_depth_ratio < 1.0, "refine_depth_ratio", refine_depth_ratio,
+                     "must be in [0, 1)");
+  SEMAP_CHECK_OPTION(refine_noise_sigmas >= 0.0 && refine_noise_sigmas < 1e3, "refine_noise_sigmas",
+                     refine_noise_sigmas, "must be in [0, 1000)");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_sigma_px) && disparity_sigma_px >= 0.0, "disparity_sigma_px",
                      disparity_sigma_px, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(seen_noise_sigmas) && seen_noise_sigmas >= 0.0, "seen_noise_sigmas",

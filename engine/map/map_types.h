@@ -40,6 +40,8 @@ struct MapStatistics {
   std::uint64_t cells_visited = 0;  // cells visited by those walks
   // map.fill_unseen_holes_facets: unseen surface facets taken as seen so far (small holes ringed by seen ones).
   std::uint64_t facets_taken_as_seen = 0;
+  // map.refine_depth_ratio: vertices replaced by a nearer sighting so far.
+  std::uint64_t vertices_refined = 0;
 };
 
 }  // namespace semap

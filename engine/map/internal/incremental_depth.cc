@@ -23,23 +23,36 @@ class ProjectionGrid {
         cells_per_px_(std::sqrt(view.view->rays_per_pixel) / merge_radius_px),
         width_(std::max(1, int(std::ceil(view.view->depth_m.cols * cells_per_px_)))),
         height_(std::max(1, int(std::ceil(view.view->depth_m.rows * cells_per_px_)))),
-        cells_(std::size_t(width_) * height_) {}
+        cells_(std::size_t(width_) * height_),
+        covered_(cells_.size(), 0) {}
 
   struct Entry {
     float depth_m = std::numeric_limits<float>::infinity();
     std::uint32_t id = kNoId;
   };
 
-  // The grid cell of a world point and its camera-frame depth, or false outside the view.
-  bool Locate(const Eigen::Vector3d& p_world, int* gu, int* gv, double* depth_m) const {
+  // The grid cell of a world point and its camera-frame depth, or false outside the view; `view_depth_m`
+  // (when given) receives the view's depth at the point's pixel.
+  bool Locate(const Eigen::Vector3d& p_world, int* gu, int* gv, double* depth_m,
+              float* view_depth_m = nullptr) const {
     const Eigen::Vector3d p = view_.ToCamera(p_world);
     if (!(p.z() > 0.0)) return false;
-    const Eigen::Vector2d uv = view_.view->intrinsics.Project(p) * cells_per_px_;
+    const Eigen::Vector2d px = view_.view->intrinsics.Project(p);
+    const Eigen::Vector2d uv = px * cells_per_px_;
     if (!(uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() < width_ && uv.y() < height_)) return false;
     *gu = int(uv.x());
     *gv = int(uv.y());
     *depth_m = p.z();
+    if (view_depth_m) *view_depth_m = view_.view->At(px.x(), px.y());
     return true;
+  }
+  // Records that a point of the frame lands in cell (gu, gv).
+  void Cover(int gu, int gv) { covered_[std::size_t(gv) * width_ + gu] = 1; }
+  // Whether a point of the frame landed in the 3×3 cells around (gu, gv).
+  bool CoveredAround(int gu, int gv) const {
+    bool covered = false;
+    ForAround(gu, gv, [&](std::size_t cell) { covered = covered || covered_[cell]; });
+    return covered;
   }
   // Keeps `id` in its cell when it is nearer than what the cell holds.
   void Offer(int gu, int gv, double depth_m, std::uint32_t id) {
@@ -50,24 +63,31 @@ class ProjectionGrid {
   std::uint32_t Match(int gu, int gv, double depth_m, double tolerance_m) const {
     std::uint32_t best = kNoId;
     double best_gap = tolerance_m;
-    for (int v = std::max(0, gv - 1); v <= std::min(height_ - 1, gv + 1); ++v) {
-      for (int u = std::max(0, gu - 1); u <= std::min(width_ - 1, gu + 1); ++u) {
-        const Entry& e = cells_[std::size_t(v) * width_ + u];
-        const double gap = std::abs(double(e.depth_m) - depth_m);
-        if (e.id != kNoId && gap <= best_gap) {
-          best_gap = gap;
-          best = e.id;
-        }
+    ForAround(gu, gv, [&](std::size_t cell) {
+      const Entry& e = cells_[cell];
+      const double gap = std::abs(double(e.depth_m) - depth_m);
+      if (e.id != kNoId && gap <= best_gap) {
+        best_gap = gap;
+        best = e.id;
       }
-    }
+    });
     return best;
   }
 
  private:
+  // Calls f(cell index) for each of the 3×3 cells around (gu, gv) inside the grid, row by row.
+  template <typename F>
+  void ForAround(int gu, int gv, F f) const {
+    for (int v = std::max(0, gv - 1); v <= std::min(height_ - 1, gv + 1); ++v) {
+      for (int u = std::max(0, gu - 1); u <= std::min(width_ - 1, gu + 1); ++u) f(std::size_t(v) * width_ + u);
+    }
+  }
+
   const VotingView& view_;
   double cells_per_px_;
   int width_, height_;
   std::vector<Entry> cells_;
+  std::vector<char> covered_;
 };
 
 }  // namespace
@@ -94,7 +114,10 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   }
 
   std::vector<PendingVertex> pending;
+  refined_.clear();
   ClassifyByProjection(frame, &result, &pending);
+  created_mark_ = NewMark();  // the cells a refinement's removal or an insertion creates
+  RemoveRefined(&result);
   for (const PendingVertex& p : pending) lattice_.Use(p.position, frame_, &nodes);
   for (LatticeKey node : nodes) pending.push_back({lattice_.Position(node), kNoId, node, {}});
   SpatialSort(&pending);
@@ -102,13 +125,13 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   destroyed_.clear();
   std::vector<char> conflicts_pinned;
   CollectConflicts(pending, &conflicts_pinned);
+  AddToBoundary(refined_link_);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> no_rays;
   result.points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, &pending, &no_rays, &result);
   result.cells_destroyed = destroyed_.size();
   result.locate_ms = Lap(&lap);
 
   InsertVerticesInheriting(&pending, &result);
-  created_mark_ = NewMark();
   MarkCreatedCells(inserted_, kNoMark);
   result.insert_ms = Lap(&lap);
 
@@ -126,15 +149,43 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
   const std::size_t first_view = views_.size() - frame.camera_views.size();
   std::vector<ProjectionGrid> grids;
   grids.reserve(frame.camera_views.size());
+  const std::uint32_t refined_mark = NewMark();
+  // map.refine_depth_ratio: the vertices a nearer view measures again, with the view and grid cell where it
+  // does; removed (RemoveRefined) where that view's own points land around them, to replace them.
+  struct Candidate {
+    std::uint32_t id;
+    std::size_t camera;
+    int gu, gv;
+  };
+  std::vector<Candidate> candidates;
   for (std::size_t c = 0; c < frame.camera_views.size(); ++c) {
     grids.emplace_back(views_[first_view + c], options_.merge_radius_px);
     ProjectionGrid& grid = grids.back();
     if (dt_.dimension() < 0) continue;
+    // A vertex this view measures again from much nearer, within the noise of the sighting that placed it,
+    // is a candidate, kept out of the grid: no point of this view merges into it.
+    const double focal_baseline_m_px = views_[first_view + c].focal_baseline_m_px;
+    const bool refine =
+        options_.refine_depth_ratio > 0.0 && options_.disparity_sigma_px > 0.0 && focal_baseline_m_px > 0.0;
+    const double band_per_depth2 =
+        refine ? options_.refine_noise_sigmas * options_.disparity_sigma_px / focal_baseline_m_px : 0.0;
     for (auto v = dt_.finite_vertices_begin(); v != dt_.finite_vertices_end(); ++v) {
-      if (v->info().steiner) continue;
+      if (v->info().steiner || v->info().stamp == refined_mark) continue;  // refined in an earlier camera
       int gu, gv;
       double depth;
-      if (grid.Locate(ToEigen(v->point()), &gu, &gv, &depth)) grid.Offer(gu, gv, depth, v->info().id);
+      float seen_m = 0.0f;
+      if (!grid.Locate(ToEigen(v->point()), &gu, &gv, &depth, refine ? &seen_m : nullptr)) continue;
+      if (refine && seen_m > 0.0f && std::isfinite(seen_m)) {
+        const auto record = points_.find(v->info().id);
+        const double sighting_m = record == points_.end() ? 0.0 : record->second.sighting_depth_m;
+        if (seen_m < options_.refine_depth_ratio * sighting_m &&
+            std::abs(depth - seen_m) <= band_per_depth2 * sighting_m * sighting_m && Refinable(v->info().id)) {
+          candidates.push_back({v->info().id, c, gu, gv});
+          v->info().stamp = refined_mark;
+          continue;
+        }
+      }
+      grid.Offer(gu, gv, depth, v->info().id);
     }
   }
   result->point_ids.assign(frame.size(), kDroppedPoint);
@@ -150,15 +201,79 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
     int gu = 0, gv = 0;
     double depth = 0.0;
     const bool in_view = grid.Locate(p, &gu, &gv, &depth);
+    if (in_view) grid.Cover(gu, gv);
     std::uint32_t target = in_view ? grid.Match(gu, gv, depth, options_.merge_depth_fraction * depth) : kNoId;
     if (target != kNoId) {
       ++result->merged;
       SeenAgain(target);
     } else {
       target = NewPoint(frame, i, pending);
+      points_.at(target).sighting_depth_m = in_view ? depth : range;
       if (in_view) grid.Offer(gu, gv, depth, target);
     }
     result->point_ids[i] = target;
+  }
+  for (const Candidate& candidate : candidates) {
+    if (grids[candidate.camera].CoveredAround(candidate.gu, candidate.gv)) refined_.push_back(candidate.id);
+  }
+}
+
+bool IncrementalState::Refinable(std::uint32_t id) const {
+  const auto it = points_.find(id);
+  if (it == points_.end() || it->second.vertex == VertexHandle()) return false;
+  const VertexHandle v = it->second.vertex;
+  if (v->info().frozen || irregular_.count(&*v)) return false;
+  std::vector<CellHandle> star;
+  dt_.incident_cells(v, std::back_inserter(star));
+  return std::none_of(star.begin(), star.end(), [](CellHandle c) { return IsPinned(c); });
+}
+
+void IncrementalState::RemoveRefined(MapUpdateResult* result) {
+  refined_link_.clear();
+  if (refined_.empty()) return;
+  std::vector<VertexHandle> removed;
+  const std::uint32_t removing = NewMark();
+  for (std::uint32_t id : refined_) {
+    const VertexHandle v = points_.at(id).vertex;
+    v->info().stamp = removing;
+    removed.push_back(v);
+  }
+  // The link of the removed vertices: the staying vertices whose stars the removal rebuilds.
+  const std::uint32_t link_mark = NewMark();
+  std::vector<VertexHandle> adjacent;
+  for (const VertexHandle v : removed) {
+    adjacent.clear();
+    dt_.finite_adjacent_vertices(v, std::back_inserter(adjacent));
+    for (const VertexHandle w : adjacent) {
+      if (w->info().stamp == removing || w->info().stamp == link_mark) continue;
+      w->info().stamp = link_mark;
+      refined_link_.push_back(w);
+    }
+  }
+  const std::uint32_t old_mark = NewMark();
+  std::vector<CellHandle> around;
+  for (const VertexHandle w : refined_link_) {
+    around.clear();
+    dt_.incident_cells(w, std::back_inserter(around));
+    for (const CellHandle c : around) c->info().stamp = old_mark;
+  }
+  // The cells refilling the holes start empty and uncarved, as an insertion's do, and are voted from every
+  // stored view (created_mark_). The seen bits of the holes' boundary facets live on in the outer cells.
+  dt_.remove_cluster(removed.begin(), removed.end());
+  for (std::uint32_t id : refined_) points_.erase(id);
+  MarkCreatedCells(refined_link_, old_mark);
+  result->vertices_refined = refined_.size();
+  counters_.vertices_refined += refined_.size();
+  refined_.clear();
+}
+
+void IncrementalState::AddToBoundary(const std::vector<VertexHandle>& vertices) {
+  const std::uint32_t mark = NewMark();
+  for (const VertexHandle v : boundary_) v->info().stamp = mark;
+  for (const VertexHandle v : vertices) {
+    if (v->info().stamp == mark) continue;
+    v->info().stamp = mark;
+    boundary_.push_back(v);
   }
 }
 

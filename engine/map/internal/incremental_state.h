@@ -68,6 +68,14 @@ class IncrementalState {
   void MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result);
   // A point seen again (kDepth): more support, and its age restarts.
   void SeenAgain(std::uint32_t id);
+  // Whether the vertex of point `id` may be refined (MapOptions::refine_depth_ratio): live, neither frozen
+  // nor left irregular, and no pinned cell around it (its removal must not change a seam).
+  bool Refinable(std::uint32_t id) const;
+  // Removes the vertices of refined_ (their successors are pending insertion): the cells refilling their
+  // holes are marked created (created_mark_) and the vertices around them listed in refined_link_.
+  void RemoveRefined(MapUpdateResult* result);
+  // Appends to boundary_ those of `vertices` it does not hold.
+  void AddToBoundary(const std::vector<VertexHandle>& vertices);
   // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
   // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells
   // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that
@@ -176,6 +184,8 @@ class IncrementalState {
   std::vector<CellHandle> touched_;     // cells whose votes or carving changed
   std::vector<CellHandle> decreased_;   // cells that lost votes (untraced rays)
   std::vector<VertexHandle> inserted_;  // vertices inserted in this update
+  std::vector<std::uint32_t> refined_;       // kDepth: points whose vertex a nearer sighting replaces
+  std::vector<VertexHandle> refined_link_;   // the vertices around the refined ones removed
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
   std::vector<CellHandle> newly_seen_;      // kDepth: cells VoteFromViews marked facets of seen

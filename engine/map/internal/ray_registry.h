@@ -19,6 +19,8 @@ struct PointRecord {
   std::int64_t last_seen = 0;
   std::vector<std::uint32_t> rays;  // kRays: its rays, the first one from its first camera
   std::uint32_t support = 1;        // kDepth: the observations merged into it, its own included
+  // kDepth: the camera-frame depth of the sighting that placed it (its stereo noise grows with its square).
+  double sighting_depth_m = 0.0;
 };
 
 struct CameraRecord {
