@@ -132,6 +132,30 @@ nlohmann::json ToJson(const ErrorBreakdown& b) {
           {"by_triangle_area", BinsJson(b.by_triangle_area)}};
 }
 
+nlohmann::json ToJson(const std::vector<SurfaceMetrics::DepthBand>& bands) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& b : bands) {
+    j.push_back({{"from_m", b.from_m},
+                 {"to_m", std::isfinite(b.to_m) ? nlohmann::json(b.to_m) : nlohmann::json(nullptr)},
+                 {"samples", b.samples},
+                 {"completeness", b.completeness}});
+  }
+  return j;
+}
+
+// "0-10 m 97.1 % (12 % of samples), ..." for the text and markdown reports.
+std::string DepthBandsText(const SurfaceMetrics& s) {
+  std::string text;
+  for (const auto& b : s.completeness_by_depth) {
+    const std::string range = std::isfinite(b.to_m) ? Fixed("%.0f", b.from_m) + "-" + Fixed("%.0f m", b.to_m)
+                                                    : Fixed("beyond %.0f m", b.from_m);
+    text += (text.empty() ? "" : ", ") + range + " " + Fixed("%.1f %%", 100.0 * b.completeness) + " (" +
+            Fixed("%.0f %%", s.truth_samples > 0 ? 100.0 * double(b.samples) / double(s.truth_samples) : 0.0) +
+            " of samples)";
+  }
+  return text;
+}
+
 nlohmann::json ToJson(const SurfaceMetrics& s) {
   return {{"threshold_m", s.threshold_m},
           {"near_m", s.near_m},
@@ -148,7 +172,8 @@ nlohmann::json ToJson(const SurfaceMetrics& s) {
           {"vertex_samples", s.vertex_samples},
           {"completeness", s.completeness},
           {"mean_completeness_m", s.mean_completeness_m},
-          {"truth_samples", s.truth_samples}};
+          {"truth_samples", s.truth_samples},
+          {"completeness_by_depth", ToJson(s.completeness_by_depth)}};
 }
 
 nlohmann::json ToJson(const MeshEvaluation& e, bool per_frame) {
@@ -215,6 +240,10 @@ void PrintEvaluation(const MeshEvaluation& e) {
                 100.0 * s.vertex_accuracy, s.vertex_mean_distance_m);
     std::printf("              completeness %.1f %% (mean %.4f m) at tau = %.2f m\n", 100.0 * s.completeness,
                 s.mean_completeness_m, s.threshold_m);
+    if (!s.completeness_by_depth.empty()) {
+      std::printf("              completeness by the depth the cameras saw the truth at: %s\n",
+                  DepthBandsText(s).c_str());
+    }
   }
 }
 
@@ -264,6 +293,9 @@ std::string EvaluationMarkdown(const MeshEvaluation& e) {
     md += "\nAgainst the exact scene mesh, by area: " + Fixed("%.1f %%", 100.0 * s.accuracy) + " within " +
           Fixed("%.2f m", s.threshold_m) + ", " + Fixed("%.1f %%", 100.0 * s.area_beyond_far) + " beyond " +
           Fixed("%.2f m", s.far_m) + "; completeness " + Fixed("%.1f %%", 100.0 * s.completeness) + ".\n";
+    if (!s.completeness_by_depth.empty()) {
+      md += "Completeness by the depth the cameras saw the truth at: " + DepthBandsText(s) + ".\n";
+    }
   }
   if (e.lidar_breakdown || e.exact_depth_breakdown) {
     md += "\n## Where the errors come from (strict protocol, all evaluated frames)\n";

@@ -69,6 +69,7 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
   dense_image.point_radius_px = 0;
   bool classes_from_images = false, classes_from_mesh = false;
   std::vector<Eigen::Vector3d> truth_samples;  // the exact depth maps' points, in the world frame
+  std::vector<double> truth_sample_depths_m;   // and the depth each was seen at
   MeshEvaluation result;
   result.off_bytes = OffSizeBytes(mesh);
   result.vertices = mesh.num_vertices();
@@ -134,6 +135,7 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
           const float z = exact_depth.at<float>(v, u);
           if (z < accuracy.min_depth_m || z > accuracy.max_depth_m) continue;
           truth_samples.push_back(*frame->world_from_cam * frame->calibration.Unproject(u, v, z));
+          truth_sample_depths_m.push_back(z);
         }
       }
       ++result.frames_with_exact_depth;
@@ -160,7 +162,7 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     SurfaceMetricsOptions surface;
     surface.threshold_m = accuracy.surface_threshold_m;
     surface.area_samples = accuracy.surface_area_samples;
-    result.scene = CompareSurfaces(mesh, ReadMeshPly(scene_mesh), truth_samples, surface);
+    result.scene = CompareSurfaces(mesh, ReadMeshPly(scene_mesh), truth_samples, surface, truth_sample_depths_m);
     result.scene_threshold_m = surface.threshold_m;
     result.scene_mesh_path = scene_mesh;
   }

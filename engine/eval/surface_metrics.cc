@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "engine/core/check.h"
@@ -81,6 +82,11 @@ void SurfaceMetricsOptions::Check() const {
   SEMAP_CHECK_OPTION(std::isfinite(near_m) && near_m > 0.0, "near_m", near_m, "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(far_m) && far_m > near_m, "far_m", far_m, "must be finite and > near_m");
   SEMAP_CHECK_OPTION(area_samples >= 1, "area_samples", area_samples, "must be >= 1");
+  for (std::size_t k = 0; k < completeness_depth_edges_m.size(); ++k) {
+    const double edge = completeness_depth_edges_m[k];
+    SEMAP_CHECK_OPTION(std::isfinite(edge) && edge > (k == 0 ? 0.0 : completeness_depth_edges_m[k - 1]),
+                       "completeness_depth_edges_m", edge, "must be finite, > 0 and increasing");
+  }
 }
 
 double SurfaceArea(const Mesh& mesh) {
@@ -118,8 +124,11 @@ std::vector<Eigen::Vector3d> SampleSurface(const Mesh& mesh, int count, std::uin
 
 SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
                                const std::vector<Eigen::Vector3d>& truth_samples,
-                               const SurfaceMetricsOptions& options) {
+                               const SurfaceMetricsOptions& options,
+                               const std::vector<double>& truth_sample_depths_m) {
   options.Check();
+  SEMAP_ASSERT(truth_sample_depths_m.empty() || truth_sample_depths_m.size() == truth_samples.size(),
+               "one depth per truth sample, or none");
   const SurfaceDistance to_truth(truth);
   SurfaceMetrics m;
   m.threshold_m = options.threshold_m;
@@ -161,9 +170,43 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
   m.vertex_samples = std::int64_t(samples.size());
   std::tie(m.vertex_accuracy, m.vertex_mean_distance_m) = Coverage(to_truth, samples, options.threshold_m);
 
-  if (!Triangles(reconstruction).empty()) {
+  const bool by_depth = !truth_sample_depths_m.empty();
+  const auto& edges = options.completeness_depth_edges_m;
+  const auto band_of = [&edges](double depth_m) {
+    return std::size_t(std::upper_bound(edges.begin(), edges.end(), depth_m) - edges.begin());
+  };
+  if (by_depth) {
+    for (std::size_t k = 0; k <= edges.size(); ++k) {
+      m.completeness_by_depth.push_back({k == 0 ? 0.0 : edges[k - 1],
+                                         k < edges.size() ? edges[k] : std::numeric_limits<double>::infinity()});
+    }
+  }
+  if (!Triangles(reconstruction).empty() && !truth_samples.empty()) {
     const SurfaceDistance to_reconstruction(reconstruction);
-    std::tie(m.completeness, m.mean_completeness_m) = Coverage(to_reconstruction, truth_samples, options.threshold_m);
+    std::vector<double> distances(truth_samples.size());
+    ParallelFor<std::size_t>(0, truth_samples.size(), 1024, [&](std::size_t first, std::size_t last) {
+      for (std::size_t i = first; i < last; ++i) distances[i] = to_reconstruction(truth_samples[i]);
+    });
+    std::int64_t within = 0;
+    double sum = 0.0;
+    std::vector<std::int64_t> band_within(m.completeness_by_depth.size(), 0);
+    for (std::size_t i = 0; i < distances.size(); ++i) {
+      const bool near = distances[i] <= options.threshold_m;
+      sum += distances[i];
+      within += near ? 1 : 0;
+      if (!by_depth) continue;
+      const std::size_t band = band_of(truth_sample_depths_m[i]);
+      ++m.completeness_by_depth[band].samples;
+      band_within[band] += near ? 1 : 0;
+    }
+    m.completeness = double(within) / double(distances.size());
+    m.mean_completeness_m = sum / double(distances.size());
+    for (std::size_t k = 0; k < band_within.size(); ++k) {
+      auto& band = m.completeness_by_depth[k];
+      band.completeness = band.samples > 0 ? double(band_within[k]) / double(band.samples) : 0.0;
+    }
+  } else if (by_depth) {
+    for (const double depth_m : truth_sample_depths_m) ++m.completeness_by_depth[band_of(depth_m)].samples;
   }
   return m;
 }

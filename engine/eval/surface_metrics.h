@@ -33,6 +33,10 @@ struct SurfaceMetricsOptions {
   int area_samples = 100000;
   // Seed of the area samples: same mesh, same seed, same figures.
   std::uint64_t seed = 1;
+  // Completeness by depth (when the truth samples' depths are given): the depths (m, increasing) between the
+  // bands [0, e0), [e0, e1), …, [e_last, ∞). Stereo depth noise grows with the depth squared (at KITTI's f·B,
+  // σ_z ≈ 0.2 m at 15 m, 1.2 m at 30 m for 0.5 px), so what τ = 0.2 m can reach depends on it.
+  std::vector<double> completeness_depth_edges_m = {10.0, 20.0, 30.0};
   void Check() const;
 };
 
@@ -54,6 +58,14 @@ struct SurfaceMetrics {
   double completeness = 0.0;        // share of truth samples within τ of the reconstruction
   double mean_completeness_m = 0.0;
   std::int64_t truth_samples = 0;
+  // Completeness of the truth samples seen at depths in [from_m, to_m) (to_m infinite for the last band);
+  // empty unless their depths are given.
+  struct DepthBand {
+    double from_m = 0.0, to_m = 0.0;
+    std::int64_t samples = 0;
+    double completeness = 0.0;  // 0 for a band without samples
+  };
+  std::vector<DepthBand> completeness_by_depth;
 };
 
 // Distance from points to a fixed surface, by an AABB tree of its triangles (exact point–triangle distances;
@@ -81,9 +93,11 @@ std::vector<Eigen::Vector3d> SampleSurface(const Mesh& mesh, int count, std::uin
 double SurfaceArea(const Mesh& mesh);
 
 // An empty reconstruction has accuracy and completeness 0; an empty truth mesh is a programmer error.
-// Thread-safe (no shared state).
+// `truth_sample_depths_m`, empty or one per truth sample (the camera-frame depth it was seen at), gives
+// completeness_by_depth. Thread-safe (no shared state).
 SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
                                const std::vector<Eigen::Vector3d>& truth_samples,
-                               const SurfaceMetricsOptions& options = {});
+                               const SurfaceMetricsOptions& options = {},
+                               const std::vector<double>& truth_sample_depths_m = {});
 
 }  // namespace semap

@@ -165,6 +165,43 @@ TEST(SampleSurface, IsUniformByAreaInsideTheTrianglesAndDeterministic) {
   EXPECT_NEAR(SurfaceArea(m), 4.0, 1e-12);
 }
 
+// Each truth sample's depth is its y (a camera at y = 0 looking along +y): the reconstruction covers x < 5,
+// so every band holds half covered samples, except where the depths put only covered or uncovered ones.
+TEST(SurfaceMetrics, CompletenessByDepthSplitsTheSamplesByTheDepthTheyWereSeenAt) {
+  const Mesh truth = Square(0, 10, 0);
+  const std::vector<Eigen::Vector3d> samples = TruthSamples();
+  std::vector<double> depths;
+  for (const auto& p : samples) depths.push_back(p.x() < 5.0 ? 2.0 * p.y() : 25.0 + p.y());  // 0-20 m / 25-35 m
+  SurfaceMetricsOptions options;
+  options.completeness_depth_edges_m = {10.0, 30.0};
+  const SurfaceMetrics s = CompareSurfaces(Square(0, 5, 0.1), truth, samples, options, depths);
+  ASSERT_EQ(s.completeness_by_depth.size(), 3u);
+  const auto& near = s.completeness_by_depth[0];
+  const auto& mid = s.completeness_by_depth[1];
+  const auto& far = s.completeness_by_depth[2];
+  EXPECT_EQ(near.from_m, 0.0);
+  EXPECT_EQ(near.to_m, 10.0);
+  EXPECT_EQ(far.from_m, 30.0);
+  EXPECT_TRUE(std::isinf(far.to_m));
+  // Covered (x < 5, 200 samples): depth 2y < 10 m for y < 5 (100), else 10-20 m. Uncovered (200): 25 + y, in
+  // [25, 30) for y < 5 (100), else >= 30 m.
+  EXPECT_EQ(near.samples, 100);
+  EXPECT_EQ(mid.samples, 200);
+  EXPECT_EQ(far.samples, 100);
+  EXPECT_DOUBLE_EQ(near.completeness, 1.0);
+  EXPECT_DOUBLE_EQ(mid.completeness, 0.5);
+  EXPECT_DOUBLE_EQ(far.completeness, 0.0);
+  EXPECT_DOUBLE_EQ(s.completeness, 0.5);  // the same as without depths
+  EXPECT_TRUE(CompareSurfaces(Square(0, 5, 0.1), truth, samples, options).completeness_by_depth.empty());
+  // Without a reconstruction the bands still count their samples, none of them covered.
+  const SurfaceMetrics empty = CompareSurfaces(Mesh(), truth, samples, options, depths);
+  EXPECT_EQ(empty.completeness_by_depth[1].samples, 200);
+  EXPECT_EQ(empty.completeness_by_depth[1].completeness, 0.0);
+  SurfaceMetricsOptions bad;
+  bad.completeness_depth_edges_m = {10.0, 5.0};
+  EXPECT_THROW(CompareSurfaces(Square(0, 5, 0.1), truth, samples, bad, depths), InvalidOption);
+}
+
 TEST(SurfaceMetrics, EmptyReconstructionIsIncompleteAndBadThresholdThrows) {
   const SurfaceMetrics empty = CompareSurfaces(Mesh(), Square(0, 10, 0), TruthSamples());
   EXPECT_EQ(empty.completeness, 0.0);
