@@ -91,7 +91,7 @@ struct MapOptions {
     // is the farthest and noisiest (σ_z grows with z²). Off by default: on 80 urban frames (PS) ratio 0.75
     // with a 6 σ band puts 75.5 % of the area within 0.2 m of the truth instead of 73.3 %, the paper's RMSE
     // falls 6 % and the mesh 14 %, but the strict RMSE rises 3 % and the frame rate falls 14 %; KITTI 04:
-    // Velodyne coverage −0.8 point, strict RMSE +1.4 % (bench/RESULTS.md, session 12).
+    // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/RESULTS.md, session 12).
     v.Field("refine_depth_ratio", &refine_depth_ratio,
             "depth: a live vertex that a view sees again from less than this fraction of the depth of the "
             "sighting that placed it, within refine_noise_sigmas of that sighting's depth σ, is removed where "
