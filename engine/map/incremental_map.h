@@ -18,7 +18,7 @@ inline constexpr std::uint32_t kDroppedPoint = 0xFFFFFFFFu;
 
 struct MapUpdateResult {
   // Per input point: the id of the point it became or was merged into, or kDroppedPoint (beyond
-  // max_ray_length_m). Ids name points in later Observations.
+  // max_ray_length_m, or held for confirmation: map.confirm_beyond_m). Ids name points in later Observations.
   std::vector<std::uint32_t> point_ids;
   std::size_t inserted = 0;  // new vertices (data points)
   std::size_t merged = 0;    // points merged into an existing one (their ray added)
@@ -36,6 +36,10 @@ struct MapUpdateResult {
   std::size_t points_finalised = 0;
   std::size_t vertices_removed = 0;  // finalised points and released Steiner vertices
   std::size_t vertices_refined = 0;  // kDepth: vertices replaced by a nearer sighting (refine_depth_ratio)
+  // kDepth, map.confirm_beyond_m: far points held for a second sighting (not in point_ids' vertices), and
+  // held points of earlier frames that this frame confirmed (each became a vertex).
+  std::size_t points_held = 0;
+  std::size_t points_confirmed = 0;
   // Wall time of the update's steps.
   double locate_ms = 0.0;    // merging, conflict regions and the rays through them
   double insert_ms = 0.0;    // vertex insertion into the triangulation

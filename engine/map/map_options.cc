@@ -19,6 +19,9 @@ void MapOptions::Check() const {
                      "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(merge_depth_fraction) && merge_depth_fraction >= 0.0 && merge_depth_fraction < 1.0,
                      "merge_depth_fraction", merge_depth_fraction, "must be in [0, 1)");
+  SEMAP_CHECK_OPTION(std::isfinite(confirm_beyond_m) && confirm_beyond_m >= 0.0, "confirm_beyond_m",
+                     confirm_beyond_m, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(confirm_window_frames >= 1, "confirm_window_frames", confirm_window_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(refine_depth_ratio >= 0.0 && refine_depth_ratio < 1.0, "refine_depth_ratio", refine_depth_ratio,
                      "must be in [0, 1)");
   SEMAP_CHECK_OPTION(refine_noise_sigmas >= 0.0 && refine_noise_sigmas < 1e3, "refine_noise_sigmas",

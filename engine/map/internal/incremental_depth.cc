@@ -188,6 +188,30 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
       grid.Offer(gu, gv, depth, v->info().id);
     }
   }
+  // map.confirm_beyond_m: a far point that no live vertex explains waits for a later frame's point to land on
+  // it; the pair becomes one vertex at their mean weighted by 1/σ_z² (σ_z ∝ z²). Held points are matched in a
+  // grid of their own per camera, built from the earlier frames' (a frame does not confirm its own points).
+  const bool confirm = options_.confirm_beyond_m > 0.0;
+  if (confirm) {
+    unconfirmed_.erase(std::remove_if(unconfirmed_.begin(), unconfirmed_.end(),
+                                      [&](const Unconfirmed& u) { return frame_ - u.frame > options_.confirm_window_frames; }),
+                       unconfirmed_.end());
+  }
+  const std::size_t earlier = unconfirmed_.size();
+  std::vector<std::uint32_t> promoted(earlier, kNoId);
+  std::vector<ProjectionGrid> unconfirmed_grids;
+  if (confirm) {
+    for (std::size_t c = 0; c < frame.camera_views.size(); ++c) {
+      unconfirmed_grids.emplace_back(views_[first_view + c], options_.merge_radius_px);
+      for (std::size_t k = 0; k < earlier; ++k) {
+        int gu, gv;
+        double depth;
+        if (unconfirmed_grids.back().Locate(unconfirmed_[k].position, &gu, &gv, &depth)) {
+          unconfirmed_grids.back().Offer(gu, gv, depth, std::uint32_t(k));
+        }
+      }
+    }
+  }
   result->point_ids.assign(frame.size(), kDroppedPoint);
   for (std::uint32_t i = 0; i < frame.size(); ++i) {
     const Eigen::Vector3d& p = frame.positions_world[i];
@@ -206,12 +230,48 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
     if (target != kNoId) {
       ++result->merged;
       SeenAgain(target);
+    } else if (confirm && in_view && depth > options_.confirm_beyond_m) {
+      const std::uint32_t u =
+          unconfirmed_grids[camera].Match(gu, gv, depth, options_.merge_depth_fraction * depth);
+      if (u == kNoId) {  // held; its first sighting's attributes go to the vertex (the first-camera rule)
+        PointAttributes attributes;
+        if (!frame.labels.empty()) attributes.label = frame.labels[i];
+        if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
+        unconfirmed_.push_back({p, attributes, depth, frame_});
+        ++result->points_held;
+        continue;
+      }
+      if (promoted[u] != kNoId) {
+        target = promoted[u];
+        ++result->merged;
+        SeenAgain(target);
+      } else {
+        const Unconfirmed& first = unconfirmed_[u];
+        const double w_first = 1.0 / std::pow(first.depth_m, 4), w_now = 1.0 / std::pow(depth, 4);
+        target = NewPoint(frame, i, pending);
+        PointRecord& record = points_.at(target);
+        record.position = (w_first * first.position + w_now * p) / (w_first + w_now);
+        record.sighting_depth_m = depth;
+        record.support = 2;
+        pending->back().position = record.position;
+        pending->back().attributes = first.attributes;
+        promoted[u] = target;
+        ++result->points_confirmed;
+        grid.Offer(gu, gv, depth, target);
+      }
     } else {
       target = NewPoint(frame, i, pending);
       points_.at(target).sighting_depth_m = in_view ? depth : range;
       if (in_view) grid.Offer(gu, gv, depth, target);
     }
     result->point_ids[i] = target;
+  }
+  if (confirm) {
+    std::vector<Unconfirmed> kept;
+    for (std::size_t k = 0; k < unconfirmed_.size(); ++k) {
+      if (k >= earlier || promoted[k] == kNoId) kept.push_back(unconfirmed_[k]);
+    }
+    unconfirmed_.swap(kept);
   }
   for (const Candidate& candidate : candidates) {
     if (grids[candidate.camera].CoveredAround(candidate.gu, candidate.gv)) refined_.push_back(candidate.id);

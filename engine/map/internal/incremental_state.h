@@ -184,6 +184,15 @@ class IncrementalState {
   std::vector<CellHandle> touched_;     // cells whose votes or carving changed
   std::vector<CellHandle> decreased_;   // cells that lost votes (untraced rays)
   std::vector<VertexHandle> inserted_;  // vertices inserted in this update
+  // kDepth, map.confirm_beyond_m: far points of the last confirm_window_frames frames waiting for a second
+  // sighting, oldest first.
+  struct Unconfirmed {
+    Eigen::Vector3d position;
+    PointAttributes attributes;
+    double depth_m;      // camera-frame depth of the sighting
+    std::int64_t frame;  // the frame that saw it
+  };
+  std::vector<Unconfirmed> unconfirmed_;
   std::vector<std::uint32_t> refined_;       // kDepth: points whose vertex a nearer sighting replaces
   std::vector<VertexHandle> refined_link_;   // the vertices around the refined ones removed
   std::vector<CellHandle> conflict_scratch_;
