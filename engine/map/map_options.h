@@ -106,8 +106,7 @@ struct MapOptions {
     // frames against 0 (bench/RESULTS.md, session 12): area within 0.2 m of the truth 73.3 → 77.9 % (urban),
     // 71.1 → 73.8 % (vegetated); strict RMSE vs Velodyne −1.7 % / −6.1 %, KITTI 04 −13 %; truth completeness
     // −0.6 / −0.5 points, Velodyne pixels covered −0.1 point; fewer vertices, a faster map. Off by default
-    // for now: on one small test sequence `semap run --eval` and `semap eval` of the written mesh then differ
-    // by one Velodyne pixel (tools_eval_test), not yet understood.
+    // until every default figure is measured again with it (the README's tables).
     v.Field("confirm_beyond_m", &confirm_beyond_m,
             "depth: a point farther than this (camera-frame depth, m) that no live vertex explains becomes a "
             "vertex only when a point of a later frame lands on it (within merge_radius_px and "
