@@ -234,10 +234,7 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
       const std::uint32_t u =
           unconfirmed_grids[camera].Match(gu, gv, depth, options_.merge_depth_fraction * depth);
       if (u == kNoId) {  // held; its first sighting's attributes go to the vertex (the first-camera rule)
-        PointAttributes attributes;
-        if (!frame.labels.empty()) attributes.label = frame.labels[i];
-        if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
-        unconfirmed_.push_back({p, attributes, depth, frame_});
+        unconfirmed_.push_back({p, AttributesOf(frame, i), depth, frame_});
         ++result->points_held;
         continue;
       }
@@ -310,13 +307,7 @@ void IncrementalState::RemoveRefined(MapUpdateResult* result) {
       refined_link_.push_back(w);
     }
   }
-  const std::uint32_t old_mark = NewMark();
-  std::vector<CellHandle> around;
-  for (const VertexHandle w : refined_link_) {
-    around.clear();
-    dt_.incident_cells(w, std::back_inserter(around));
-    for (const CellHandle c : around) c->info().stamp = old_mark;
-  }
+  const std::uint32_t old_mark = StampCellsAround(refined_link_);
   // The cells refilling the holes start empty and uncarved, as an insertion's do, and are voted from every
   // stored view (created_mark_). The seen bits of the holes' boundary facets live on in the outer cells.
   dt_.remove_cluster(removed.begin(), removed.end());

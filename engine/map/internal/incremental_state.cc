@@ -31,6 +31,13 @@ constexpr double kSpanMarginM = 1e-9;
 
 }  // namespace
 
+PointAttributes AttributesOf(const LabelledCloud& frame, std::uint32_t i) {
+  PointAttributes attributes;
+  if (!frame.labels.empty()) attributes.label = frame.labels[i];
+  if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
+  return attributes;
+}
+
 void SpatialSort(std::vector<PendingVertex>* pending) {
   std::vector<Point> points;
   points.reserve(pending->size());
@@ -214,10 +221,7 @@ std::uint32_t IncrementalState::NewPoint(const LabelledCloud& frame, std::uint32
   PointRecord& record = points_[id];
   record.position = frame.positions_world[i];
   record.last_seen = frame_;
-  PointAttributes attributes;
-  if (!frame.labels.empty()) attributes.label = frame.labels[i];
-  if (!frame.colors_rgb.empty()) attributes.color_rgb = frame.colors_rgb[i];
-  pending->push_back({record.position, id, 0, attributes});
+  pending->push_back({record.position, id, 0, AttributesOf(frame, i)});
   return id;
 }
 
@@ -308,6 +312,17 @@ void IncrementalState::CollectBoundary(std::uint32_t excluded_vertex_mark) {
       boundary_.push_back(v);
     }
   }
+}
+
+std::uint32_t IncrementalState::StampCellsAround(const std::vector<VertexHandle>& vertices) {
+  const std::uint32_t mark = NewMark();
+  std::vector<CellHandle> around;
+  for (const VertexHandle v : vertices) {
+    around.clear();
+    dt_.incident_cells(v, std::back_inserter(around));
+    for (const CellHandle c : around) c->info().stamp = mark;
+  }
+  return mark;
 }
 
 void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark) {

@@ -35,6 +35,8 @@ struct PendingVertex {
   PointAttributes attributes;
 };
 
+// The label and colour of frame point i (defaults where the frame has none).
+PointAttributes AttributesOf(const LabelledCloud& frame, std::uint32_t i);
 // Sorts `pending` along a space-filling curve so consecutive insertions are neighbours (cheap locate).
 void SpatialSort(std::vector<PendingVertex>* pending);
 // Milliseconds since `*since`, which is moved to now.
@@ -76,6 +78,9 @@ class IncrementalState {
   void RemoveRefined(MapUpdateResult* result);
   // Appends to boundary_ those of `vertices` it does not hold.
   void AddToBoundary(const std::vector<VertexHandle>& vertices);
+  // Stamps every cell around `vertices` with a new mark, returned: after a removal, the cells around them
+  // without it are the ones refilling the hole.
+  std::uint32_t StampCellsAround(const std::vector<VertexHandle>& vertices);
   // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
   // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells
   // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that

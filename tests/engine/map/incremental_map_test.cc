@@ -543,6 +543,20 @@ TEST(IncrementalMap, DepthVotesFillOneFacetHolesInTheSeenSurface) {
   EXPECT_LT(filled_report.num_boundary_edges, holed_report.num_boundary_edges);
 }
 
+// Moves each point of a street frame (camera looking along +y) along its ray by k·z² times a draw of `unit`,
+// stereo-like depth noise; returns the points' exact depths z.
+std::vector<double> AddDepthSquaredNoise(double k, LabelledCloud* frame, std::normal_distribution<double>* unit,
+                                         std::mt19937* rng) {
+  const Eigen::Vector3d camera = frame->camera_centers_world[0];
+  std::vector<double> depths;
+  for (Eigen::Vector3d& p : frame->positions_world) {
+    const double z = (p - camera).y();
+    depths.push_back(z);
+    p += (p - camera).normalized() * (k * z * z * (*unit)(*rng));
+  }
+  return depths;
+}
+
 // map.refine_depth_ratio: points carry stereo-like depth noise, σ_z = k·z² along their ray (the views are
 // exact), so the first sighting of what lies ahead is the noisiest. A vertex that a view 25 % nearer measures
 // again within its noise band is removed and that view's points replace it: the published mesh stays a
@@ -570,11 +584,7 @@ TEST(IncrementalMap, DepthVotesRefineVerticesANearerViewMeasuresAgain) {
     auto view = std::make_shared<DepthView>(*frame.camera_views[0]);
     view->intrinsics.baseline_m = kFocalBaselineMPx / view->intrinsics.fx_px;
     frame.camera_views[0] = view;
-    const Eigen::Vector3d camera = frame.camera_centers_world[0];
-    for (Eigen::Vector3d& p : frame.positions_world) {
-      const double z = (p - camera).y();  // the camera looks along +y
-      p += (p - camera).normalized() * (kNoisePerDepth2 * z * z * unit(rng));
-    }
+    AddDepthSquaredNoise(kNoisePerDepth2, &frame, &unit, &rng);
     refined += map.Update(frame).vertices_refined;
     EXPECT_EQ(plain_map.Update(frame).vertices_refined, 0u);
     published.Update(&map, f);
@@ -619,12 +629,7 @@ TEST(IncrementalMap, DepthVotesConfirmFarPointsBeforeInsertingThem) {
   for (int f = 0; f < 30; ++f) {
     LabelledCloud frame = test::StreetDepthFrame(scene, 1.0 * f, 2);
     const Eigen::Vector3d camera = frame.camera_centers_world[0];
-    std::vector<double> depths;
-    for (Eigen::Vector3d& p : frame.positions_world) {
-      const double z = (p - camera).y();  // the camera looks along +y
-      depths.push_back(z);
-      p += (p - camera).normalized() * (kNoisePerDepth2 * z * z * unit(rng));
-    }
+    const std::vector<double> depths = AddDepthSquaredNoise(kNoisePerDepth2, &frame, &unit, &rng);
     const MapUpdateResult r = map.Update(frame);
     const MapUpdateResult plain = plain_map.Update(frame);
     EXPECT_EQ(plain.points_held + plain.points_confirmed, 0u);
