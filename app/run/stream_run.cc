@@ -14,18 +14,6 @@
 
 namespace semap::app {
 
-namespace {
-
-// x as mesh.ply stores it (float32), back in double. Through a volatile: GCC 12 at -O3 dropped the plain
-// `v.cast<float>().cast<double>()` round trip for some vertices of the loop below (2 of 1,051 kept their
-// double value, and `semap run --eval` then differed from `semap eval` of mesh.ply by one pixel).
-double AsStoredInPly(double x) {
-  volatile float stored = static_cast<float>(x);
-  return stored;
-}
-
-}  // namespace
-
 StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request) {
   auto source = OpenStreamingSource(config, request.dataset);
   const std::int64_t total = source->size();
@@ -63,11 +51,7 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   } else if (request.evaluate) {
     // After the run, so that it does not count in the frame rate: every frame's camera against the final mesh,
     // as written (mesh.ply holds float32 coordinates): `semap eval` of the written mesh gives the same figures.
-    Mesh written = mesh;
-    for (Eigen::Vector3d& v : written.vertices) {
-      for (int k = 0; k < 3; ++k) v[k] = AsStoredInPly(v[k]);
-    }
-    const MeshEvaluation e = EvaluateMesh(written, request.dataset, config.input, config.eval);
+    const MeshEvaluation e = EvaluateMesh(io::AsStoredInPly(mesh), request.dataset, config.input, config.eval);
     PrintEvaluation(e);
     const std::filesystem::path dir(config.output.dir);
     WritePerFrameCsv(e, dir / "eval_frames.csv");

@@ -284,6 +284,19 @@ void WriteMeshPly(const std::filesystem::path& path, const Mesh& mesh, PlyEncodi
   out.Close();
 }
 
+Mesh AsStoredInPly(Mesh mesh) {
+  for (Eigen::Vector3d& v : mesh.vertices) {
+    for (int k = 0; k < 3; ++k) {
+      // Through a volatile: GCC 12 at -O3 dropped the plain `v.cast<float>().cast<double>()` round trip for
+      // some vertices of such a loop (2 of 1,051 kept their double value; `semap run --eval` then differed
+      // from `semap eval` of mesh.ply by one pixel).
+      volatile float stored = static_cast<float>(v[k]);
+      v[k] = stored;
+    }
+  }
+  return mesh;
+}
+
 Mesh ReadMeshPly(const std::filesystem::path& path) {
   const PlyTable table = mesh_internal::ReadPlyTable(path);
   const PlyElement& v = RequireElement(path, table, "vertex");

@@ -19,6 +19,9 @@ enum class PlyEncoding { kBinaryLittleEndian, kAscii };
 void WriteMeshPly(const std::filesystem::path& path, const Mesh& mesh,
                   PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian, bool double_precision = false);
 Mesh ReadMeshPly(const std::filesystem::path& path);
+// `mesh` with its coordinates rounded to float32, as WriteMeshPly stores them (not double_precision): what
+// ReadMeshPly of the written file returns, without the file.
+Mesh AsStoredInPly(Mesh mesh);
 
 // Polygons with more than 3 vertices are read as triangle fans; float colours are taken in [0, 1].
 // OFF: "OFF", counts, vertices, "3 i j k" faces; colours and labels are not stored. Coordinates are written
