@@ -44,7 +44,7 @@ struct MapOptions {
   double disparity_sigma_px = 0.5;
   double refine_depth_ratio = 0.0;
   double refine_noise_sigmas = 6.0;
-  double confirm_beyond_m = 0.0;
+  double confirm_beyond_m = 20.0;
   int confirm_window_frames = 3;
   double sigma_free_m = 0.05;    // paper: 0.05 m
   double sigma_matter_m = 0.01;  // paper: 0.01 m
@@ -105,8 +105,8 @@ struct MapOptions {
     // the position it was placed at; SGBM's outliers at range seldom repeat. 80 frames, PS, 20 m and 3
     // frames against 0 (bench/RESULTS.md, session 12): area within 0.2 m of the truth 73.3 → 77.9 % (urban),
     // 71.1 → 73.8 % (vegetated); strict RMSE vs Velodyne −1.7 % / −6.1 %, KITTI 04 −13 %; truth completeness
-    // −0.6 / −0.5 points, Velodyne pixels covered −0.1 point; fewer vertices, a faster map. Off by default
-    // until every default figure is measured again with it (the README's tables).
+    // −0.6 / −0.5 points, Velodyne pixels covered −0.1 point; fewer vertices, a faster map. The default since
+    // session 13 (bench/RESULTS.md, "Session 13").
     v.Field("confirm_beyond_m", &confirm_beyond_m,
             "depth: a point farther than this (camera-frame depth, m) that no live vertex explains becomes a "
             "vertex only when a point of a later frame lands on it (within merge_radius_px and "

@@ -376,6 +376,9 @@ TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
   options.finalise_age_frames = 10;
   options.finalise_every_frames = 3;
   options.disparity_sigma_px = 0.0;  // exact depth
+  // Like with like: the ray map inserts every point, so the depth map does too (a held far point leaves the
+  // cells around it larger, free where the ray map's smaller cells behind the point are matter).
+  options.confirm_beyond_m = 0.0;
   MapOptions rays_options = options;
   rays_options.visibility = Visibility::kRays;
   options.visibility = Visibility::kDepth;
