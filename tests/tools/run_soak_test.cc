@@ -159,17 +159,24 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
   // Warm-up: the first 10 % of the frames (at least one pass of the sequence).
   const size_t warm = std::max<size_t>(at.size() / 10, kSequenceFrames / kEvery);
   const auto& w = csv.rows[at[warm - 1]];
-  double max_vertices = 0, max_cells = 0, max_rss = 0;
+  // The live map's size swings within a pass of the looped sequence (2-5x on this small map, with far points
+  // waiting for confirmation and finalisation every few frames), so one row is no reference for its bound:
+  // the largest size over the second half of the rows after warm-up is held against the largest over the
+  // first half (the same number of rows each, many passes of the sequence), which a growing map exceeds.
+  const size_t half = warm + (at.size() - warm) / 2;
+  double first_vertices = 0, first_cells = 0, second_vertices = 0, second_cells = 0, max_rss = 0;
   for (size_t k = warm; k < at.size(); ++k) {
     const auto& r = csv.rows[at[k]];
-    max_vertices = std::max(max_vertices, r[c_vertices]);
-    max_cells = std::max(max_cells, r[c_cells]);
+    double& vertices = k < half ? first_vertices : second_vertices;
+    double& cells = k < half ? first_cells : second_cells;
+    vertices = std::max(vertices, r[c_vertices]);
+    cells = std::max(cells, r[c_cells]);
     const double allowed_mb = w[c_rss] + 64.0 + 256.0 * (r[c_tris] - w[c_tris]) / (1024.0 * 1024.0);
     EXPECT_LE(r[c_rss], allowed_mb) << "RSS at frame " << at[k] << " (" << r[c_tris] << " mesh triangles)";
     max_rss = std::max(max_rss, r[c_rss]);
   }
-  EXPECT_LE(max_vertices, 1.5 * w[c_vertices]) << "the map's live size grows: memory bound broken";
-  EXPECT_LE(max_cells, 1.5 * w[c_cells]) << "the map's live size grows: memory bound broken";
+  EXPECT_LE(second_vertices, 1.5 * first_vertices) << "the map's live size grows: memory bound broken";
+  EXPECT_LE(second_cells, 1.5 * first_cells) << "the map's live size grows: memory bound broken";
 
   const size_t q = (at.size() - warm) / 4;
   const double early =
@@ -194,8 +201,10 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
                         {"rss_mb_after_warmup", w[c_rss]},
                         {"rss_mb_max_after_warmup", max_rss},
                         {"rss_mb_end", csv.rows.back()[c_rss]},
-                        {"map_vertices_after_warmup", w[c_vertices]},
-                        {"map_vertices_max_after_warmup", max_vertices},
+                        {"map_vertices_max_first_half", first_vertices},
+                        {"map_vertices_max_second_half", second_vertices},
+                        {"map_cells_max_first_half", first_cells},
+                        {"map_cells_max_second_half", second_cells},
                         {"mesh_triangles_end", csv.rows.back()[c_tris]},
                         {"frame_cpu_ms_median_early", early},
                         {"frame_cpu_ms_median_late", late}}
