@@ -6,10 +6,12 @@
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_data_structure_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/tags.h>
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -34,7 +36,7 @@ struct VertexInfo {
   // carving for good (see CellInfo::Pinned).
   bool frozen = false;
   std::uint32_t stamp = 0;  // scratch mark for set membership during one update
-  PointAttributes attributes;  // fits in the vertex's padding: a vertex stays 48 bytes
+  PointAttributes attributes;  // fits in the padding: VertexInfo stays 16 bytes
 };
 
 // One (ray, trace epoch) entry of a cell's ray list. An entry is live while the ray's epoch equals `epoch`;
@@ -80,14 +82,37 @@ bool IsPinned(const C& cell) {
   return false;
 }
 
+// A vertex or cell base that CGAL orders by creation instead of by address. CGAL compares handles (operator<)
+// inside its algorithms, e.g. the std::map of facets that vertex removal re-triangulates a hole from; by
+// address, that order follows where the allocator put the containers' blocks, which depends on the other
+// threads' allocations and frees: the same frames gave different meshes once vertices were removed
+// (finalisation, map.refine_depth_ratio). With a time stamp (CGAL's Has_timestamp, made for Mesh_3's
+// determinism) Compact_container numbers each element as it is created and handles compare by that number.
+template <class Base>
+class CreationOrdered : public Base {
+ public:
+  using Has_timestamp = CGAL::Tag_true;
+  using Base::Base;
+  template <typename Tds2>
+  struct Rebind_TDS {
+    using Other = CreationOrdered<typename Base::template Rebind_TDS<Tds2>::Other>;
+  };
+  std::size_t time_stamp() const { return time_stamp_; }
+  void set_time_stamp(const std::size_t& stamp) { time_stamp_ = stamp; }
+
+ private:
+  std::size_t time_stamp_ = std::size_t(-1);  // unset: Compact_container gives the next number
+};
+
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Vb = CGAL::Triangulation_vertex_base_with_info_3<VertexInfo, Kernel>;
-using Cb = CGAL::Triangulation_cell_base_with_info_3<CellInfo, Kernel>;
+using Vb = CreationOrdered<CGAL::Triangulation_vertex_base_with_info_3<VertexInfo, Kernel>>;
+using Cb = CreationOrdered<CGAL::Triangulation_cell_base_with_info_3<CellInfo, Kernel>>;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 using Point = Delaunay::Point;
 using VertexHandle = Delaunay::Vertex_handle;
-// The ray walks read vertices all the time: keep them small (point + cell handle + this = 48 bytes).
+// The ray walks read vertices all the time: keep them small (point + cell handle + this + time stamp = 56
+// bytes).
 static_assert(sizeof(VertexInfo) <= 16, "VertexInfo grew: a CGAL vertex would take another 8 bytes");
 using CellHandle = Delaunay::Cell_handle;
 
