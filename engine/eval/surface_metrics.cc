@@ -40,18 +40,26 @@ double TriangleArea(const Mesh& mesh, const std::array<std::uint32_t, 3>& t) {
   return 0.5 * (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).norm();
 }
 
-// Share of `samples` within `threshold` of the surface, and their mean distance.
-std::pair<double, double> Coverage(const SurfaceDistance& distance, const std::vector<Eigen::Vector3d>& samples,
-                                   double threshold) {
-  if (samples.empty()) return {0.0, 0.0};
+// The distance of each sample to the surface, in parallel (each slot written by one thread).
+std::vector<double> Distances(const SurfaceDistance& distance, const std::vector<Eigen::Vector3d>& samples) {
+  std::vector<double> distances(samples.size());
+  ParallelFor<std::size_t>(0, samples.size(), 1024, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) distances[i] = distance(samples[i]);
+  });
+  return distances;
+}
+
+// Share of `distances` within `threshold`, and their mean (summed in order: the same figures on any thread
+// count).
+std::pair<double, double> Coverage(const std::vector<double>& distances, double threshold) {
+  if (distances.empty()) return {0.0, 0.0};
   std::int64_t within = 0;
   double sum = 0.0;
-  for (const Eigen::Vector3d& p : samples) {
-    const double d = distance(p);
+  for (const double d : distances) {
     sum += d;
     within += d <= threshold ? 1 : 0;
   }
-  return {double(within) / double(samples.size()), sum / double(samples.size())};
+  return {double(within) / double(distances.size()), sum / double(distances.size())};
 }
 
 }  // namespace
@@ -141,24 +149,17 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
   const std::vector<Eigen::Vector3d> area_samples = SampleSurface(reconstruction, options.area_samples, options.seed);
   m.area_samples = std::int64_t(area_samples.size());
   if (!area_samples.empty()) {
-    std::vector<double> distances(area_samples.size());
-    ParallelFor<std::size_t>(0, area_samples.size(), 1024, [&](std::size_t first, std::size_t last) {
-      for (std::size_t i = first; i < last; ++i) distances[i] = to_truth(area_samples[i]);
-    });
-    std::int64_t within = 0, within_near = 0, beyond_far = 0;
-    double sum = 0.0;
+    const std::vector<double> distances = Distances(to_truth, area_samples);
+    std::int64_t within_near = 0, beyond_far = 0;
     for (const double d : distances) {
-      sum += d;
-      within += d <= options.threshold_m ? 1 : 0;
       within_near += d <= options.near_m ? 1 : 0;
       beyond_far += d > options.far_m ? 1 : 0;
     }
     const double n = double(area_samples.size());
-    m.accuracy = double(within) / n;
+    std::tie(m.accuracy, m.mean_distance_m) = Coverage(distances, options.threshold_m);
     m.area_within_near = double(within_near) / n;
     m.area_beyond_near = double(m.area_samples - within_near) / n;
     m.area_beyond_far = double(beyond_far) / n;
-    m.mean_distance_m = sum / n;
   }
 
   // Per vertex and centroid.
@@ -168,7 +169,7 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
                        reconstruction.vertices[t[2]]) / 3.0);
   }
   m.vertex_samples = std::int64_t(samples.size());
-  std::tie(m.vertex_accuracy, m.vertex_mean_distance_m) = Coverage(to_truth, samples, options.threshold_m);
+  std::tie(m.vertex_accuracy, m.vertex_mean_distance_m) = Coverage(Distances(to_truth, samples), options.threshold_m);
 
   const bool by_depth = !truth_sample_depths_m.empty();
   const auto& edges = options.completeness_depth_edges_m;
@@ -182,25 +183,14 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
     }
   }
   if (!Triangles(reconstruction).empty() && !truth_samples.empty()) {
-    const SurfaceDistance to_reconstruction(reconstruction);
-    std::vector<double> distances(truth_samples.size());
-    ParallelFor<std::size_t>(0, truth_samples.size(), 1024, [&](std::size_t first, std::size_t last) {
-      for (std::size_t i = first; i < last; ++i) distances[i] = to_reconstruction(truth_samples[i]);
-    });
-    std::int64_t within = 0;
-    double sum = 0.0;
+    const std::vector<double> distances = Distances(SurfaceDistance(reconstruction), truth_samples);
+    std::tie(m.completeness, m.mean_completeness_m) = Coverage(distances, options.threshold_m);
     std::vector<std::int64_t> band_within(m.completeness_by_depth.size(), 0);
-    for (std::size_t i = 0; i < distances.size(); ++i) {
-      const bool near = distances[i] <= options.threshold_m;
-      sum += distances[i];
-      within += near ? 1 : 0;
-      if (!by_depth) continue;
+    for (std::size_t i = 0; by_depth && i < distances.size(); ++i) {
       const std::size_t band = band_of(truth_sample_depths_m[i]);
       ++m.completeness_by_depth[band].samples;
-      band_within[band] += near ? 1 : 0;
+      band_within[band] += distances[i] <= options.threshold_m ? 1 : 0;
     }
-    m.completeness = double(within) / double(distances.size());
-    m.mean_completeness_m = sum / double(distances.size());
     for (std::size_t k = 0; k < band_within.size(); ++k) {
       auto& band = m.completeness_by_depth[k];
       band.completeness = band.samples > 0 ? double(band_within[k]) / double(band.samples) : 0.0;
