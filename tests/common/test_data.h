@@ -21,6 +21,8 @@ bool UnderCi();
 const std::filesystem::path& ProcessTempRoot();
 // A fresh, empty folder for the current test inside ProcessTempRoot() (emptied again on each call).
 std::filesystem::path TempDir();
+// The whole content of a file, byte for byte ("" when it cannot be read): a log, a report, a written mesh.
+std::string ReadFile(const std::filesystem::path& path);
 
 }  // namespace semap::test
 

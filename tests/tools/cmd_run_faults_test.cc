@@ -132,10 +132,7 @@ class RunFaults : public ::testing::Test {
     return false;
   }
 
-  std::string Log() const {
-    std::ifstream in(dir_ / "run.log");
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  std::string Log() const { return test::ReadFile(dir_ / "run.log"); }
 
   // The run finished with `failed` frames skipped (the others processed), and wrote a mesh.
   void ExpectSkipped(const CliRun& r, const std::vector<std::int64_t>& failed) const {

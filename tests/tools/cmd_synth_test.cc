@@ -38,8 +38,7 @@ TEST(SemapSynth, WritesAKittiRawSequence) {
     EXPECT_TRUE(fs::exists(drive / f)) << f;
   }
   EXPECT_TRUE(fs::exists(out / "2026_01_01" / "calib_cam_to_cam.txt"));
-  std::ifstream calib(out / "2026_01_01" / "calib_cam_to_cam.txt");
-  std::string text((std::istreambuf_iterator<char>(calib)), std::istreambuf_iterator<char>());
+  const std::string text = test::ReadFile(out / "2026_01_01" / "calib_cam_to_cam.txt");
   EXPECT_NE(text.find("S_rect_02: 3.200000000000e+02 9.600000000000e+01"), std::string::npos) << text;
 }
 

@@ -24,8 +24,7 @@ TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
   const fs::path out = test::TempDir() / "table";
   const CliRun r = RunSemap("table small=" + seq.string() + " --progress-interval 0 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream md(out / "table.md");
-  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  const std::string text = test::ReadFile(out / "table.md");
   EXPECT_NE(text.find("| small | O |"), std::string::npos) << text;
   EXPECT_NE(text.find("| small | PS |"), std::string::npos) << text;
   EXPECT_NE(text.find("| 95 | PS | 0.7173 | 1.5434 |"), std::string::npos) << text;

@@ -210,8 +210,7 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
   }
 
   // eval.md: the two protocols named, the three tables.
-  std::ifstream md_file(out / "eval.md");
-  const std::string md((std::istreambuf_iterator<char>(md_file)), std::istreambuf_iterator<char>());
+  const std::string md = test::ReadFile(out / "eval.md");
   for (const char* text :
        {"| strict | Velodyne | reference depth 1-40 m, every error |",
         "| paper | Velodyne | reference depth 1-15 m, |error| <= 2 m |", "| strict | exact depth |",

@@ -4,7 +4,6 @@
 // first (5 % of the mesh messages lost at random; every event of the first half lost). Everything runs inside
 // a private network namespace (unshare -n) whose loopback carries the multicast route, so no packet leaves the
 // test, and the kernel's receive buffers are left as they are (net.core.rmem_default, not raised).
-#include <fstream>
 #include <random>
 #include <set>
 
@@ -108,10 +107,7 @@ class LcmLogger : public ::testing::Test {
     }
     ASSERT_EQ(run_->exit_code, 0) << run_->output << Text("run.txt") << Text("live.txt");
   }
-  static std::string Text(const char* name) {
-    std::ifstream in(*dir_ / name);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
+  static std::string Text(const char* name) { return test::ReadFile(*dir_ / name); }
   static std::filesystem::path At(const char* name) { return *dir_ / name; }
   static Mesh Written() { return io::ReadMeshPly(At("out") / "mesh.ply"); }
   // `semap lcm-mesh LOG` as a user runs it; its exit code and the mesh it wrote.

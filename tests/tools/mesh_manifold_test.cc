@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -82,8 +81,7 @@ TEST(WrittenMeshes, TheSameFramesGiveTheSameMeshFileRunAfterRun) {
                               " --progress-interval 0 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     ASSERT_TRUE(MapShrankOnce(out)) << "no finalisation ran";
-    std::ifstream in(out / "mesh.ply", std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string bytes = test::ReadFile(out / "mesh.ply");
     ASSERT_GT(bytes.size(), 1000u);
     if (attempt == 0) {
       first = bytes;

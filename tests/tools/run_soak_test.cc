@@ -111,8 +111,7 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
                                   out.string() + " --set input.loops=" + std::to_string(loops) +
                                   " --lcm-url 'udpm://239.255.76.70:7691?ttl=0'" + kRun + " > " +
                                   (dir / "run.log").string());
-  std::ifstream log_in(dir / "run.log");
-  const std::string log((std::istreambuf_iterator<char>(log_in)), std::istreambuf_iterator<char>());
+  const std::string log = test::ReadFile(dir / "run.log");
   const std::string log_tail = log.substr(log.size() > 4000 ? log.size() - 4000 : 0);
   ASSERT_NE(run.exit_code, 124) << "deadlock: the run did not end in 3 h\n" << log_tail;
   ASSERT_EQ(run.exit_code, 0) << log_tail;

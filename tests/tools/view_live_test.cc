@@ -11,10 +11,6 @@
 namespace semap::tools {
 namespace {
 
-std::string Text(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
   if (test::RunShell("unshare -n true").exit_code != 0 || test::RunShell("command -v ip").exit_code != 0) {
@@ -65,8 +61,9 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
       "exit $status\n";
   std::ofstream(dir / "live.sh") << script;
   const auto r = test::RunShell("timeout 280 unshare -n bash " + at("live.sh"));
-  const std::string page = Text(dir / "page.txt");
-  ASSERT_EQ(r.exit_code, 0) << r.output << page << Text(dir / "run.txt") << Text(dir / "view.txt");
+  const std::string page = test::ReadFile(dir / "page.txt");
+  ASSERT_EQ(r.exit_code, 0) << r.output << page << test::ReadFile(dir / "run.txt")
+                            << test::ReadFile(dir / "view.txt");
   const std::int64_t faces = test::PlyHeaderFaces(dir / "out" / "mesh.ply");
   ASSERT_GT(faces, 1000);
   const auto report = test::PageReport(page);

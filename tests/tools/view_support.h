@@ -101,10 +101,7 @@ struct BackgroundView {
   ~BackgroundView() {
     if (pid > 0) kill(pid, SIGTERM);
   }
-  std::string Log() const {
-    std::ifstream in(log);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
+  std::string Log() const { return test::ReadFile(log); }
 };
 
 }  // namespace semap::test
