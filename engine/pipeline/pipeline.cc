@@ -443,15 +443,26 @@ struct Pipeline::Impl {
     TimingStats segment_timing;                      // keyframes only
     std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
-    // The run's totals as of now: frame rate, the map's sizes and published mesh (from `update`; kept as they
-    // were without one), the process's memory and CPU.
+    // The map's surface snapshots become the deltas the sinks receive here, not on the map's thread.
+    MeshDiffer differ;
+    auto publish = [&](const MapUpdate& update) {
+      MeshDelta delta;
+      delta.frame_id = update.frame_id;
+      if (update.mesh) {
+        delta = differ.Update(update.frame_id, update.mesh->live, update.mesh->finalised);
+        stats.mesh_triangles += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
+                                static_cast<std::int64_t>(delta.removed_triangle_ids.size());
+      }
+      return delta;
+    };
+    // The run's totals as of now: frame rate, the map's sizes (from `update`; kept as they were without one),
+    // the process's memory and CPU.
     auto take_totals = [&](const MapUpdate* update) {
       stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
       if (update != nullptr) {
         stats.map_vertices = update->vertices;
         stats.map_cells = update->cells;
         stats.map_rays = update->rays;
-        stats.mesh_triangles = update->mesh_triangles;
       }
       stats.rss_mb = CurrentRssMb();
       stats.cpu_s = ProcessCpuSeconds();
@@ -465,8 +476,9 @@ struct Pipeline::Impl {
           ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
         }
         // A failed finish carries no update: the map as of the last frame is what was published.
+        const MeshDelta delta = publish(item->update);
         take_totals(item->failed() ? nullptr : &item->update);
-        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, item->update.delta); });
+        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, delta); });
         continue;
       }
       if (item->failed()) {
@@ -503,8 +515,9 @@ struct Pipeline::Impl {
       for (const auto& c : item->counts) stats.points_kept += c.kept;
       if (item->counts.empty()) stats.points_kept = stats.points_in;
       stats.class_counts = item->counts;
+      const MeshDelta delta = publish(item->update);
       take_totals(&item->update);
-      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, item->update.delta, item->world_from_cam); });
+      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, delta, item->world_from_cam); });
     }
     summary->final_stats = stats;
   }

@@ -125,18 +125,16 @@ MapUpdate IncrementalMapStage::Finish() { return Report(/*with_mesh=*/true); }
 
 MapUpdate IncrementalMapStage::Report(bool with_mesh) {
   MapUpdate u;
-  u.delta.frame_id = last_frame_id_;
+  u.frame_id = last_frame_id_;
   if (with_mesh) {
-    const IdentifiedMesh finalised = map_.TakeFinalisedMesh();
-    u.delta = differ_.Update(last_frame_id_, map_.ExtractIdentifiedMesh(), finalised);
-    published_triangles_ += static_cast<std::int64_t>(u.delta.added_triangle_ids.size()) -
-                            static_cast<std::int64_t>(u.delta.removed_triangle_ids.size());
+    u.mesh.emplace();
+    u.mesh->finalised = map_.TakeFinalisedMesh();
+    u.mesh->live = map_.ExtractIdentifiedMesh();
   }
   const MapStatistics s = map_.Sizes();
   u.vertices = static_cast<std::int64_t>(s.num_points + s.num_steiner_vertices);
   u.cells = static_cast<std::int64_t>(s.num_cells);
   u.rays = static_cast<std::int64_t>(s.num_rays);
-  u.mesh_triangles = published_triangles_;
   return u;
 }
 

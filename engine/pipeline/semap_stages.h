@@ -59,8 +59,8 @@ class WindowedSimplifyStage : public SimplifyStage {
 };
 
 // The incremental Delaunay map: each frame's kept points with their camera update the map, and every
-// `mesh_every_frames` frames (PipelineOptions::mesh_every_frames) and at the end the change of the published
-// mesh (live surface + finalised regions) goes out as a delta; the frames between give an empty delta.
+// `mesh_every_frames` frames (PipelineOptions::mesh_every_frames) and at the end its surface goes out as a
+// snapshot (live surface + regions finalised since the last one); the frames between give none.
 class IncrementalMapStage : public MapStage {
  public:
   // mesh_every_frames: PipelineOptions::mesh_every_frames (≥ 1).
@@ -69,13 +69,11 @@ class IncrementalMapStage : public MapStage {
   MapUpdate Finish() override;
 
  private:
-  // The map's sizes, with the mesh's change when `with_mesh`.
+  // The map's sizes, with its surface when `with_mesh`.
   MapUpdate Report(bool with_mesh);
   IncrementalMap map_;
   int mesh_every_frames_;
   std::int64_t frames_since_mesh_ = 0;
-  MeshDiffer differ_;  // live surface + finalised regions → deltas with stable triangle ids
-  std::int64_t published_triangles_ = 0;
   std::int64_t last_frame_id_ = -1;
 };
 

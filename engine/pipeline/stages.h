@@ -60,13 +60,20 @@ struct StepTime {
   double ms = 0.0;
 };
 
+// The map's surface as its stage extracted it. The pipeline turns each snapshot into the delta the sinks
+// receive (MeshDiffer) on its output thread, off the map's critical path.
+struct MeshSnapshot {
+  IdentifiedMesh live;       // the whole live surface
+  IdentifiedMesh finalised;  // the regions finalised since the last snapshot: published once, never removed
+};
+
 // What the map reports after each update.
 struct MapUpdate {
-  MeshDelta delta;  // change of the published mesh (finalised parts are added once, never removed)
+  std::int64_t frame_id = -1;        // the frame of the update (Finish(): the last frame)
+  std::optional<MeshSnapshot> mesh;  // when the stage extracted its surface this time (its mesh cadence)
   std::int64_t vertices = 0;
   std::int64_t cells = 0;
   std::int64_t rays = 0;
-  std::int64_t mesh_triangles = 0;  // triangles of the mesh as published so far
   // Where the map stage's time went, the same steps in the same order every frame.
   std::vector<StepTime> steps;
 };

@@ -48,7 +48,20 @@ bool LeftOut(const SurfaceFacet& f, const EmitRule& rule) {
 
 void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<SurfaceFacet>* facets,
                     std::vector<VertexHandle>* open) {
+  // A cell carved across none of its facets yields a facet only towards an infinite neighbour (TakenFrom):
+  // the cells on the convex hull, listed first, so that the other uncarved cells (most of the map) are passed
+  // over without reading their neighbours.
+  std::vector<CellHandle> hull;
+  if (dt.dimension() == 3) {
+    std::vector<CellHandle> infinite;
+    dt.incident_cells(dt.infinite_vertex(), std::back_inserter(infinite));
+    for (const CellHandle c : infinite) hull.push_back(c->neighbor(c->index(dt.infinite_vertex())));
+    std::sort(hull.begin(), hull.end());
+  }
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    const CellInfo& info = c->info();
+    const bool carved_somewhere = info.IsSealed() ? (info.sealed & 0x0F) != 0 : info.carved;
+    if (!carved_somewhere && !std::binary_search(hull.begin(), hull.end(), CellHandle(c))) continue;
     for (int i = 0; i < 4; ++i) {
       if (!TakenFrom(dt, c, i)) continue;
       SurfaceFacet f = OrientedSurfaceFacet(c, i);

@@ -74,7 +74,7 @@ class FakeSimplify : public SimplifyStage {
   std::int64_t last_frame_ = -1;
 };
 
-// One triangle per frame; optionally slow.
+// One more live triangle per frame, one finalised triangle at the end; optionally slow.
 class FakeMap : public MapStage {
  public:
   explicit FakeMap(std::chrono::milliseconds delay = 0ms, bool finish_throws = false)
@@ -82,26 +82,34 @@ class FakeMap : public MapStage {
   MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override {
     std::this_thread::sleep_for(delay_);
     MapUpdate u;
-    u.delta.frame_id = cloud.camera_frame_ids.at(0);
-    u.delta.added_triangle_ids = {next_id_++};
-    u.delta.added_triangles = {{1, 2, 3}};
+    u.frame_id = cloud.camera_frame_ids.at(0);
+    AddTriangle(&live_);
+    u.mesh = MeshSnapshot{live_, {}};
     u.vertices = static_cast<std::int64_t>(cloud.size());
-    u.mesh_triangles = static_cast<std::int64_t>(next_id_);
     return u;
   }
   MapUpdate Finish() override {
     if (finish_throws_) throw std::runtime_error("final mesh extraction failed");
     MapUpdate u;
-    u.delta.added_triangle_ids = {next_id_++};
-    u.delta.added_triangles = {{4, 5, 6}};
-    u.mesh_triangles = static_cast<std::int64_t>(next_id_);
+    u.mesh = MeshSnapshot{live_, {}};
+    AddTriangle(&u.mesh->finalised);
     return u;
   }
 
  private:
+  // A triangle of three new vertices.
+  void AddTriangle(IdentifiedMesh* m) {
+    const auto first = static_cast<std::uint32_t>(m->mesh.vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      m->mesh.vertices.push_back(Eigen::Vector3d(double(next_vertex_), double(k), 0.0));
+      m->vertex_ids.push_back(next_vertex_++);
+    }
+    m->mesh.triangles.push_back({first, first + 1, first + 2});
+  }
   std::chrono::milliseconds delay_;
   bool finish_throws_ = false;
-  TriangleId next_id_ = 0;
+  IdentifiedMesh live_;
+  VertexId next_vertex_ = 0;
 };
 
 class RecordingSink : public PipelineSink {
@@ -157,7 +165,7 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   for (int i = 0; i < 40; ++i) EXPECT_EQ(sink.frames[i], i);
   EXPECT_EQ(sink.finishes, 1);
   EXPECT_EQ(sink.triangles, 41u);  // one per frame + the final flush
-  EXPECT_EQ(summary.final_stats.mesh_triangles, 41);  // as the map reported it with its final delta
+  EXPECT_EQ(summary.final_stats.mesh_triangles, 41);  // as published, the final delta included
   EXPECT_EQ(summary.final_stats.frames_processed, 40);
   EXPECT_EQ(summary.final_stats.frames_dropped, 0);
   EXPECT_EQ(summary.frames_read, 40);
@@ -254,7 +262,7 @@ TEST(Pipeline, AFailingFinishKeepsTheLastFramesTotals) {
   ASSERT_EQ(sink.errors.size(), 1u);
   EXPECT_NE(sink.errors[0].second.find("final mesh extraction failed"), std::string::npos);
   EXPECT_EQ(summary.final_stats.frames_processed, 5);
-  EXPECT_EQ(summary.final_stats.mesh_triangles, 5);  // the fake map's count after its fifth frame
+  EXPECT_EQ(summary.final_stats.mesh_triangles, 5);  // published by the fifth frame
   EXPECT_GT(summary.final_stats.map_vertices, 0);
 }
 
