@@ -1,11 +1,14 @@
 #include "engine/pipeline/pipeline.h"
 
 #include <pthread.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <sched.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +16,11 @@
 #include <map>
 #include <mutex>
 #include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 #include "engine/core/check.h"
 #include "engine/pipeline/bounded_queue.h"
@@ -42,6 +50,7 @@ void PipelineOptions::Check() const {
   SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers, "must be in [1, 64]");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
   SEMAP_CHECK_OPTION(mesh_every_frames >= 1, "mesh_every_frames", mesh_every_frames, "must be >= 1");
+  SEMAP_CHECK_OPTION(feeder_nice >= 0 && feeder_nice <= 19, "feeder_nice", feeder_nice, "must be in [0, 19]");
   SEMAP_CHECK_OPTION(max_speed_mps >= 0.0 && std::isfinite(max_speed_mps), "max_speed_mps", max_speed_mps,
                      "must be >= 0 (0 = no check)");
   cpu_set_t available;
@@ -160,6 +169,36 @@ void PinCurrentThread(const std::vector<int>& cpus) {
   pthread_setaffinity_np(pthread_self(), sizeof(set), &set);  // best effort: unknown CPUs are ignored
 }
 
+// Names the calling pipeline thread (as `top -H` and gdb show it; at most 15 characters), pins it, and makes
+// it `nicer` steps nicer than it is (best effort: a nice value is per thread on Linux).
+void SetUpThread(const char* name, const std::vector<int>& cpus, int nicer = 0) {
+  pthread_setname_np(pthread_self(), name);
+  PinCurrentThread(cpus);
+  if (nicer > 0) {
+    const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+    errno = 0;
+    const int nice = getpriority(PRIO_PROCESS, tid);
+    if (errno == 0) setpriority(PRIO_PROCESS, tid, nice + nicer);
+  }
+}
+
+// Starts TBB's worker threads from the calling thread. A thread takes its nice value (and CPU affinity) from
+// the thread that starts it, and TBB starts its workers on first demand: started by a niced feeder (OpenCV's
+// SGBM runs on TBB), they would run the map's parallel votes at the feeders' priority. Each of
+// max_concurrency() tasks waits (up to a bound) for all to have started, so that each runs on its own thread.
+void StartTbbWorkers() {
+  const int threads = tbb::this_task_arena::max_concurrency();
+  constexpr auto kMaxWait = std::chrono::milliseconds(200);
+  const auto deadline = Clock::now() + kMaxWait;
+  std::atomic<int> started{0};
+  tbb::parallel_for(tbb::blocked_range<int>(0, threads, 1),
+                    [&](const tbb::blocked_range<int>&) {
+                      ++started;
+                      while (started.load() < threads && Clock::now() < deadline) std::this_thread::yield();
+                    },
+                    tbb::simple_partitioner());
+}
+
 }  // namespace
 
 struct Pipeline::Impl {
@@ -213,8 +252,9 @@ struct Pipeline::Impl {
   }
 
   void ReadLoop() {
-    PinCurrentThread(p.options_.cpu_affinity);
+    // In realtime mode the reader is the sensor's clock: it keeps the map's priority.
     const bool realtime = p.options_.mode == PipelineOptions::Mode::kRealtime;
+    SetUpThread("semap-read", p.options_.cpu_affinity, realtime ? 0 : p.options_.feeder_nice);
     std::int64_t seq = 0;
     std::int64_t last_id = -1;
     int consecutive_failures = 0;
@@ -315,7 +355,7 @@ struct Pipeline::Impl {
   // Segments the queued keyframes in order; every job's promise is kept (a value or the error), so no depth
   // worker waits for ever. Stops at the end marker, after every queued keyframe (frames in flight need them).
   void SegmentLoop() {
-    PinCurrentThread(p.options_.cpu_affinity);
+    SetUpThread("semap-segment", p.options_.cpu_affinity, p.options_.feeder_nice);
     while (auto job = to_segment.Pop()) {
       const auto t0 = Clock::now();
       try {
@@ -332,7 +372,7 @@ struct Pipeline::Impl {
   }
 
   void DepthLoop(DepthStage* stage) {
-    PinCurrentThread(p.options_.cpu_affinity);
+    SetUpThread("semap-depth", p.options_.cpu_affinity, p.options_.feeder_nice);
     while (auto item = to_depth.Pop()) {
       if (!item->failed()) {
         const auto t0 = Clock::now();
@@ -364,7 +404,7 @@ struct Pipeline::Impl {
 
   // Restores frame order after the parallel depth workers, then simplifies.
   void SimplifyLoop() {
-    PinCurrentThread(p.options_.cpu_affinity);
+    SetUpThread("semap-simplify", p.options_.cpu_affinity, p.options_.feeder_nice);
     std::map<std::int64_t, Item> pending;
     std::int64_t next_seq = 0;
     int ends = 0;
@@ -396,7 +436,7 @@ struct Pipeline::Impl {
   }
 
   void MapLoop() {
-    PinCurrentThread(p.options_.cpu_affinity);
+    SetUpThread("semap-map", p.options_.cpu_affinity);
     while (auto item = to_map.Pop()) {
       if (!item->failed()) {
         const auto t0 = Clock::now();
@@ -549,6 +589,8 @@ PipelineSummary Pipeline::Run() {
   PipelineSummary summary;
   std::vector<std::unique_ptr<DepthStage>> depth_stages;
   for (int w = 0; w < options_.depth_workers; ++w) depth_stages.push_back(depth_factory_());
+  PinCurrentThread(options_.cpu_affinity);
+  if (options_.feeder_nice > 0) StartTbbWorkers();
   impl.start = Clock::now();
   std::vector<std::thread> threads;
   threads.emplace_back([&] { impl.ReadLoop(); });
@@ -556,7 +598,6 @@ PipelineSummary Pipeline::Run() {
   for (auto& stage : depth_stages) threads.emplace_back([&impl, s = stage.get()] { impl.DepthLoop(s); });
   threads.emplace_back([&] { impl.SimplifyLoop(); });
   threads.emplace_back([&] { impl.MapLoop(); });
-  PinCurrentThread(options_.cpu_affinity);
   impl.OutputLoop(&summary);
   for (auto& t : threads) t.join();
   summary.frames_read = impl.frames_read.load();

@@ -27,6 +27,7 @@ struct PipelineOptions {
   OnError on_error = OnError::kSkipFrame;
   double max_speed_mps = 100.0;
   std::vector<int> cpu_affinity;
+  int feeder_nice = 10;
   int mesh_every_frames = 5;
 
   // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
@@ -49,6 +50,14 @@ struct PipelineOptions {
             "skip (and count) a frame whose camera moved faster than this since the last accepted frame, m/s "
             "(a GPS/OXTS pose jump); 0 = no check");
     v.Field("cpu_affinity", &cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+    // The map thread is the critical path (its serial steps cannot use a second core, its parallel votes
+    // can): on a saturated machine the scheduler should give it the CPU first. Nice 10 weighs a thread about
+    // a tenth of one at 0 under Linux's scheduler; the bounded queues keep the feeders ahead, on the CPU the
+    // map leaves. 200 urban frames, PS, 2 cores: 5.05 / 4.81 → 5.33 / 5.58 f/s (bench/RESULTS.md, session 14).
+    v.Field("feeder_nice", &feeder_nice,
+            "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
+            "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
+            "first; 0 = all alike");
     // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
     // half-resolution SGBM: 98 of 305 ms per frame; bench/RESULTS.md, "Mesh cadence"), while a viewer or a
     // logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.

@@ -1,6 +1,7 @@
 #include "engine/pipeline/pipeline.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <limits>
 #include <map>
@@ -8,7 +9,15 @@
 #include <set>
 #include <thread>
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 #include "engine/core/check.h"
 
@@ -153,6 +162,86 @@ PipelineSummary RunAndStopAfter(Pipeline& pipeline, std::chrono::milliseconds de
   PipelineSummary summary = pipeline.Run();
   stopper.join();
   return summary;
+}
+
+// The calling thread's nice value.
+int ThreadNice() { return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))); }
+
+// The nice values of the threads that run a TBB loop of max_concurrency() tasks, each waiting (up to a bound)
+// until every thread has joined, so that every worker takes part.
+std::set<int> NicesOfTbbThreads() {
+  const int threads = tbb::this_task_arena::max_concurrency();
+  const auto deadline = std::chrono::steady_clock::now() + 500ms;
+  std::atomic<int> joined{0};
+  std::mutex mutex;
+  std::set<int> nices;
+  std::set<std::thread::id> ids;
+  tbb::parallel_for(tbb::blocked_range<int>(0, threads, 1),
+                    [&](const tbb::blocked_range<int>&) {
+                      ++joined;
+                      while (joined.load() < threads && std::chrono::steady_clock::now() < deadline) {
+                        std::this_thread::yield();
+                      }
+                      std::lock_guard<std::mutex> lock(mutex);
+                      nices.insert(ThreadNice());
+                      ids.insert(std::this_thread::get_id());
+                    },
+                    tbb::simple_partitioner());
+  EXPECT_EQ(ids.size(), static_cast<std::size_t>(threads)) << "every TBB thread took part";
+  return nices;
+}
+
+// A depth stage that records its thread's nice value and, as OpenCV's SGBM does, runs a TBB loop (from a
+// niced thread: the first TBB use of the process when this test runs first).
+class NiceRecordingDepth : public FakeDepth {
+ public:
+  explicit NiceRecordingDepth(std::atomic<int>* nice) : nice_(nice) {}
+  LabelledCloud Process(const Frame& frame, const KeyframeLabels* labels) override {
+    nice_->store(ThreadNice());
+    NicesOfTbbThreads();
+    return FakeDepth::Process(frame, labels);
+  }
+
+ private:
+  std::atomic<int>* nice_;
+};
+
+// A map stage that records its thread's nice value and those of the threads running its parallel loops.
+class NiceRecordingMap : public FakeMap {
+ public:
+  NiceRecordingMap(int* nice, std::set<int>* loop_nices) : nice_(nice), loop_nices_(loop_nices) {}
+  MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override {
+    *nice_ = ThreadNice();
+    const std::set<int> nices = NicesOfTbbThreads();
+    loop_nices_->insert(nices.begin(), nices.end());
+    return FakeMap::Process(cloud, world_from_cam);
+  }
+
+ private:
+  int* nice_;
+  std::set<int>* loop_nices_;
+};
+
+// First in this file (see NiceRecordingDepth). The feeders run pipeline.feeder_nice steps nicer than the map,
+// and the map's parallel loops run at the map's own priority on every thread, although a niced feeder used
+// TBB first: the pipeline starts TBB's workers before its threads.
+TEST(Pipeline, FeedersRunNicerThanTheMapAndItsParallelLoops) {
+  PipelineOptions options;
+  options.feeder_nice = 5;
+  std::atomic<int> depth_nice{-100};
+  int map_nice = -100;
+  std::set<int> loop_nices;
+  RecordingSink sink;
+  Pipeline pipeline(
+      options, std::make_unique<FakeReader>(6), [&] { return std::make_unique<NiceRecordingDepth>(&depth_nice); },
+      std::make_unique<FakeSimplify>(), std::make_unique<NiceRecordingMap>(&map_nice, &loop_nices));
+  pipeline.AddSink(&sink);
+  pipeline.Run();
+  ASSERT_EQ(sink.frames.size(), 6u);
+  const int caller = ThreadNice();
+  EXPECT_EQ(map_nice, caller);
+  EXPECT_EQ(depth_nice.load(), std::min(caller + options.feeder_nice, 19));
+  EXPECT_EQ(loop_nices, std::set<int>{caller});
 }
 
 TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
