@@ -428,9 +428,17 @@ TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
               << " mf " << table[0][1][1] << " mm " << table[0][0][1] << "; outside: ff " << table[1][1][0]
               << " fm " << table[1][0][0] << " mf " << table[0][1][0] << " mm " << table[0][0][0] << "), depth cells without votes " << unvoted << "\n";
     EXPECT_GT(both, 3000);
-    // Measured 95.3 % (the goal is 97 %): the depth map votes free some cells just in front of the
-    // walls and ground that the rays leave matter, where the rays' matter extension reaches.
+    // Measured 95.8 % (the goal is 97 %). Most of the disagreement is where the reference is wrong:
+    // cells in the street's air (truly free) that the depth map votes free and the rays leave matter (their
+    // matter extension behind the points, their smaller cells along the walls and the ground).
     EXPECT_GT(double(agree) / both, 0.93);
+    // So each map is also held against the scene itself: free in the street's air, not free behind its
+    // surfaces. Measured: depth votes 96.1 %, ray votes 95.2 % of the samples.
+    const int depth_right = table[1][1][1] + table[1][0][1] + table[0][0][0] + table[0][1][0];
+    const int rays_right = table[1][1][1] + table[0][1][1] + table[0][0][0] + table[1][0][0];
+    std::cout << "free where the street is open, matter behind its surfaces: depth votes "
+              << 100.0 * depth_right / both << " %, ray votes " << 100.0 * rays_right / both << " %\n";
+    EXPECT_GE(depth_right, rays_right) << "the depth votes are at least as true to the scene as the ray votes";
   }
   EXPECT_LT(double(inserted), 0.5 * double(points)) << "re-observed points should merge";
   EXPECT_GT(depth_mesh.num_triangles(), 1000u);
