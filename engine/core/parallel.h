@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include <cstddef>
 
@@ -55,6 +56,24 @@ void ParallelFor(Index begin, Index end, std::size_t grain, const Body& body) {
     body(r.begin(), r.end());
     core_internal::Release(&join);
   });
+  core_internal::Acquire(&join);
+}
+
+// Calls body(i) for each i in [begin, end), every index a task of its own (TBB's simple partitioner, grain
+// 1), with ParallelFor's guarantees: for loops whose bodies must not be batched onto one thread (e.g. one
+// per thread, each waiting for the others). Thread-safe.
+template <typename Index, typename Body>
+void ParallelForEachIndex(Index begin, Index end, const Body& body) {
+  char fork = 0, join = 0;
+  core_internal::Release(&fork);
+  tbb::parallel_for(
+      tbb::blocked_range<Index>(begin, end, 1),
+      [&](const tbb::blocked_range<Index>& r) {
+        core_internal::Acquire(&fork);
+        for (Index i = r.begin(); i != r.end(); ++i) body(i);
+        core_internal::Release(&join);
+      },
+      tbb::simple_partitioner());
   core_internal::Acquire(&join);
 }
 

@@ -17,12 +17,10 @@
 #include <mutex>
 #include <thread>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include "engine/core/check.h"
+#include "engine/core/parallel.h"
 #include "engine/pipeline/bounded_queue.h"
 #include "engine/pipeline/timing_stats.h"
 
@@ -191,12 +189,10 @@ void StartTbbWorkers() {
   constexpr auto kMaxWait = std::chrono::milliseconds(200);
   const auto deadline = Clock::now() + kMaxWait;
   std::atomic<int> started{0};
-  tbb::parallel_for(tbb::blocked_range<int>(0, threads, 1),
-                    [&](const tbb::blocked_range<int>&) {
-                      ++started;
-                      while (started.load() < threads && Clock::now() < deadline) std::this_thread::yield();
-                    },
-                    tbb::simple_partitioner());
+  ParallelForEachIndex(0, threads, [&](int) {
+    ++started;
+    while (started.load() < threads && Clock::now() < deadline) std::this_thread::yield();
+  });
 }
 
 }  // namespace

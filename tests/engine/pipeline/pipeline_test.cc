@@ -14,12 +14,10 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include "engine/core/check.h"
+#include "engine/core/parallel.h"
 
 namespace semap {
 namespace {
@@ -176,17 +174,13 @@ std::set<int> NicesOfTbbThreads() {
   std::mutex mutex;
   std::set<int> nices;
   std::set<std::thread::id> ids;
-  tbb::parallel_for(tbb::blocked_range<int>(0, threads, 1),
-                    [&](const tbb::blocked_range<int>&) {
-                      ++joined;
-                      while (joined.load() < threads && std::chrono::steady_clock::now() < deadline) {
-                        std::this_thread::yield();
-                      }
-                      std::lock_guard<std::mutex> lock(mutex);
-                      nices.insert(ThreadNice());
-                      ids.insert(std::this_thread::get_id());
-                    },
-                    tbb::simple_partitioner());
+  ParallelForEachIndex(0, threads, [&](int) {
+    ++joined;
+    while (joined.load() < threads && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    std::lock_guard<std::mutex> lock(mutex);
+    nices.insert(ThreadNice());
+    ids.insert(std::this_thread::get_id());
+  });
   EXPECT_EQ(ids.size(), static_cast<std::size_t>(threads)) << "every TBB thread took part";
   return nices;
 }
