@@ -11,8 +11,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstddef>
+#include <thread>
 
 #if defined(__SANITIZE_THREAD__)
 #define SEMAP_TSAN_ANNOTATIONS 1
@@ -59,22 +63,33 @@ void ParallelFor(Index begin, Index end, std::size_t grain, const Body& body) {
   core_internal::Acquire(&join);
 }
 
-// Calls body(i) for each i in [begin, end), every index a task of its own (TBB's simple partitioner, grain
-// 1), with ParallelFor's guarantees: for loops whose bodies must not be batched onto one thread (e.g. one
-// per thread, each waiting for the others). Thread-safe.
-template <typename Index, typename Body>
-void ParallelForEachIndex(Index begin, Index end, const Body& body) {
+// Calls body() on each of TBB's max_concurrency() threads, the caller's included, starting the workers that
+// are not running yet: each of max_concurrency() tasks (TBB's simple partitioner: one task per index) waits
+// until all have started, for at most `max_wait`, then calls body(). Returns true when every task saw all
+// started within the wait: then no thread ran two, and body() ran once on each thread. ParallelFor's
+// guarantees otherwise. Thread-safe.
+template <typename Body>
+bool OnEveryThread(std::chrono::milliseconds max_wait, const Body& body) {
+  const int threads = tbb::this_task_arena::max_concurrency();
+  const auto deadline = std::chrono::steady_clock::now() + max_wait;
+  std::atomic<int> started{0}, saw_all{0};
   char fork = 0, join = 0;
   core_internal::Release(&fork);
   tbb::parallel_for(
-      tbb::blocked_range<Index>(begin, end, 1),
-      [&](const tbb::blocked_range<Index>& r) {
+      tbb::blocked_range<int>(0, threads, 1),
+      [&](const tbb::blocked_range<int>& r) {
         core_internal::Acquire(&fork);
-        for (Index i = r.begin(); i != r.end(); ++i) body(i);
+        for (int i = r.begin(); i != r.end(); ++i) {
+          ++started;
+          while (started.load() < threads && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+          if (started.load() == threads) ++saw_all;
+          body();
+        }
         core_internal::Release(&join);
       },
       tbb::simple_partitioner());
   core_internal::Acquire(&join);
+  return saw_all.load() == threads;
 }
 
 }  // namespace semap

@@ -17,8 +17,6 @@
 #include <mutex>
 #include <thread>
 
-#include <tbb/task_arena.h>
-
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
 #include "engine/pipeline/bounded_queue.h"
@@ -182,17 +180,11 @@ void SetUpThread(const char* name, const std::vector<int>& cpus, int nicer = 0) 
 
 // Starts TBB's worker threads from the calling thread. A thread takes its nice value (and CPU affinity) from
 // the thread that starts it, and TBB starts its workers on first demand: started by a niced feeder (OpenCV's
-// SGBM runs on TBB), they would run the map's parallel votes at the feeders' priority. Each of
-// max_concurrency() tasks waits (up to a bound) for all to have started, so that each runs on its own thread.
+// SGBM runs on TBB), they would run the map's parallel votes at the feeders' priority. Best effort: a worker
+// that does not start within the wait starts later, from whichever thread needs it.
 void StartTbbWorkers() {
-  const int threads = tbb::this_task_arena::max_concurrency();
   constexpr auto kMaxWait = std::chrono::milliseconds(200);
-  const auto deadline = Clock::now() + kMaxWait;
-  std::atomic<int> started{0};
-  ParallelForEachIndex(0, threads, [&](int) {
-    ++started;
-    while (started.load() < threads && Clock::now() < deadline) std::this_thread::yield();
-  });
+  OnEveryThread(kMaxWait, [] {});
 }
 
 }  // namespace
@@ -480,15 +472,10 @@ struct Pipeline::Impl {
     std::map<std::string, TimingStats> step_timing;  // "map.<step>"
     FrameStats stats;
     // The map's surface snapshots become the deltas the sinks receive here, not on the map's thread.
-    MeshDiffer differ;
+    MeshPublisher publisher;
     auto publish = [&](const MapUpdate& update) {
-      MeshDelta delta;
-      delta.frame_id = update.frame_id;
-      if (update.mesh) {
-        delta = differ.Update(update.frame_id, update.mesh->live, update.mesh->finalised);
-        stats.mesh_triangles += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
-                                static_cast<std::int64_t>(delta.removed_triangle_ids.size());
-      }
+      MeshDelta delta = publisher.Publish(update);
+      stats.mesh_triangles = publisher.published_triangles();
       return delta;
     };
     // The run's totals as of now: frame rate, the map's sizes (from `update`; kept as they were without one),

@@ -53,7 +53,7 @@ struct PipelineOptions {
     // The map thread is the critical path (its serial steps cannot use a second core, its parallel votes
     // can): on a saturated machine the scheduler should give it the CPU first. Nice 10 weighs a thread about
     // a tenth of one at 0 under Linux's scheduler; the bounded queues keep the feeders ahead, on the CPU the
-    // map leaves. 200 urban frames, PS, 2 cores: 5.05 / 4.81 → 5.33 / 5.58 f/s (bench/RESULTS.md, session 14).
+    // map leaves. 200 urban frames, PS, 2 cores: 5.02 / 4.79 → 5.54 / 5.01 f/s (bench/RESULTS.md, session 14).
     v.Field("feeder_nice", &feeder_nice,
             "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
             "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "

@@ -60,8 +60,7 @@ struct StepTime {
   double ms = 0.0;
 };
 
-// The map's surface as its stage extracted it. The pipeline turns each snapshot into the delta the sinks
-// receive (MeshDiffer) on its output thread, off the map's critical path.
+// The map's surface as its stage extracted it; MeshPublisher turns it into a delta.
 struct MeshSnapshot {
   IdentifiedMesh live;       // the whole live surface
   IdentifiedMesh finalised;  // the regions finalised since the last snapshot: published once, never removed
@@ -76,6 +75,28 @@ struct MapUpdate {
   std::int64_t rays = 0;
   // Where the map stage's time went, the same steps in the same order every frame.
   std::vector<StepTime> steps;
+};
+
+// Turns a map stage's updates into the deltas its subscribers receive (the pipeline's output thread does, off
+// the map's critical path), counting the triangles published so far. Not thread-safe.
+class MeshPublisher {
+ public:
+  // The delta that publishes `update`: its snapshot diffed against what went out before, or an empty delta
+  // of its frame when it has none.
+  MeshDelta Publish(const MapUpdate& update) {
+    MeshDelta delta;
+    delta.frame_id = update.frame_id;
+    if (!update.mesh) return delta;
+    delta = differ_.Update(update.frame_id, update.mesh->live, update.mesh->finalised);
+    published_triangles_ += static_cast<std::int64_t>(delta.added_triangle_ids.size()) -
+                            static_cast<std::int64_t>(delta.removed_triangle_ids.size());
+    return delta;
+  }
+  std::int64_t published_triangles() const { return published_triangles_; }
+
+ private:
+  MeshDiffer differ_;  // live surface + finalised regions → deltas with stable triangle ids
+  std::int64_t published_triangles_ = 0;
 };
 
 // The incremental map: called once per frame, in frame order, from one thread.

@@ -251,7 +251,7 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
     // the convex hull, or big sealed cells, would keep the map from growing (a drive's new ground lies
     // outside the hull).
     const auto blocks = [&](CellHandle cc) {
-      return IsPinned(cc) && (cc->info().carved || (cc->info().sealed & ~CellInfo::kSealed) != 0);
+      return IsPinned(cc) && cc->info().CarvedAcrossAny();
     };
     if (std::any_of(conflict_scratch_.begin(), conflict_scratch_.end(), blocks)) {
       (*conflicts_pinned)[k] = 1;

@@ -59,9 +59,7 @@ void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<Surfac
     std::sort(hull.begin(), hull.end());
   }
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
-    const CellInfo& info = c->info();
-    const bool carved_somewhere = info.IsSealed() ? (info.sealed & 0x0F) != 0 : info.carved;
-    if (!carved_somewhere && !std::binary_search(hull.begin(), hull.end(), CellHandle(c))) continue;
+    if (!c->info().CarvedAcrossAny() && !std::binary_search(hull.begin(), hull.end(), CellHandle(c))) continue;
     for (int i = 0; i < 4; ++i) {
       if (!TakenFrom(dt, c, i)) continue;
       SurfaceFacet f = OrientedSurfaceFacet(c, i);

@@ -68,6 +68,8 @@ struct CellInfo {
   bool IsSealed() const { return sealed != 0; }
   // Whether the cell counts as carved seen across its facet opposite vertex `i`.
   bool CarvedAcross(int i) const { return IsSealed() ? ((sealed >> i) & 1) != 0 : carved; }
+  // Whether the cell counts as carved across at least one of its facets.
+  bool CarvedAcrossAny() const { return IsSealed() ? (sealed & ~kSealed) != 0 : carved; }
 
   static constexpr std::uint8_t kSealed = 0x10;
 };

@@ -165,23 +165,18 @@ PipelineSummary RunAndStopAfter(Pipeline& pipeline, std::chrono::milliseconds de
 // The calling thread's nice value.
 int ThreadNice() { return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))); }
 
-// The nice values of the threads that run a TBB loop of max_concurrency() tasks, each waiting (up to a bound)
-// until every thread has joined, so that every worker takes part.
+// The nice values of TBB's threads, every worker taking part.
 std::set<int> NicesOfTbbThreads() {
-  const int threads = tbb::this_task_arena::max_concurrency();
-  const auto deadline = std::chrono::steady_clock::now() + 500ms;
-  std::atomic<int> joined{0};
   std::mutex mutex;
   std::set<int> nices;
   std::set<std::thread::id> ids;
-  ParallelForEachIndex(0, threads, [&](int) {
-    ++joined;
-    while (joined.load() < threads && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+  const bool each_once = OnEveryThread(500ms, [&] {
     std::lock_guard<std::mutex> lock(mutex);
     nices.insert(ThreadNice());
     ids.insert(std::this_thread::get_id());
   });
-  EXPECT_EQ(ids.size(), static_cast<std::size_t>(threads)) << "every TBB thread took part";
+  EXPECT_TRUE(each_once);
+  EXPECT_EQ(ids.size(), static_cast<std::size_t>(tbb::this_task_arena::max_concurrency())) << "every TBB thread took part";
   return nices;
 }
 

@@ -117,14 +117,6 @@ TEST(SegmenterStage, LoadsTheModelAtConstruction) {
                std::runtime_error);
 }
 
-// The delta a stage's update publishes, diffed as the pipeline's output thread does.
-MeshDelta Publish(MeshDiffer* differ, const MapUpdate& u) {
-  MeshDelta delta;
-  delta.frame_id = u.frame_id;
-  if (u.mesh) delta = differ->Update(u.frame_id, u.mesh->live, u.mesh->finalised);
-  return delta;
-}
-
 // The map stage at a mesh cadence: 13 frames of the analytic street with finalisation, meshed every frame
 // and every 4 frames. Snapshots, hence deltas, come only on every 4th frame and at the end, and the mesh a
 // subscriber rebuilds from them at the end is the same, triangle for triangle.
@@ -135,7 +127,7 @@ TEST(IncrementalMapStage, MeshEveryNFramesPublishesLessOftenAndEndsWithTheSameMe
   options.finalise_every_frames = 3;
   options.disparity_sigma_px = 0.0;  // exact depth
   IncrementalMapStage every_frame(options, 1), every_fourth(options, 4);
-  MeshDiffer differ_1, differ_4;
+  MeshPublisher publisher_1, publisher_4;  // as the pipeline's output thread publishes
   MeshAccumulator mesh_1, mesh_4;
   std::vector<std::int64_t> frames_with_change;
   std::size_t finalised_4 = 0;
@@ -148,7 +140,7 @@ TEST(IncrementalMapStage, MeshEveryNFramesPublishesLessOftenAndEndsWithTheSameMe
     EXPECT_TRUE(u1.mesh.has_value()) << "frame " << f;
     EXPECT_EQ(u4.mesh.has_value(), f % 4 == 3) << "frame " << f;
     EXPECT_EQ(u4.frame_id, f);
-    const MeshDelta d1 = Publish(&differ_1, u1), d4 = Publish(&differ_4, u4);
+    const MeshDelta d1 = publisher_1.Publish(u1), d4 = publisher_4.Publish(u4);
     EXPECT_FALSE(d1.empty()) << "frame " << f;
     EXPECT_EQ(d4.frame_id, f);
     EXPECT_EQ(u1.vertices, u4.vertices) << "frame " << f << ": the map itself does not depend on the cadence";
@@ -160,8 +152,9 @@ TEST(IncrementalMapStage, MeshEveryNFramesPublishesLessOftenAndEndsWithTheSameMe
   }
   EXPECT_GT(finalised_4, 0u) << "the drive finalises regions between mesh frames";
   EXPECT_EQ(frames_with_change, (std::vector<std::int64_t>{3, 7, 11}));
-  mesh_1.Apply(Publish(&differ_1, every_frame.Finish()));
-  mesh_4.Apply(Publish(&differ_4, every_fourth.Finish()));
+  mesh_1.Apply(publisher_1.Publish(every_frame.Finish()));
+  mesh_4.Apply(publisher_4.Publish(every_fourth.Finish()));
+  EXPECT_EQ(publisher_1.published_triangles(), publisher_4.published_triangles());
   EXPECT_EQ(mesh_1.num_triangles(), mesh_4.num_triangles());
   const Mesh a = mesh_1.ToMesh(), b = mesh_4.ToMesh();
   ASSERT_GT(a.num_triangles(), 100u);
