@@ -1,4 +1,5 @@
 // The incremental map's update with visibility votes from depth maps (map.visibility: depth).
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -416,17 +417,120 @@ bool TouchesFrozen(CellHandle c, int k) {
   return false;
 }
 
+constexpr std::size_t kGrainCells = 4096;
+// The created cells are voted in blocks of this many spatial neighbours, one view after the other.
+constexpr std::size_t kGrainCreatedCells = 256;
+// Their spatial order: a Morton code of the centroid on a grid of this step, around the newest camera.
+constexpr double kMortonStepM = 0.25;
+constexpr double kMortonHalfExtentM = double(1u << 20) * kMortonStepM;
+
+// Morton code of a point quantised to `step_m` from `origin` (21 bits per axis): nearby points get nearby
+// codes, so cells sorted by it read nearby pixels of each view one after the other.
+std::uint64_t MortonCode(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, double step_m) {
+  std::uint64_t code = 0;
+  std::array<std::uint64_t, 3> q;
+  for (int a = 0; a < 3; ++a) {
+    q[a] = std::uint64_t(std::clamp((p[a] - origin[a]) / step_m, 0.0, double((1u << 21) - 1)));
+  }
+  for (int bit = 20; bit >= 0; --bit) {
+    for (int a = 0; a < 3; ++a) code = (code << 1) | ((q[a] >> bit) & 1u);
+  }
+  return code;
+}
+
 }  // namespace
+
+void IncrementalState::VoteCreatedCells() {
+  // The cells an insertion created (~15 k a frame) are voted from every view of the window: 8 depth maps of
+  // up to 1.8 MB each, more than the caches hold. In cell order each cell read 8 maps at random places and
+  // most reads missed the cache; here the cells are sorted in space and, in blocks of neighbours, voted one
+  // view at a time, so that consecutive reads fall on the same lines (200 urban frames, PS, half
+  // resolution: map.votes 82–96 → 70–76 ms a frame, measured interleaved; bench/RESULTS.md, session 15).
+  // The sums are integers: the votes do not depend on the order, and the mesh is the same byte for byte.
+  const std::vector<CellHandle>& cells = vote_scratch_.cells;
+  std::vector<std::uint32_t>& created = vote_scratch_.created;
+  if (created.empty()) return;
+  std::vector<VoteScratch::Created>& order = vote_scratch_.created_cells;
+  order.resize(created.size());
+  const Eigen::Vector3d origin = views_.back().view->world_from_cam.translation() -
+                                 Eigen::Vector3d::Constant(kMortonHalfExtentM);
+  ParallelFor(std::size_t(0), created.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
+    for (std::size_t j = first; j != last; ++j) {
+      VoteScratch::Created& o = order[j];
+      const CellHandle c = cells[created[j]];
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 4; ++k) {
+        o.vertices[k] = ToEigen(c->vertex(k)->point());
+        centroid += o.vertices[k];
+      }
+      o.index = created[j];
+      o.key = MortonCode(0.25 * centroid, origin, kMortonStepM);
+    }
+  });
+  std::sort(order.begin(), order.end(), [](const VoteScratch::Created& a, const VoteScratch::Created& b) {
+    return a.key != b.key ? a.key < b.key : a.index < b.index;
+  });
+  std::vector<VoteIncrement>& votes = vote_scratch_.votes;
+  std::vector<std::uint8_t>& seen = vote_scratch_.seen;
+  const bool track_seen = Emit().drop_unseen;
+  ParallelFor(std::size_t(0), order.size(), kGrainCreatedCells, [&](std::size_t first, std::size_t last) {
+    std::array<VoteIncrement, kGrainCreatedCells> fresh_block;
+    std::array<std::uint8_t, kGrainCreatedCells> candidates_block;
+    for (std::size_t begin = first; begin < last; begin += kGrainCreatedCells) {
+      const std::size_t end = std::min(last, begin + kGrainCreatedCells);
+      VoteIncrement* fresh = fresh_block.data() - begin;
+      std::uint8_t* candidates = candidates_block.data() - begin;
+      for (std::size_t j = begin; j != end; ++j) fresh[j] = {};
+      for (const VotingView& view : views_) {
+        for (std::size_t j = begin; j != end; ++j) {
+          const VoteIncrement v = VoteCell(order[j].vertices, view, depth_geometry_);
+          fresh[j].free_q += v.free_q;
+          fresh[j].matter_q += v.matter_q;
+        }
+      }
+      for (std::size_t j = begin; j != end; ++j) {
+        // Seen by the window: its own votes replace the inherited ones (the increment cancels them). Adding
+        // them instead let the history of a big parent cell outweigh what the views see of its children
+        // (80 urban frames, PS: RMSE vs Velodyne 1.74 → 2.37 m).
+        const CellInfo& info = cells[order[j].index]->info();
+        if (fresh[j].free_q != 0 || fresh[j].matter_q != 0) {
+          votes[order[j].index] = {fresh[j].free_q - info.free_q, fresh[j].matter_q - info.matter_q};
+        }
+      }
+      if (!track_seen) continue;
+      // Every facet (the cell's carving is not known yet), newest view first: one view seeing it is enough.
+      for (std::size_t j = begin; j != end; ++j) {
+        const CellHandle c = cells[order[j].index];
+        candidates[j] = 0;
+        for (int k = 0; k < 4; ++k) {
+          if (!FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates[j] |= std::uint8_t(1u << k);
+        }
+      }
+      for (auto view = views_.rbegin(); view != views_.rend(); ++view) {
+        for (std::size_t j = begin; j != end; ++j) {
+          if (candidates[j] == 0) continue;
+          const std::uint8_t found = SeenFacets(order[j].vertices, candidates[j], *view, depth_geometry_);
+          seen[order[j].index] |= found;
+          candidates[j] &= std::uint8_t(~found);
+        }
+      }
+    }
+  });
+}
 
 std::size_t IncrementalState::VoteFromViews() {
   if (dt_.dimension() < 3 || views_.empty()) return 0;
   // The scratch vectors keep their capacity between frames: ~650 k entries each on a long drive, which
   // allocated anew (and paged in, and zeroed) every frame cost more than the serial part of the votes.
   std::vector<CellHandle>& cells = vote_scratch_.cells;
+  std::vector<std::uint32_t>& created = vote_scratch_.created;
   cells.clear();
+  created.clear();
   cells.reserve(dt_.number_of_cells());  // O(1), unlike number_of_finite_cells(), which counts
   for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
-    if (!c->info().IsSealed()) cells.push_back(c);  // a sealed cell never changes: its votes do not matter
+    if (c->info().IsSealed()) continue;  // a sealed cell never changes: its votes do not matter
+    if (c->info().created == created_mark_) created.push_back(std::uint32_t(cells.size()));
+    cells.push_back(c);
   }
   const VotingView& newest = views_.back();
   std::vector<VoteIncrement>& votes = vote_scratch_.votes;
@@ -437,50 +541,25 @@ std::size_t IncrementalState::VoteFromViews() {
   const bool track_seen = Emit().drop_unseen;
   std::vector<std::uint8_t>& seen = vote_scratch_.seen;
   seen.assign(track_seen ? cells.size() : 0, 0);
-  constexpr std::size_t kGrainCells = 4096;
+  VoteCreatedCells();
   // Reads only: the votes are applied below, once every cell's are known, so the result does not depend on
   // the threads.
   ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
     std::array<Eigen::Vector3d, 4> vertices;
     for (std::size_t i = first; i != last; ++i) {
       const CellHandle c = cells[i];
+      if (c->info().created == created_mark_) continue;  // VoteCreatedCells
       for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
-      if (c->info().created == created_mark_) {
-        VoteIncrement fresh;
-        for (const VotingView& view : views_) {
-          const VoteIncrement v = VoteCell(vertices, view, depth_geometry_);
-          fresh.free_q += v.free_q;
-          fresh.matter_q += v.matter_q;
-        }
-        // Seen by the window: its own votes replace the inherited ones (the increment cancels them). Adding
-        // them instead let the history of a big parent cell outweigh what the views see of its children
-        // (80 urban frames, PS: RMSE vs Velodyne 1.74 → 2.37 m).
-        if (fresh.free_q != 0 || fresh.matter_q != 0) {
-          votes[i] = {fresh.free_q - c->info().free_q, fresh.matter_q - c->info().matter_q};
-        }
-      } else {
-        votes[i] = VoteCell(vertices, newest, depth_geometry_);
-      }
-      if (!track_seen) continue;
-      const bool created = c->info().created == created_mark_;
+      votes[i] = VoteCell(vertices, newest, depth_geometry_);
       // An old cell the newest view does not see has no facet it could see.
-      if (!created && (!votes[i].in_view || !c->info().carved)) continue;
+      if (!track_seen || !votes[i].in_view || !c->info().carved) continue;
       std::uint8_t candidates = 0;
       for (int k = 0; k < 4; ++k) {
-        const bool surface = created || !NeighbourCarved(c, k);
-        if (surface && !FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates |= std::uint8_t(1u << k);
-      }
-      if (candidates == 0) continue;
-      if (created) {
-        // Every facet (the cell's carving is not known yet), newest view first: one view seeing it is enough.
-        for (auto view = views_.rbegin(); view != views_.rend() && candidates != 0; ++view) {
-          const std::uint8_t found = SeenFacets(vertices, candidates, *view, depth_geometry_);
-          seen[i] |= found;
-          candidates &= std::uint8_t(~found);
+        if (!NeighbourCarved(c, k) && !FacetSeen(c, k) && !TouchesFrozen(c, k)) {
+          candidates |= std::uint8_t(1u << k);
         }
-      } else {
-        seen[i] = SeenFacets(vertices, candidates, newest, depth_geometry_);
       }
+      if (candidates != 0) seen[i] = SeenFacets(vertices, candidates, newest, depth_geometry_);
     }
   });
   // The votes go into each cell's own record in parallel; which cells are touched is decided there too, and

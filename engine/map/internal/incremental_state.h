@@ -86,6 +86,8 @@ class IncrementalState {
   // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that
   // got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
   std::size_t VoteFromViews();
+  // VoteFromViews' votes (and seen facets) of the cells this update created, from every view of the window.
+  void VoteCreatedCells();
 
   // A new data point for frame point i, pending insertion (its record made, its age starting now).
   std::uint32_t NewPoint(const LabelledCloud& frame, std::uint32_t i, std::vector<PendingVertex>* pending);
@@ -208,6 +210,13 @@ class IncrementalState {
     std::vector<VoteIncrement> votes;
     std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
     std::vector<std::uint8_t> touched;  // goes to touched_
+    std::vector<std::uint32_t> created;  // indices in `cells` of the cells this update created
+    struct Created {
+      std::array<Eigen::Vector3d, 4> vertices;
+      std::uint64_t key;    // spatial order
+      std::uint32_t index;  // in `cells`
+    };
+    std::vector<Created> created_cells;  // the created cells, in spatial order
   } vote_scratch_;
 
   // Outputs.
