@@ -418,6 +418,7 @@ bool TouchesFrozen(CellHandle c, int k) {
 }
 
 constexpr std::size_t kGrainCells = 4096;
+constexpr std::size_t kPrefetchCells = 8;
 // The created cells are voted in blocks of this many spatial neighbours, one view after the other.
 constexpr std::size_t kGrainCreatedCells = 256;
 // Their spatial order: a Morton code of the centroid on a grid of this step, around the newest camera.
@@ -547,6 +548,10 @@ std::size_t IncrementalState::VoteFromViews() {
   ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
     std::array<Eigen::Vector3d, 4> vertices;
     for (std::size_t i = first; i != last; ++i) {
+      if (i + kPrefetchCells < last) {
+        const CellHandle ahead = cells[i + kPrefetchCells];
+        for (int k = 0; k < 4; ++k) __builtin_prefetch(&*ahead->vertex(k));
+      }
       const CellHandle c = cells[i];
       if (c->info().created == created_mark_) continue;  // VoteCreatedCells
       for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
