@@ -441,7 +441,7 @@ std::uint64_t MortonCode(const Eigen::Vector3d& p, const Eigen::Vector3d& origin
 
 }  // namespace
 
-void IncrementalState::VoteCreatedCells() {
+std::size_t IncrementalState::VoteCreatedCells() {
   // The cells an insertion created (~15 k a frame) are voted from every view of the window: 8 depth maps of
   // up to 1.8 MB each, more than the caches hold. In cell order each cell read 8 maps at random places and
   // most reads missed the cache; here the cells are sorted in space and, in blocks of neighbours, voted one
@@ -450,7 +450,7 @@ void IncrementalState::VoteCreatedCells() {
   // The sums are integers: the votes do not depend on the order, and the mesh is the same byte for byte.
   const std::vector<CellHandle>& cells = vote_scratch_.cells;
   std::vector<std::uint32_t>& created = vote_scratch_.created;
-  if (created.empty()) return;
+  if (created.empty()) return 0;
   std::vector<VoteScratch::Created>& order = vote_scratch_.created_cells;
   order.resize(created.size());
   const Eigen::Vector3d origin = views_.back().view->world_from_cam.translation() -
@@ -471,10 +471,12 @@ void IncrementalState::VoteCreatedCells() {
   std::sort(order.begin(), order.end(), [](const VoteScratch::Created& a, const VoteScratch::Created& b) {
     return a.key != b.key ? a.key < b.key : a.index < b.index;
   });
-  std::vector<VoteIncrement>& votes = vote_scratch_.votes;
   std::vector<std::uint8_t>& seen = vote_scratch_.seen;
+  std::vector<std::uint8_t>& touched = vote_scratch_.touched;
   const bool track_seen = Emit().drop_unseen;
+  std::atomic<std::size_t> voted{0};
   ParallelFor(std::size_t(0), order.size(), kGrainCreatedCells, [&](std::size_t first, std::size_t last) {
+    std::size_t voted_here = 0;
     std::array<VoteIncrement, kGrainCreatedCells> fresh_block;
     std::array<std::uint8_t, kGrainCreatedCells> candidates_block;
     for (std::size_t begin = first; begin < last; begin += kGrainCreatedCells) {
@@ -493,10 +495,13 @@ void IncrementalState::VoteCreatedCells() {
         // Seen by the window: its own votes replace the inherited ones (the increment cancels them). Adding
         // them instead let the history of a big parent cell outweigh what the views see of its children
         // (80 urban frames, PS: RMSE vs Velodyne 1.74 → 2.37 m).
-        const CellInfo& info = cells[order[j].index]->info();
+        CellInfo& info = cells[order[j].index]->info();
+        std::int64_t free_q = 0, matter_q = 0;
         if (fresh[j].free_q != 0 || fresh[j].matter_q != 0) {
-          votes[order[j].index] = {fresh[j].free_q - info.free_q, fresh[j].matter_q - info.matter_q};
+          free_q = fresh[j].free_q - info.free_q;
+          matter_q = fresh[j].matter_q - info.matter_q;
         }
+        voted_here += AddVotes(free_q, matter_q, &info, &touched[order[j].index]);
       }
       if (!track_seen) continue;
       // Every facet (the cell's carving is not known yet), newest view first: one view seeing it is enough.
@@ -516,7 +521,25 @@ void IncrementalState::VoteCreatedCells() {
         }
       }
     }
+    voted += voted_here;
   });
+  return voted;
+}
+
+bool IncrementalState::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info,
+                                std::uint8_t* touched) const {
+  const bool was_free = info->IsFree();
+  const bool has_vote = free_q != 0 || matter_q != 0;
+  info->free_q += free_q;
+  info->matter_q += matter_q;
+  // Changed, or free and still outside the carved region (the manifold test refused it before: retried
+  // while the view sees it, as the exact map retries the cells each new ray crosses).
+  const bool retry = info->IsFree() && !info->carved && has_vote;
+  if ((info->created == created_mark_ || was_free != info->IsFree() || retry) && info->stamp != touch_mark_) {
+    info->stamp = touch_mark_;
+    *touched = 1;
+  }
+  return has_vote;
 }
 
 std::size_t IncrementalState::VoteFromViews() {
@@ -534,18 +557,21 @@ std::size_t IncrementalState::VoteFromViews() {
     cells.push_back(c);
   }
   const VotingView& newest = views_.back();
-  std::vector<VoteIncrement>& votes = vote_scratch_.votes;
-  votes.assign(cells.size(), VoteIncrement{});
   // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
   // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
   // newest view sees that no view saw yet, in that view.
   const bool track_seen = Emit().drop_unseen;
   std::vector<std::uint8_t>& seen = vote_scratch_.seen;
   seen.assign(track_seen ? cells.size() : 0, 0);
-  VoteCreatedCells();
-  // Reads only: the votes are applied below, once every cell's are known, so the result does not depend on
-  // the threads.
+  // Each cell's votes go into its own record, by the thread that computes them: a vote reads the cell's
+  // vertices and, for the seen facets, its neighbours' carving and seen bits, never their votes, so the
+  // result does not depend on the threads. Which cells are touched is decided there too, and listed below in
+  // cell order (deterministic).
+  std::vector<std::uint8_t>& touched = vote_scratch_.touched;
+  touched.assign(cells.size(), 0);
+  std::atomic<std::size_t> voted{VoteCreatedCells()};
   ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
+    std::size_t voted_here = 0;
     std::array<Eigen::Vector3d, 4> vertices;
     for (std::size_t i = first; i != last; ++i) {
       if (i + kPrefetchCells < last) {
@@ -555,9 +581,10 @@ std::size_t IncrementalState::VoteFromViews() {
       const CellHandle c = cells[i];
       if (c->info().created == created_mark_) continue;  // VoteCreatedCells
       for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
-      votes[i] = VoteCell(vertices, newest, depth_geometry_);
+      const VoteIncrement vote = VoteCell(vertices, newest, depth_geometry_);
+      voted_here += AddVotes(vote.free_q, vote.matter_q, &c->info(), &touched[i]);
       // An old cell the newest view does not see has no facet it could see.
-      if (!track_seen || !votes[i].in_view || !c->info().carved) continue;
+      if (!track_seen || !vote.in_view || !c->info().carved) continue;
       std::uint8_t candidates = 0;
       for (int k = 0; k < 4; ++k) {
         if (!NeighbourCarved(c, k) && !FacetSeen(c, k) && !TouchesFrozen(c, k)) {
@@ -566,34 +593,9 @@ std::size_t IncrementalState::VoteFromViews() {
       }
       if (candidates != 0) seen[i] = SeenFacets(vertices, candidates, newest, depth_geometry_);
     }
-  });
-  // The votes go into each cell's own record in parallel; which cells are touched is decided there too, and
-  // listed below in cell order (deterministic). The seen bits go on both sides of a facet, so they are set in
-  // one thread.
-  std::vector<std::uint8_t>& touched = vote_scratch_.touched;
-  touched.assign(cells.size(), 0);
-  std::atomic<std::size_t> voted{0};
-  ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
-    std::size_t voted_here = 0;
-    for (std::size_t i = first; i != last; ++i) {
-      CellInfo& info = cells[i]->info();
-      const bool was_free = info.IsFree();
-      const bool has_vote = votes[i].free_q != 0 || votes[i].matter_q != 0;
-      if (has_vote) {
-        ++voted_here;
-        info.free_q += votes[i].free_q;
-        info.matter_q += votes[i].matter_q;
-      }
-      // Changed, or free and still outside the carved region (the manifold test refused it before: retried
-      // while the view sees it, as the exact map retries the cells each new ray crosses).
-      const bool retry = info.IsFree() && !info.carved && has_vote;
-      if ((info.created == created_mark_ || was_free != info.IsFree() || retry) && info.stamp != touch_mark_) {
-        info.stamp = touch_mark_;
-        touched[i] = 1;
-      }
-    }
     voted += voted_here;
   });
+  // The seen bits go on both sides of a facet, so they are set in one thread.
   newly_seen_.clear();
   for (std::size_t i = 0; i < cells.size(); ++i) {
     if (touched[i]) touched_.push_back(cells[i]);

@@ -86,8 +86,13 @@ class IncrementalState {
   // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that
   // got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
   std::size_t VoteFromViews();
-  // VoteFromViews' votes (and seen facets) of the cells this update created, from every view of the window.
-  void VoteCreatedCells();
+  // VoteFromViews' votes (and seen facets) of the cells this update created, from every view of the window;
+  // returns how many got a vote.
+  std::size_t VoteCreatedCells();
+  // Adds a vote to a cell's record and sets `touched` when the carving must look at the cell again (created
+  // this update, changed sides, or free and still outside). Returns whether the vote was not zero. Safe on
+  // distinct cells in parallel: writes the cell's votes and stamp only.
+  bool AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info, std::uint8_t* touched) const;
 
   // A new data point for frame point i, pending insertion (its record made, its age starting now).
   std::uint32_t NewPoint(const LabelledCloud& frame, std::uint32_t i, std::vector<PendingVertex>* pending);
@@ -207,7 +212,6 @@ class IncrementalState {
   std::vector<CellHandle> newly_seen_;      // kDepth: cells VoteFromViews marked facets of seen
   struct VoteScratch {  // VoteFromViews, per cell it visits
     std::vector<CellHandle> cells;
-    std::vector<VoteIncrement> votes;
     std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
     std::vector<std::uint8_t> touched;  // goes to touched_
     std::vector<std::uint32_t> created;  // indices in `cells` of the cells this update created
