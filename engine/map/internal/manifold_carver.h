@@ -82,6 +82,7 @@ class ManifoldCarver {
   int max_passes_;
   std::int64_t fill_cost_q_;
   std::unordered_set<const void*> settled_;                   // cells changed by the running Repair
+  std::unordered_set<const void*> regular_;  // vertices the running Repair found regular, unchanged since
   std::vector<CellHandle> star_;                              // scratch: a vertex's cells
   std::vector<int> component_;                                // scratch: component of each star cell
   std::vector<CellHandle> cells_;                             // scratch
