@@ -13,6 +13,9 @@ constexpr int kSamplesPerCell = 5;
 // A cell with a vertex this close to the camera plane (or behind it) may contain the camera: its footprint
 // is taken as the whole image.
 constexpr double kNearPlaneM = 0.05;
+// CellsInView's margin around the image (px of the view): a sample reads the pixel it falls in and a facet
+// centroid the nearest, so whatever reads the view's depth map lies within half a pixel of the image.
+constexpr double kFrustumMarginPx = 1.0;
 
 double TriangleArea2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
@@ -164,6 +167,47 @@ std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, st
     }
   }
   return seen;
+}
+
+bool CellsInView(const Delaunay& dt, const VotingView& view, std::uint32_t visit_mark,
+                 std::vector<CellHandle>* cells) {
+  cells->clear();
+  if (dt.dimension() < 3) return false;
+  const CellHandle start = dt.locate(ToPoint(view.view->world_from_cam.translation()));
+  if (dt.is_infinite(start)) return false;
+  // The frustum widened by kFrustumMarginPx: the cone of the points in front of the camera that project
+  // inside the image. Each side is a half-space through the camera centre (u ≥ −margin is
+  // fx·x + (cx + margin)·z ≥ 0), so a cell whose four vertices all lie beyond one of them (or behind the
+  // camera) is wholly outside.
+  const StereoCalibration& k = view.view->intrinsics;
+  const double margin = kFrustumMarginPx;
+  const double width = view.view->depth_m.cols, height = view.view->depth_m.rows;
+  const auto outcode = [&](const Point& p) {
+    const Eigen::Vector3d x = view.ToCamera(ToEigen(p));
+    unsigned code = x.z() <= 0.0 ? 1u : 0u;
+    if (k.fx_px * x.x() + (k.cx_px + margin) * x.z() < 0.0) code |= 2u;
+    if (k.fx_px * x.x() + (k.cx_px - width - margin) * x.z() > 0.0) code |= 4u;
+    if (k.fy_px * x.y() + (k.cy_px + margin) * x.z() < 0.0) code |= 8u;
+    if (k.fy_px * x.y() + (k.cy_px - height - margin) * x.z() > 0.0) code |= 16u;
+    return code;
+  };
+  const auto outside = [&](CellHandle c) {
+    unsigned all = 31u;
+    for (int i = 0; i < 4 && all != 0; ++i) all &= outcode(c->vertex(i)->point());
+    return all != 0;
+  };
+  cells->push_back(start);
+  start->info().stamp = visit_mark;
+  for (std::size_t q = 0; q < cells->size(); ++q) {
+    const CellHandle c = (*cells)[q];
+    for (int i = 0; i < 4; ++i) {
+      const CellHandle n = c->neighbor(i);
+      if (n->info().stamp == visit_mark) continue;
+      n->info().stamp = visit_mark;
+      if (!dt.is_infinite(n) && !outside(n)) cells->push_back(n);
+    }
+  }
+  return true;
 }
 
 }  // namespace semap::map_internal

@@ -133,7 +133,7 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   result.locate_ms = Lap(&lap);
 
   InsertVerticesInheriting(&pending, &result);
-  MarkCreatedCells(inserted_, kNoMark);
+  CollectCreatedCells();
   result.insert_ms = Lap(&lap);
 
   touched_.clear();
@@ -526,6 +526,35 @@ std::size_t IncrementalState::VoteCreatedCells() {
   return voted;
 }
 
+void IncrementalState::CollectCreatedCells() {
+  // Every cell around a vertex inserted now is new. The cells a refinement's removal created before the
+  // insertions (and that these left) lie around its link's vertices: they carry the mark already.
+  created_cells_.clear();
+  MarkCreatedCells(inserted_, kNoMark, &created_cells_);
+  if (refined_link_.empty()) return;
+  const std::uint32_t listed = NewMark();
+  for (const CellHandle c : created_cells_) c->info().stamp = listed;
+  std::vector<CellHandle> star;
+  for (const VertexHandle v : refined_link_) {
+    star.clear();
+    dt_.incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (c->info().created != created_mark_ || c->info().stamp == listed) continue;
+      c->info().stamp = listed;
+      created_cells_.push_back(c);
+    }
+  }
+}
+
+bool IncrementalState::CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells) {
+  std::vector<CellHandle>& walked = vote_scratch_.walk;
+  if (!CellsInView(dt_, view, NewMark(), &walked)) return false;
+  for (const CellHandle c : walked) {
+    if (!c->info().IsSealed() && c->info().created != created_mark_) cells->push_back(c);
+  }
+  return true;
+}
+
 bool IncrementalState::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info,
                                 std::uint8_t* touched) const {
   const bool was_free = info->IsFree();
@@ -550,13 +579,20 @@ std::size_t IncrementalState::VoteFromViews() {
   std::vector<std::uint32_t>& created = vote_scratch_.created;
   cells.clear();
   created.clear();
-  cells.reserve(dt_.number_of_cells());  // O(1), unlike number_of_finite_cells(), which counts
-  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
-    if (c->info().IsSealed()) continue;  // a sealed cell never changes: its votes do not matter
-    if (c->info().created == created_mark_) created.push_back(std::uint32_t(cells.size()));
-    cells.push_back(c);
+  // A sealed cell never changes: its votes do not matter.
+  for (const CellHandle c : created_cells_) {
+    if (!dt_.is_infinite(c) && !c->info().IsSealed()) {
+      created.push_back(std::uint32_t(cells.size()));
+      cells.push_back(c);
+    }
   }
+  const std::size_t first_old = cells.size();
   const VotingView& newest = views_.back();
+  if (!CollectOldCellsInView(newest, &cells)) {
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+      if (!c->info().IsSealed() && c->info().created != created_mark_) cells.push_back(c);
+    }
+  }
   // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
   // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
   // newest view sees that no view saw yet, in that view.
@@ -579,7 +615,7 @@ std::size_t IncrementalState::VoteFromViews() {
         for (int k = 0; k < 4; ++k) __builtin_prefetch(&*ahead->vertex(k));
       }
       const CellHandle c = cells[i];
-      if (c->info().created == created_mark_) continue;  // VoteCreatedCells
+      if (i < first_old) continue;  // VoteCreatedCells
       for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
       const VoteIncrement vote = VoteCell(vertices, newest, depth_geometry_);
       voted_here += AddVotes(vote.free_q, vote.matter_q, &c->info(), &touched[i]);
@@ -605,6 +641,10 @@ std::size_t IncrementalState::VoteFromViews() {
       if ((seen[i] >> k) & 1) MarkFacetSeen(cells[i], k);
     }
   }
+  // In creation order, whatever order the cells were found in: the carving takes them in this order.
+  const auto by_creation = [](CellHandle a, CellHandle b) { return a->time_stamp() < b->time_stamp(); };
+  std::sort(touched_.begin(), touched_.end(), by_creation);
+  std::sort(newly_seen_.begin(), newly_seen_.end(), by_creation);
   counters_.cells_visited += voted;
   return voted.load();
 }

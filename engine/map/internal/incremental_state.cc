@@ -325,13 +325,16 @@ std::uint32_t IncrementalState::StampCellsAround(const std::vector<VertexHandle>
   return mark;
 }
 
-void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark) {
+void IncrementalState::MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark,
+                                        std::vector<CellHandle>* newly_marked) {
   std::vector<CellHandle> star;
   for (const VertexHandle v : vertices) {
     star.clear();
     dt_.incident_cells(v, std::back_inserter(star));
     for (const CellHandle c : star) {
-      if (c->info().stamp != old_mark) c->info().created = created_mark_;
+      if (c->info().stamp == old_mark || c->info().created == created_mark_) continue;
+      c->info().created = created_mark_;
+      if (newly_marked != nullptr) newly_marked->push_back(c);
     }
   }
 }

@@ -86,6 +86,13 @@ class IncrementalState {
   // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that
   // got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
   std::size_t VoteFromViews();
+  // kDepth: marks the cells around the inserted vertices created and lists every cell this update created
+  // (those of a refinement's removal too) in created_cells_.
+  void CollectCreatedCells();
+  // The cells VoteFromViews votes from `view` alone: the live cells not created by this update that may be
+  // in the view (CellsInView, a walk from the camera's cell); appended to `cells`. False when the camera is
+  // outside the triangulation (nothing appended).
+  bool CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells);
   // VoteFromViews' votes (and seen facets) of the cells this update created, from every view of the window;
   // returns how many got a vote.
   std::size_t VoteCreatedCells();
@@ -112,7 +119,8 @@ class IncrementalState {
   // The live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
   std::uint32_t CollectAffectedRays(std::vector<std::uint32_t>* affected);
   // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
-  void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark);
+  void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark,
+                        std::vector<CellHandle>* newly_marked = nullptr);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
   // The bookkeeping of a vertex just inserted for `pv` (appended to inserted_).
   void RecordInserted(const PendingVertex& pv, VertexHandle v, MapUpdateResult* result);
@@ -209,6 +217,7 @@ class IncrementalState {
   std::vector<VertexHandle> refined_link_;   // the vertices around the refined ones removed
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
+  std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
   std::vector<CellHandle> newly_seen_;      // kDepth: cells VoteFromViews marked facets of seen
   struct VoteScratch {  // VoteFromViews, per cell it visits
     std::vector<CellHandle> cells;
@@ -221,6 +230,7 @@ class IncrementalState {
       std::uint32_t index;  // in `cells`
     };
     std::vector<Created> created_cells;  // the created cells, in spatial order
+    std::vector<CellHandle> walk;        // CollectOldCellsInView's queue
   } vote_scratch_;
 
   // Outputs.

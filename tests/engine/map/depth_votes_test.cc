@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "engine/map/internal/vote_weights.h"
 #include "tests/engine/map/map_test_util.h"
@@ -193,6 +194,57 @@ TEST(DepthVotes, AFacetIsSeenWhereItLiesAtItsPixelsDepth) {
   for (auto& p : aside) p.x() += 20.0;
   EXPECT_EQ(SeenFacets(behind, 0xF, view, PaperGeometry()), 0x0);
   EXPECT_EQ(SeenFacets(aside, 0xF, view, PaperGeometry()), 0x0);
+}
+
+// CellsInView against every cell: the cells a view votes or sees a facet of are all among those it walks to.
+TEST(CellsInView, HoldsEveryCellTheViewVotesOrSees) {
+  std::mt19937 rng(17);
+  // A turned camera inside a cloud of points; depths at random, with holes and sky.
+  auto depth = test::PinholeDepthView(kWidthPx, kHeightPx, kFocalPx, 40.0);
+  std::uniform_real_distribution<float> depth_m(1.0f, 50.0f), unit(0.0f, 1.0f);
+  for (int v = 0; v < kHeightPx; ++v) {
+    for (int u = 0; u < kWidthPx; ++u) {
+      const float r = unit(rng);
+      depth->depth_m.at<float>(v, u) = r < 0.1f ? 0.0f : r < 0.15f ? kFreeToFarRange : depth_m(rng);
+    }
+  }
+  depth->world_from_cam = Eigen::Translation3d(2.0, -1.0, 3.0) *
+                          Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, 1.0, 0.1).normalized());
+  const VotingView view(depth);
+  Delaunay dt;
+  std::uniform_real_distribution<double> coordinate(-40.0, 40.0);
+  for (int i = 0; i < 3000; ++i) dt.insert(Point(coordinate(rng), coordinate(rng), coordinate(rng)));
+
+  std::vector<CellHandle> walked;
+  ASSERT_TRUE(CellsInView(dt, view, /*visit_mark=*/1, &walked));
+  const std::set<CellHandle> in_view(walked.begin(), walked.end());
+  EXPECT_EQ(in_view.size(), walked.size()) << "a cell was walked to twice";
+  std::size_t voted = 0, finite = 0;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    ++finite;
+    std::array<Eigen::Vector3d, 4> vertices;
+    for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
+    const VoteIncrement vote = VoteCell(vertices, view, PaperGeometry());
+    const std::uint8_t seen = SeenFacets(vertices, 0xF, view, PaperGeometry());
+    if (vote.free_q == 0 && vote.matter_q == 0 && seen == 0) continue;
+    ++voted;
+    EXPECT_EQ(in_view.count(c), 1u) << "a cell the view votes is not walked to";
+  }
+  EXPECT_GT(voted, 500u);
+  // The walk passes over most of the cells out of view.
+  EXPECT_LT(walked.size(), finite / 2);
+}
+
+TEST(CellsInView, FailsForACameraOutsideTheTriangulation) {
+  auto depth = test::PinholeDepthView(kWidthPx, kHeightPx, kFocalPx, 40.0);
+  depth->world_from_cam = Eigen::Translation3d(0.0, 0.0, -100.0) * Eigen::AngleAxisd::Identity();
+  Delaunay dt;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coordinate(-10.0, 10.0);
+  for (int i = 0; i < 100; ++i) dt.insert(Point(coordinate(rng), coordinate(rng), coordinate(rng)));
+  std::vector<CellHandle> walked;
+  EXPECT_FALSE(CellsInView(dt, VotingView(depth), 1, &walked));
+  EXPECT_TRUE(walked.empty());
 }
 
 }  // namespace
