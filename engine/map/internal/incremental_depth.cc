@@ -573,7 +573,8 @@ bool IncrementalState::AddVotes(std::int64_t free_q, std::int64_t matter_q, Cell
 
 std::size_t IncrementalState::VoteFromViews() {
   if (dt_.dimension() < 3 || views_.empty()) return 0;
-  // The scratch vectors keep their capacity between frames: ~650 k entries each on a long drive, which
+  // The scratch vectors keep their capacity between frames: the created cells and those in the newest view
+  // (~100 k on a street; every live cell, ~650 k on a long drive, when the walk cannot start), which
   // allocated anew (and paged in, and zeroed) every frame cost more than the serial part of the votes.
   std::vector<CellHandle>& cells = vote_scratch_.cells;
   std::vector<std::uint32_t>& created = vote_scratch_.created;

@@ -83,8 +83,8 @@ class IncrementalState {
   std::uint32_t StampCellsAround(const std::vector<VertexHandle>& vertices);
   // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
   // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells
-  // whose free/matter state changed, and the created ones, go to touched_. Returns the number of cells that
-  // got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
+  // whose free/matter state changed, and the created ones, go to touched_ (in creation order). Returns the
+  // number of cells that got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
   std::size_t VoteFromViews();
   // kDepth: marks the cells around the inserted vertices created and lists every cell this update created
   // (those of a refinement's removal too) in created_cells_.
