@@ -483,12 +483,26 @@ std::size_t IncrementalState::VoteCreatedCells() {
       const std::size_t end = std::min(last, begin + kGrainCreatedCells);
       VoteIncrement* fresh = fresh_block.data() - begin;
       std::uint8_t* candidates = candidates_block.data() - begin;
-      for (std::size_t j = begin; j != end; ++j) fresh[j] = {};
-      for (const VotingView& view : views_) {
+      for (std::size_t j = begin; j != end; ++j) {
+        fresh[j] = {};
+        // The facets to look for: every facet (the cell's carving is not known yet) no view saw yet.
+        const CellHandle c = cells[order[j].index];
+        candidates[j] = 0;
+        for (int k = 0; track_seen && k < 4; ++k) {
+          if (!FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates[j] |= std::uint8_t(1u << k);
+        }
+      }
+      // Each view votes the block's cells and looks for their facets while its depth map's lines are in the
+      // cache (newest view first: one view seeing a facet is enough).
+      for (auto view = views_.rbegin(); view != views_.rend(); ++view) {
         for (std::size_t j = begin; j != end; ++j) {
-          const VoteIncrement v = VoteCell(order[j].vertices, view, depth_geometry_);
+          const VoteIncrement v = VoteCell(order[j].vertices, *view, depth_geometry_);
           fresh[j].free_q += v.free_q;
           fresh[j].matter_q += v.matter_q;
+          if (candidates[j] == 0) continue;
+          const std::uint8_t found = SeenFacets(order[j].vertices, candidates[j], *view, depth_geometry_);
+          seen[order[j].index] |= found;
+          candidates[j] &= std::uint8_t(~found);
         }
       }
       for (std::size_t j = begin; j != end; ++j) {
@@ -502,23 +516,6 @@ std::size_t IncrementalState::VoteCreatedCells() {
           matter_q = fresh[j].matter_q - info.matter_q;
         }
         voted_here += AddVotes(free_q, matter_q, &info, &touched[order[j].index]);
-      }
-      if (!track_seen) continue;
-      // Every facet (the cell's carving is not known yet), newest view first: one view seeing it is enough.
-      for (std::size_t j = begin; j != end; ++j) {
-        const CellHandle c = cells[order[j].index];
-        candidates[j] = 0;
-        for (int k = 0; k < 4; ++k) {
-          if (!FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates[j] |= std::uint8_t(1u << k);
-        }
-      }
-      for (auto view = views_.rbegin(); view != views_.rend(); ++view) {
-        for (std::size_t j = begin; j != end; ++j) {
-          if (candidates[j] == 0) continue;
-          const std::uint8_t found = SeenFacets(order[j].vertices, candidates[j], *view, depth_geometry_);
-          seen[order[j].index] |= found;
-          candidates[j] &= std::uint8_t(~found);
-        }
       }
     }
     voted += voted_here;
