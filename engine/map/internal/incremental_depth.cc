@@ -451,7 +451,7 @@ std::size_t IncrementalState::VoteCreatedCells() {
   const std::vector<CellHandle>& cells = vote_scratch_.cells;
   std::vector<std::uint32_t>& created = vote_scratch_.created;
   if (created.empty()) return 0;
-  std::vector<VoteScratch::Created>& order = vote_scratch_.created_cells;
+  std::vector<VoteScratch::Created>& order = vote_scratch_.created_order;
   order.resize(created.size());
   const Eigen::Vector3d origin = views_.back().view->world_from_cam.translation() -
                                  Eigen::Vector3d::Constant(kMortonHalfExtentM);

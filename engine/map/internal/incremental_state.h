@@ -118,7 +118,8 @@ class IncrementalState {
   std::size_t ShrinkNonFree();
   // The live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
   std::uint32_t CollectAffectedRays(std::vector<std::uint32_t>* affected);
-  // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`.
+  // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`, and appends those
+  // it marks (not marked before) to `newly_marked` (may be null).
   void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark,
                         std::vector<CellHandle>* newly_marked = nullptr);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
@@ -229,7 +230,7 @@ class IncrementalState {
       std::uint64_t key;    // spatial order
       std::uint32_t index;  // in `cells`
     };
-    std::vector<Created> created_cells;  // the created cells, in spatial order
+    std::vector<Created> created_order;  // the created cells, in spatial order
     std::vector<CellHandle> walk;        // CollectOldCellsInView's queue
   } vote_scratch_;
 
