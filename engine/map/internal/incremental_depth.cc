@@ -441,7 +441,7 @@ std::uint64_t MortonCode(const Eigen::Vector3d& p, const Eigen::Vector3d& origin
 
 }  // namespace
 
-std::size_t IncrementalState::VoteCreatedCells() {
+std::size_t IncrementalState::VoteCreatedCells(std::size_t created_count) {
   // The cells an insertion created (~15 k a frame) are voted from every view of the window: 8 depth maps of
   // up to 1.8 MB each, more than the caches hold. In cell order each cell read 8 maps at random places and
   // most reads missed the cache; here the cells are sorted in space and, in blocks of neighbours, voted one
@@ -449,22 +449,21 @@ std::size_t IncrementalState::VoteCreatedCells() {
   // resolution: map.votes 82–96 → 70–76 ms a frame, measured interleaved; bench/RESULTS.md, session 15).
   // The sums are integers: the votes do not depend on the order, and the mesh is the same byte for byte.
   const std::vector<CellHandle>& cells = vote_scratch_.cells;
-  std::vector<std::uint32_t>& created = vote_scratch_.created;
-  if (created.empty()) return 0;
+  if (created_count == 0) return 0;
   std::vector<VoteScratch::Created>& order = vote_scratch_.created_order;
-  order.resize(created.size());
+  order.resize(created_count);
   const Eigen::Vector3d origin = views_.back().view->world_from_cam.translation() -
                                  Eigen::Vector3d::Constant(kMortonHalfExtentM);
-  ParallelFor(std::size_t(0), created.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
+  ParallelFor(std::size_t(0), created_count, kGrainCells, [&](std::size_t first, std::size_t last) {
     for (std::size_t j = first; j != last; ++j) {
       VoteScratch::Created& o = order[j];
-      const CellHandle c = cells[created[j]];
+      const CellHandle c = cells[j];
       Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
       for (int k = 0; k < 4; ++k) {
         o.vertices[k] = ToEigen(c->vertex(k)->point());
         centroid += o.vertices[k];
       }
-      o.index = created[j];
+      o.index = std::uint32_t(j);
       o.key = MortonCode(0.25 * centroid, origin, kMortonStepM);
     }
   });
@@ -543,13 +542,19 @@ void IncrementalState::CollectCreatedCells() {
   }
 }
 
-bool IncrementalState::CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells) {
+void IncrementalState::CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells) {
+  // A sealed cell never changes: its votes do not matter.
+  const auto old_and_unsealed = [&](CellHandle c) {
+    return !c->info().IsSealed() && c->info().created != created_mark_;
+  };
   std::vector<CellHandle>& walked = vote_scratch_.walk;
-  if (!CellsInView(dt_, view, NewMark(), &walked)) return false;
-  for (const CellHandle c : walked) {
-    if (!c->info().IsSealed() && c->info().created != created_mark_) cells->push_back(c);
+  if (CellsInView(dt_, view, NewMark(), &walked)) {
+    std::copy_if(walked.begin(), walked.end(), std::back_inserter(*cells), old_and_unsealed);
+    return;
   }
-  return true;
+  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+    if (old_and_unsealed(c)) cells->push_back(c);
+  }
 }
 
 bool IncrementalState::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info,
@@ -573,24 +578,16 @@ std::size_t IncrementalState::VoteFromViews() {
   // The scratch vectors keep their capacity between frames: the created cells and those in the newest view
   // (~100 k on a street; every live cell, ~650 k on a long drive, when the walk cannot start), which
   // allocated anew (and paged in, and zeroed) every frame cost more than the serial part of the votes.
+  // `cells`: the created cells first, then the old ones. A sealed cell never changes: its votes do not
+  // matter.
   std::vector<CellHandle>& cells = vote_scratch_.cells;
-  std::vector<std::uint32_t>& created = vote_scratch_.created;
   cells.clear();
-  created.clear();
-  // A sealed cell never changes: its votes do not matter.
   for (const CellHandle c : created_cells_) {
-    if (!dt_.is_infinite(c) && !c->info().IsSealed()) {
-      created.push_back(std::uint32_t(cells.size()));
-      cells.push_back(c);
-    }
+    if (!dt_.is_infinite(c) && !c->info().IsSealed()) cells.push_back(c);
   }
   const std::size_t first_old = cells.size();
   const VotingView& newest = views_.back();
-  if (!CollectOldCellsInView(newest, &cells)) {
-    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
-      if (!c->info().IsSealed() && c->info().created != created_mark_) cells.push_back(c);
-    }
-  }
+  CollectOldCellsInView(newest, &cells);
   // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
   // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
   // newest view sees that no view saw yet, in that view.
@@ -603,8 +600,8 @@ std::size_t IncrementalState::VoteFromViews() {
   // cell order (deterministic).
   std::vector<std::uint8_t>& touched = vote_scratch_.touched;
   touched.assign(cells.size(), 0);
-  std::atomic<std::size_t> voted{VoteCreatedCells()};
-  ParallelFor(std::size_t(0), cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
+  std::atomic<std::size_t> voted{VoteCreatedCells(first_old)};
+  ParallelFor(first_old, cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
     std::size_t voted_here = 0;
     std::array<Eigen::Vector3d, 4> vertices;
     for (std::size_t i = first; i != last; ++i) {
@@ -613,7 +610,6 @@ std::size_t IncrementalState::VoteFromViews() {
         for (int k = 0; k < 4; ++k) __builtin_prefetch(&*ahead->vertex(k));
       }
       const CellHandle c = cells[i];
-      if (i < first_old) continue;  // VoteCreatedCells
       for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
       const VoteIncrement vote = VoteCell(vertices, newest, depth_geometry_);
       voted_here += AddVotes(vote.free_q, vote.matter_q, &c->info(), &touched[i]);

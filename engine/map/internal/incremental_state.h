@@ -89,13 +89,13 @@ class IncrementalState {
   // kDepth: marks the cells around the inserted vertices created and lists every cell this update created
   // (those of a refinement's removal too) in created_cells_.
   void CollectCreatedCells();
-  // The cells VoteFromViews votes from `view` alone: the live cells not created by this update that may be
-  // in the view (CellsInView, a walk from the camera's cell); appended to `cells`. False when the camera is
-  // outside the triangulation (nothing appended).
-  bool CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells);
-  // VoteFromViews' votes (and seen facets) of the cells this update created, from every view of the window;
-  // returns how many got a vote.
-  std::size_t VoteCreatedCells();
+  // The cells VoteFromViews votes from `view` alone, appended to `cells`: the live unsealed cells not created
+  // by this update that may be in the view (CellsInView, a walk from the camera's cell), or all of them when
+  // the camera is outside the triangulation.
+  void CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells);
+  // VoteFromViews' votes (and seen facets) of the cells this update created, the first `created_count` of
+  // vote_scratch_.cells, from every view of the window; returns how many got a vote.
+  std::size_t VoteCreatedCells(std::size_t created_count);
   // Adds a vote to a cell's record and sets `touched` when the carving must look at the cell again (created
   // this update, changed sides, or free and still outside). Returns whether the vote was not zero. Safe on
   // distinct cells in parallel: writes the cell's votes and stamp only.
@@ -221,10 +221,9 @@ class IncrementalState {
   std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
   std::vector<CellHandle> newly_seen_;      // kDepth: cells VoteFromViews marked facets of seen
   struct VoteScratch {  // VoteFromViews, per cell it visits
-    std::vector<CellHandle> cells;
+    std::vector<CellHandle> cells;      // the cells this update created, then the old ones in the view
     std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
     std::vector<std::uint8_t> touched;  // goes to touched_
-    std::vector<std::uint32_t> created;  // indices in `cells` of the cells this update created
     struct Created {
       std::array<Eigen::Vector3d, 4> vertices;
       std::uint64_t key;    // spatial order
