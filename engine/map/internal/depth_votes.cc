@@ -82,12 +82,24 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
   }
   const Eigen::Vector3d centroid = 0.25 * (cam[0] + cam[1] + cam[2] + cam[3]);
   const double free_saturation_m = SaturationDistance(geometry.ray.sigma_free_m);
+  // The samples' depths are read first, all five before any is used: the reads miss the cache more often
+  // than not, and issued together they wait for memory once instead of five times in a row (200 urban
+  // frames, PS, half resolution: bench/RESULTS.md, session 16).
+  std::array<Eigen::Vector3d, kSamplesPerCell> samples;
+  std::array<float, kSamplesPerCell> depths;
+  for (int s = 0; s < kSamplesPerCell; ++s) {
+    const Eigen::Vector3d& x = samples[s] = s == 0 ? centroid : Eigen::Vector3d(0.5 * (centroid + cam[s - 1]));
+    if (x.z() <= 0.0) {
+      depths[s] = 0.0f;
+      continue;
+    }
+    const Eigen::Vector2d uv = k.Project(x);
+    depths[s] = v.At(uv.x(), uv.y());
+  }
   double free = 0.0, matter = 0.0;
   for (int s = 0; s < kSamplesPerCell; ++s) {
-    const Eigen::Vector3d x = s == 0 ? centroid : Eigen::Vector3d(0.5 * (centroid + cam[s - 1]));
-    if (x.z() <= 0.0) continue;
-    const Eigen::Vector2d uv = k.Project(x);
-    const float depth = v.At(uv.x(), uv.y());
+    const Eigen::Vector3d& x = samples[s];
+    const float depth = depths[s];
     if (depth == 0.0f) continue;
     const double range = x.norm();
     if (depth == kFreeToFarRange) {
