@@ -35,6 +35,12 @@ struct PendingVertex {
   PointAttributes attributes;
 };
 
+// A cell with its creation time (CGAL's time stamp), to sort by.
+struct Stamped {
+  std::size_t time_stamp;
+  CellHandle cell;
+};
+
 // The label and colour of frame point i (defaults where the frame has none).
 PointAttributes AttributesOf(const LabelledCloud& frame, std::uint32_t i);
 // Sorts `pending` along a space-filling curve so consecutive insertions are neighbours (cheap locate).
@@ -225,12 +231,12 @@ class IncrementalState {
     std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
     std::vector<std::uint8_t> touched;  // goes to touched_
     struct Created {
-      std::array<Eigen::Vector3d, 4> vertices;
       std::uint64_t key;    // spatial order
       std::uint32_t index;  // in `cells`
     };
     std::vector<Created> created_order;  // the created cells, in spatial order
     std::vector<CellHandle> walk;        // CollectOldCellsInView's queue
+    std::vector<Stamped> touched_stamped, seen_stamped;  // touched_ and newly_seen_ before their sort
   } vote_scratch_;
 
   // Outputs.

@@ -298,6 +298,21 @@ bool ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
   return true;
 }
 
+void ManifoldCarver::SortByPosition(std::vector<VertexHandle>* vertices) {
+  // A geometric order (not the handles' addresses), so that the same cells give the same repair in any
+  // triangulation holding them (the batch and the incremental map). The coordinates are copied into the keys
+  // once: a comparison that read them from the vertices missed the cache (the sort of ~10^5 handles a frame
+  // took 1.7 % of the run's CPU).
+  std::vector<PositionKey>& keys = position_keys_;
+  keys.clear();
+  for (const VertexHandle v : *vertices) keys.push_back({{v->point().x(), v->point().y(), v->point().z()}, v});
+  std::sort(keys.begin(), keys.end(), [](const PositionKey& a, const PositionKey& b) { return a.xyz < b.xyz; });
+  vertices->clear();
+  for (const PositionKey& k : keys) {
+    if (vertices->empty() || vertices->back() != k.vertex) vertices->push_back(k.vertex);  // a vertex once
+  }
+}
+
 std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed,
                                            const std::vector<VertexHandle>& also_repair) {
   std::vector<VertexHandle> vertices = also_repair;
@@ -308,16 +323,7 @@ std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
     ++carved;
     for (int k = 0; k < 4; ++k) vertices.push_back(c->vertex(k));
   }
-  // A geometric order (not the handles' addresses), so that the same cells give the same repair in any
-  // triangulation holding them (the batch and the incremental map).
-  auto lex_less = [](VertexHandle a, VertexHandle b) {
-    const Point &p = a->point(), &q = b->point();
-    if (p.x() != q.x()) return p.x() < q.x();
-    if (p.y() != q.y()) return p.y() < q.y();
-    return p.z() < q.z();
-  };
-  std::sort(vertices.begin(), vertices.end(), lex_less);
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  SortByPosition(&vertices);
   Repair(std::move(vertices), /*allow_fill=*/true, changed);
   return carved + Grow(cells);
 }

@@ -1,6 +1,7 @@
 // Keeps the set of carved (free-space) cells a region whose boundary is a 2-manifold.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <unordered_set>
@@ -77,6 +78,8 @@ class ManifoldCarver {
   // when no step is possible without changing a pinned cell.
   bool RepairStep(VertexHandle v, bool allow_fill, std::vector<VertexHandle>* stack,
                   std::vector<CellHandle>* changed);
+  // Sorts `vertices` by position (x, then y, then z) and keeps each vertex once.
+  void SortByPosition(std::vector<VertexHandle>* vertices);
 
   Delaunay* dt_;
   int max_passes_;
@@ -88,6 +91,11 @@ class ManifoldCarver {
   std::vector<CellHandle> cells_;                             // scratch
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
   std::vector<VertexHandle> ends_;                            // scratch
+  struct PositionKey {
+    std::array<double, 3> xyz;
+    VertexHandle vertex;
+  };
+  std::vector<PositionKey> position_keys_;  // scratch: SortByPosition
   std::uint64_t num_tests_ = 0;
   std::uint64_t num_unrepaired_ = 0;
   std::vector<VertexHandle> unrepaired_;
