@@ -64,7 +64,11 @@ MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, 
   // a new one is added, and those left unstamped afterwards disappeared. Rebuilding the set every update
   // would allocate and free a node per live triangle (~5·10^5 on a long drive).
   ++generation_;
-  live_.reserve(live.mesh.triangles.size());
+  // Grown ahead when the live mesh outgrows the table, never shrunk: libstdc++'s reserve() also shrinks, and
+  // rehashed the whole table on every update whose mesh was smaller than the one before.
+  if (double(live.mesh.triangles.size()) > double(live_.bucket_count()) * live_.max_load_factor()) {
+    live_.reserve(live.mesh.triangles.size());
+  }
   for (const auto& t : live.mesh.triangles) {
     const auto key = KeyOf(live, t);
     const auto [it, inserted] = live_.try_emplace(key, LiveTriangle{0, generation_});
