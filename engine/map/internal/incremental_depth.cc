@@ -490,12 +490,15 @@ std::size_t IncrementalState::VoteCreatedCells(std::size_t created_count) {
       std::uint8_t* candidates = candidates_block.data() - begin;
       for (std::size_t j = begin; j != end; ++j) {
         fresh[j] = {};
-        // The facets to look for: every facet (the cell's carving is not known yet) no view saw yet.
+        // The facets to look for: every facet (the cell's carving is not known yet) no view saw yet. A facet
+        // between two created cells is looked for from the older one only (see LooksFromOtherSide).
         const CellHandle c = cells[order[j].index];
         for (int k = 0; k < 4; ++k) vertices[j][k] = ToEigen(c->vertex(k)->point());
         candidates[j] = 0;
         for (int k = 0; track_seen && k < 4; ++k) {
-          if (!FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates[j] |= std::uint8_t(1u << k);
+          if (!FacetSeen(c, k) && !TouchesFrozen(c, k) && !LooksFromOtherSide(c, k)) {
+            candidates[j] |= std::uint8_t(1u << k);
+          }
         }
       }
       // Each view votes the block's cells and looks for their facets while its depth map's lines are in the

@@ -171,6 +171,15 @@ class IncrementalState {
   // The two halves of a trace: the walk (const, safe to run concurrently) and the bookkeeping.
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
   void ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes);
+  // Whether the facet of created cell `c` opposite vertex `k` is looked for as a surface from its other
+  // side (VoteCreatedCells): the neighbour there was created by this update too, and before `c`. Each view
+  // tests such a facet once instead of twice; the test is the same up to rounding (the vertices in another
+  // order).
+  bool LooksFromOtherSide(CellHandle c, int k) const {
+    const CellHandle n = c->neighbor(k);
+    return n->info().created == created_mark_ && !dt_.is_infinite(n) && !n->info().IsSealed() &&
+           n->time_stamp() < c->time_stamp();
+  }
   std::uint32_t NewMark() { return ++mark_; }
   // The surface facets the output leaves out (live mesh and finalised triangles alike).
   EmitRule Emit() const {
