@@ -81,7 +81,6 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     footprint_px = std::min(HullArea(uv), view.image_area_px);
   }
   const Eigen::Vector3d centroid = 0.25 * (cam[0] + cam[1] + cam[2] + cam[3]);
-  const double free_saturation_m = SaturationDistance(geometry.ray.sigma_free_m);
   // The samples' depths are read first, all five before any is used: the reads miss the cache more often
   // than not, and issued together they wait for memory once instead of five times in a row (200 urban
   // frames, PS, half resolution: bench/RESULTS.md, session 16).
@@ -112,7 +111,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     // The pixel's point is uncertain by ± noise along the ray: no vote within that band; free before it,
     // matter up to the ray's extension behind it.
     const double noise = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px * range / x.z();
-    if (d - noise > free_saturation_m) {
+    if (d - noise > geometry.free_saturation_m) {
       free += 1.0;  // the Gaussian term is below a quarter of a fixed-point unit
     } else if (d > noise) {
       free += GaussianComplement(d - noise, geometry.ray.sigma_free_m);

@@ -47,6 +47,7 @@
 
 #include "engine/core/depth_view.h"
 #include "engine/map/internal/ray_tracer.h"
+#include "engine/map/internal/vote_weights.h"
 
 namespace semap::map_internal {
 
@@ -69,13 +70,16 @@ struct DepthVoteGeometry {
   explicit DepthVoteGeometry(const MapOptions& options)
       : ray(options),
         disparity_sigma_px(options.disparity_sigma_px),
-        seen_noise_sigmas(options.seen_noise_sigmas) {}
+        seen_noise_sigmas(options.seen_noise_sigmas),
+        free_saturation_m(SaturationDistance(ray.sigma_free_m)) {}
   RayGeometry ray;
   // σ of the disparity (px): a pixel's depth z is uncertain by σ_z = z² · σ / (f·B).
   double disparity_sigma_px;
   // A facet is seen as a surface where the point seen through its centroid lies within ray.extension_m +
   // seen_noise_sigmas · σ_z of its plane.
   double seen_noise_sigmas;
+  // Beyond this distance before its point a sample's free weight is 1 in fixed point (SaturationDistance).
+  double free_saturation_m;
 };
 
 struct VoteIncrement {
