@@ -17,6 +17,8 @@
 #include <mutex>
 #include <thread>
 
+#include <opencv2/core/utility.hpp>
+
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
 #include "engine/pipeline/bounded_queue.h"
@@ -47,6 +49,7 @@ void PipelineOptions::Check() const {
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
   SEMAP_CHECK_OPTION(mesh_every_frames >= 1, "mesh_every_frames", mesh_every_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(feeder_nice >= 0 && feeder_nice <= 19, "feeder_nice", feeder_nice, "must be in [0, 19]");
+  SEMAP_CHECK_OPTION(opencv_threads >= 0, "opencv_threads", opencv_threads, "must be >= 0 (0 = OpenCV's setting)");
   SEMAP_CHECK_OPTION(max_speed_mps >= 0.0 && std::isfinite(max_speed_mps), "max_speed_mps", max_speed_mps,
                      "must be >= 0 (0 = no check)");
   cpu_set_t available;
@@ -186,6 +189,23 @@ void StartTbbWorkers() {
   constexpr auto kMaxWait = std::chrono::milliseconds(200);
   OnEveryThread(kMaxWait, [] {});
 }
+
+// OpenCV's thread count (process-wide) for a scope, restored when it ends; 0 leaves it as it is.
+class OpenCvThreads {
+ public:
+  explicit OpenCvThreads(int threads) : previous_(cv::getNumThreads()), set_(threads > 0) {
+    if (set_) cv::setNumThreads(threads);
+  }
+  ~OpenCvThreads() {
+    if (set_) cv::setNumThreads(previous_);
+  }
+  OpenCvThreads(const OpenCvThreads&) = delete;
+  OpenCvThreads& operator=(const OpenCvThreads&) = delete;
+
+ private:
+  int previous_;
+  bool set_;
+};
 
 }  // namespace
 
@@ -573,6 +593,7 @@ PipelineSummary Pipeline::Run() {
   std::vector<std::unique_ptr<DepthStage>> depth_stages;
   for (int w = 0; w < options_.depth_workers; ++w) depth_stages.push_back(depth_factory_());
   PinCurrentThread(options_.cpu_affinity);
+  const OpenCvThreads opencv_threads(options_.opencv_threads);
   if (options_.feeder_nice > 0) StartTbbWorkers();
   impl.start = Clock::now();
   std::vector<std::thread> threads;

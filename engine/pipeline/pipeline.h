@@ -28,6 +28,7 @@ struct PipelineOptions {
   double max_speed_mps = 100.0;
   std::vector<int> cpu_affinity;
   int feeder_nice = 10;
+  int opencv_threads = 1;
   int mesh_every_frames = 5;
 
   // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
@@ -58,6 +59,15 @@ struct PipelineOptions {
             "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
             "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
             "first; 0 = all alike");
+    // OpenCV runs its parallel loops (SGBM, ENet) on TBB's workers, which the map's votes share: started at
+    // the map's priority (StartTbbWorkers), they ran a feeder's SGBM ahead of the map. With one thread SGBM
+    // runs on the depth thread that calls it, at the feeders' priority; depth_workers keep frames in
+    // parallel. 200 urban frames, PS, half resolution: map.votes 49–51 → 43 ms, 8.5–8.9 → 9.1–9.3 f/s
+    // (bench/RESULTS.md, session 16).
+    v.Field("opencv_threads", &opencv_threads,
+            "OpenCV's threads during a run (cv::setNumThreads, process-wide, restored after the run): 1 runs "
+            "SGBM and ENet on the feeder thread that calls them, at its priority; more lets them use TBB's "
+            "workers, which run at the map's priority; 0 = OpenCV's setting as it is");
     // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
     // half-resolution SGBM: 98 of 305 ms per frame; bench/RESULTS.md, "Mesh cadence"), while a viewer or a
     // logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.

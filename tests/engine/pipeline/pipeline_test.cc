@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <opencv2/core/utility.hpp>
 #include <tbb/task_arena.h>
 
 #include "engine/core/check.h"
@@ -430,6 +431,39 @@ TEST(Pipeline, SpeedCheckCanBeTurnedOffAndAPermanentJumpEndsTheRun) {
   EXPECT_EQ(sink.finishes, 1);
 }
 
+// Records OpenCV's thread count as the depth stage sees it.
+class OpenCvThreadsRecordingDepth : public FakeDepth {
+ public:
+  explicit OpenCvThreadsRecordingDepth(std::atomic<int>* threads) : threads_(threads) {}
+  LabelledCloud Process(const Frame& frame, const KeyframeLabels* labels) override {
+    threads_->store(cv::getNumThreads());
+    return FakeDepth::Process(frame, labels);
+  }
+
+ private:
+  std::atomic<int>* threads_;
+};
+
+// pipeline.opencv_threads holds during the run (SGBM runs on the calling depth thread) and OpenCV's own
+// setting comes back after it; 0 leaves OpenCV's setting alone.
+TEST(Pipeline, OpenCvThreadsHoldDuringTheRunAndAreRestoredAfter) {
+  const int before = cv::getNumThreads();
+  for (const int threads : {1, 0}) {
+    PipelineOptions options;
+    options.opencv_threads = threads;
+    std::atomic<int> seen{-100};
+    RecordingSink sink;
+    Pipeline pipeline(options, std::make_unique<FakeReader>(3),
+                      [&] { return std::make_unique<OpenCvThreadsRecordingDepth>(&seen); },
+                      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+    pipeline.AddSink(&sink);
+    pipeline.Run();
+    ASSERT_EQ(sink.frames.size(), 3u);
+    EXPECT_EQ(seen.load(), threads == 0 ? before : threads) << "opencv_threads " << threads;
+    EXPECT_EQ(cv::getNumThreads(), before) << "opencv_threads " << threads;
+  }
+}
+
 TEST(PipelineOptions, CheckNamesTheField) {
   PipelineOptions o;
   o.depth_workers = 0;
@@ -438,6 +472,17 @@ TEST(PipelineOptions, CheckNamesTheField) {
     FAIL();
   } catch (const InvalidOption& e) {
     EXPECT_EQ(e.field(), "depth_workers");
+  }
+}
+
+TEST(PipelineOptions, NegativeOpenCvThreadsAreRejected) {
+  PipelineOptions o;
+  o.opencv_threads = -1;
+  try {
+    o.Check();
+    FAIL();
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.field(), "opencv_threads");
   }
 }
 
