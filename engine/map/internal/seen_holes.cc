@@ -8,6 +8,8 @@ namespace {
 // A walk around an edge passes each of its cells once: past this many something is wrong with the
 // triangulation, and the walk gives up (no hole is filled through it).
 constexpr int kMaxCellsAroundEdge = 1024;
+// FillUnseenHoles fetches the neighbours of the cell this far ahead of the one it looks at.
+constexpr std::size_t kPrefetchCells = 8;
 
 bool OnSeamOrSteiner(const CarvedFacet& f) {
   for (int k = 0; k < 4; ++k) {
@@ -111,7 +113,14 @@ std::size_t FillUnseenHoles(Delaunay* dt, const std::vector<CellHandle>& cells, 
     for (const CarvedFacet& h : finder.hole()) MarkFacetSeen(h.cell, h.index);
     marked += finder.hole().size();
   };
-  for (const CellHandle c : cells) {
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    // AsCarvedFacet reads the neighbour across each facet: those of the cell kPrefetchCells ahead are fetched
+    // now (the cells are scattered over the map).
+    if (k + kPrefetchCells < cells.size()) {
+      const CellHandle ahead = cells[k + kPrefetchCells];
+      for (int i = 0; i < 4; ++i) __builtin_prefetch(&ahead->neighbor(i)->info().sealed);  // with `carved`
+    }
+    const CellHandle c = cells[k];
     for (int i = 0; i < 4; ++i) {
       CarvedFacet f;
       if (!AsCarvedFacet(*dt, c, i, &f)) continue;
