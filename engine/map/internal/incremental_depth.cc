@@ -418,7 +418,6 @@ bool TouchesFrozen(CellHandle c, int k) {
 }
 
 constexpr std::size_t kGrainCells = 4096;
-constexpr std::size_t kPrefetchCells = 8;
 // The created cells are voted in blocks of this many spatial neighbours, one view after the other.
 constexpr std::size_t kGrainCreatedCells = 256;
 // Their spatial order: a Morton code of the centroid on a grid of this step, around the newest camera.

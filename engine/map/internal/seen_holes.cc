@@ -8,8 +8,6 @@ namespace {
 // A walk around an edge passes each of its cells once: past this many something is wrong with the
 // triangulation, and the walk gives up (no hole is filled through it).
 constexpr int kMaxCellsAroundEdge = 1024;
-// FillUnseenHoles fetches the neighbours of the cell this far ahead of the one it looks at.
-constexpr std::size_t kPrefetchCells = 8;
 
 bool OnSeamOrSteiner(const CarvedFacet& f) {
   for (int k = 0; k < 4; ++k) {
@@ -114,12 +112,8 @@ std::size_t FillUnseenHoles(Delaunay* dt, const std::vector<CellHandle>& cells, 
     marked += finder.hole().size();
   };
   for (std::size_t k = 0; k < cells.size(); ++k) {
-    // AsCarvedFacet reads the neighbour across each facet: those of the cell kPrefetchCells ahead are fetched
-    // now (the cells are scattered over the map).
-    if (k + kPrefetchCells < cells.size()) {
-      const CellHandle ahead = cells[k + kPrefetchCells];
-      for (int i = 0; i < 4; ++i) __builtin_prefetch(&ahead->neighbor(i)->info().sealed);  // with `carved`
-    }
+    // AsCarvedFacet reads the neighbour across each facet, and the cells are scattered over the map.
+    if (k + kPrefetchCells < cells.size()) PrefetchNeighbourRecords(cells[k + kPrefetchCells]);
     const CellHandle c = cells[k];
     for (int i = 0; i < 4; ++i) {
       CarvedFacet f;

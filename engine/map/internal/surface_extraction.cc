@@ -9,8 +9,6 @@ namespace semap::map_internal {
 namespace {
 
 constexpr std::array<std::uint8_t, 3> kSteinerColor{128, 128, 128};
-// CollectSurface fetches the neighbours of the cell this far ahead of the one it reads.
-constexpr std::size_t kPrefetchCells = 8;
 
 bool LexLess(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   if (a.x() != b.x()) return a.x() < b.x();
@@ -62,9 +60,9 @@ void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<Surfac
   }
   // The cells that can hold a facet are listed first, in the container's order; then their facets are read
   // with the neighbours of the cell kPrefetchCells ahead (and that cell's own neighbour list, twice as far)
-  // already on their way: deciding whether a facet is on
-  // the surface reads the neighbour across it, and those reads, scattered over ~10^5 carved cells, were where
-  // this pass spent 82 % of its time (200 urban frames; bench/RESULTS.md, session 16).
+  // already on their way: deciding whether a facet is on the surface reads the neighbour across it, and
+  // those reads, scattered over ~10^5 carved cells, were where this pass spent 82 % of its time (200 urban
+  // frames; bench/RESULTS.md, session 16).
   std::vector<CellHandle> candidates;
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
     if (c->info().CarvedAcrossAny() || std::binary_search(hull.begin(), hull.end(), CellHandle(c))) {
@@ -73,10 +71,7 @@ void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<Surfac
   }
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     if (k + 2 * kPrefetchCells < candidates.size()) __builtin_prefetch(&*candidates[k + 2 * kPrefetchCells]);
-    if (k + kPrefetchCells < candidates.size()) {
-      const CellHandle ahead = candidates[k + kPrefetchCells];
-      for (int i = 0; i < 4; ++i) __builtin_prefetch(&ahead->neighbor(i)->info().sealed);  // with `carved`
-    }
+    if (k + kPrefetchCells < candidates.size()) PrefetchNeighbourRecords(candidates[k + kPrefetchCells]);
     const CellHandle c = candidates[k];
     for (int i = 0; i < 4; ++i) {
       if (!TakenFrom(dt, c, i)) continue;

@@ -131,6 +131,16 @@ inline void MarkFacetSeen(CellHandle c, int i) {
   n->info().seen_facets |= std::uint8_t(1u << n->index(c));
 }
 
+// How far ahead of the cell it is at a loop over scattered cells fetches what it will read of them (8 cells:
+// the distance that hid the misses of the vote, surface and hole loops; bench/RESULTS.md, sessions 15–16).
+inline constexpr std::size_t kPrefetchCells = 8;
+// Starts fetching the records of the neighbours of `c` (carving, sealing and seen bits, as NeighbourCarved,
+// AsCarvedFacet and FacetSeen read them): a loop over cells scattered over the map calls it for the cell
+// kPrefetchCells ahead, so that those reads do not wait for memory.
+inline void PrefetchNeighbourRecords(CellHandle c) {
+  for (int i = 0; i < 4; ++i) __builtin_prefetch(&c->neighbor(i)->info().sealed);  // with `carved`
+}
+
 // A facet by its three vertex handles, sorted: names a facet across a re-triangulation that keeps it.
 using FacetHandles = std::array<const void*, 3>;
 struct FacetHandlesHash {
