@@ -56,7 +56,7 @@ def triangle_keys(xyz, triangles):
     return [tuple(sorted((points[a], points[b], points[c]))) for a, b, c in triangles.tolist()]
 
 
-def components(members, edge_triangles, triangles):
+def components(members, edge_triangles):
     """Components of the triangles in `members` connected across edges (union-find)."""
     parent = {t: t for t in members}
 
@@ -98,7 +98,7 @@ def main():
     for t, (a, b, c) in enumerate(triangles.tolist()):
         for u, v in ((a, b), (b, c), (c, a)):
             edge_triangles[(min(u, v), max(u, v))].append(t)
-    unseen = components(set(np.flatnonzero(~in_seen).tolist()), edge_triangles, triangles)
+    unseen = components(set(np.flatnonzero(~in_seen).tolist()), edge_triangles)
     a, b, c = xyz[triangles[:, 0]], xyz[triangles[:, 1]], xyz[triangles[:, 2]]
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
 
