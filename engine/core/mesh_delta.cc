@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
+#include <utility>
 #include <unordered_set>
 
 #include "engine/core/check.h"
@@ -102,7 +104,13 @@ void MeshAccumulator::Reset() {
 void MeshAccumulator::Apply(const MeshDelta& delta) {
   SEMAP_ASSERT(delta.vertex_positions.size() == delta.vertex_ids.size());
   SEMAP_ASSERT(delta.added_triangles.size() == delta.added_triangle_ids.size());
-  for (auto id : delta.removed_triangle_ids) triangles_.erase(id);
+  for (auto id : delta.removed_triangle_ids) {
+    const auto it = triangles_.find(id);
+    if (it == triangles_.end()) continue;
+    const std::array<VertexId, 3> t = it->second;
+    triangles_.erase(it);
+    Reference(t, -1);
+  }
   has_colors_ = has_colors_ || !delta.vertex_colors_rgb.empty();
   has_labels_ = has_labels_ || !delta.vertex_labels.empty();
   for (size_t i = 0; i < delta.vertex_ids.size(); ++i) {
@@ -112,8 +120,36 @@ void MeshAccumulator::Apply(const MeshDelta& delta) {
     if (!delta.vertex_labels.empty()) v.label = delta.vertex_labels[i];
   }
   for (size_t i = 0; i < delta.added_triangle_ids.size(); ++i) {
-    triangles_[delta.added_triangle_ids[i]] = delta.added_triangles[i];
+    const auto [it, inserted] = triangles_.try_emplace(delta.added_triangle_ids[i], delta.added_triangles[i]);
+    if (!inserted) {  // the same id again (a snapshot over what is held): the new vertices replace the old
+      Reference(delta.added_triangles[i], +1);
+      Reference(std::exchange(it->second, delta.added_triangles[i]), -1);
+      continue;
+    }
+    Reference(it->second, +1);
   }
+  // Vertices that came without a triangle (or whose triangles all went) are not kept.
+  for (auto id : delta.vertex_ids) {
+    const auto it = vertices_.find(id);
+    if (it != vertices_.end() && it->second.triangles == 0) vertices_.erase(it);
+  }
+}
+
+void MeshAccumulator::Reference(const std::array<VertexId, 3>& t, int step) {
+  for (auto id : t) {
+    const auto it = vertices_.find(id);
+    SEMAP_ASSERT(it != vertices_.end(), "triangle references unknown vertex " << id);
+    it->second.triangles += step;
+    if (it->second.triangles == 0) vertices_.erase(it);
+  }
+}
+
+void MeshAccumulator::AppendVertex(VertexId id, MeshDelta* delta) const {
+  const Vertex& v = vertices_.at(id);
+  delta->vertex_ids.push_back(id);
+  delta->vertex_positions.push_back(v.position);
+  if (has_colors_) delta->vertex_colors_rgb.push_back(v.color_rgb);
+  if (has_labels_) delta->vertex_labels.push_back(v.label);
 }
 
 Mesh MeshAccumulator::ToMesh() const {
@@ -125,12 +161,11 @@ Mesh MeshAccumulator::ToMesh() const {
   }
   Mesh mesh;
   for (auto& [vid, idx] : index) {
-    auto it = vertices_.find(vid);
-    SEMAP_ASSERT(it != vertices_.end(), "triangle references unknown vertex " << vid);
+    const Vertex& v = vertices_.at(vid);
     idx = static_cast<std::uint32_t>(mesh.vertices.size());
-    mesh.vertices.push_back(it->second.position);
-    if (has_colors_) mesh.colors_rgb.push_back(it->second.color_rgb);
-    if (has_labels_) mesh.labels.push_back(it->second.label);
+    mesh.vertices.push_back(v.position);
+    if (has_colors_) mesh.colors_rgb.push_back(v.color_rgb);
+    if (has_labels_) mesh.labels.push_back(v.label);
   }
   for (const auto& [id, t] : ordered) mesh.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
   return mesh;
@@ -140,17 +175,32 @@ MeshDelta MeshAccumulator::AsSnapshot(std::int64_t frame_id) const {
   MeshDelta d;
   d.frame_id = frame_id;
   std::map<TriangleId, std::array<VertexId, 3>> ordered(triangles_.begin(), triangles_.end());
-  std::map<VertexId, const Vertex*> used;
+  std::set<VertexId> used;
   for (const auto& [id, t] : ordered) {
     d.added_triangle_ids.push_back(id);
     d.added_triangles.push_back(t);
-    for (auto v : t) used.emplace(v, &vertices_.at(v));
+    used.insert(t.begin(), t.end());
   }
-  for (const auto& [id, v] : used) {
-    d.vertex_ids.push_back(id);
-    d.vertex_positions.push_back(v->position);
-    if (has_colors_) d.vertex_colors_rgb.push_back(v->color_rgb);
-    if (has_labels_) d.vertex_labels.push_back(v->label);
+  for (const VertexId id : used) AppendVertex(id, &d);
+  return d;
+}
+
+MeshDelta MeshAccumulator::TakeTriangles(const std::vector<TriangleId>& ids) {
+  MeshDelta d;
+  std::unordered_set<VertexId> appended;
+  for (const TriangleId id : ids) {
+    const auto it = triangles_.find(id);
+    if (it == triangles_.end()) continue;
+    d.added_triangle_ids.push_back(id);
+    d.added_triangles.push_back(it->second);
+    for (auto v : it->second) {
+      if (appended.insert(v).second) AppendVertex(v, &d);
+    }
+  }
+  // Forgotten after all are listed: a vertex may be on several of them.
+  for (std::size_t i = 0; i < d.added_triangle_ids.size(); ++i) {
+    triangles_.erase(d.added_triangle_ids[i]);
+    Reference(d.added_triangles[i], -1);
   }
   return d;
 }

@@ -64,24 +64,42 @@ class MeshDiffer {
   std::uint64_t generation_ = 0;
 };
 
-// Subscriber side: applies snapshots and deltas and rebuilds an indexed mesh. Not thread-safe.
+// Subscriber side: applies snapshots and deltas and rebuilds an indexed mesh. It holds the triangles it was
+// given and the vertices they reference (a vertex no triangle references any more is forgotten: a delta
+// brings again every vertex its added triangles reference). Not thread-safe.
 class MeshAccumulator {
  public:
   void Reset();
   // Vertices are upserted; removed ids that are unknown are ignored (a subscriber may join late).
   void Apply(const MeshDelta& delta);
-  // The current mesh; vertices that no triangle references are dropped. Vertex order follows ids.
+  // The current mesh. Vertex order follows ids, triangle order too.
   Mesh ToMesh() const;
   // Everything accumulated as one delta with the original ids (a snapshot: apply after Reset()).
   MeshDelta AsSnapshot(std::int64_t frame_id) const;
+  // Removes the triangles `ids` names (unknown ones are passed over) and returns them as a delta that adds
+  // them, with every vertex they reference as it is now; the vertices no triangle left references are
+  // forgotten. For a holder that keeps parts of the mesh elsewhere: the finalised triangles, which no delta
+  // removes, go to disk (io's MeshFileSink) and the accumulator keeps only the live mesh.
+  MeshDelta TakeTriangles(const std::vector<TriangleId>& ids);
   size_t num_triangles() const { return triangles_.size(); }
+  size_t num_vertices() const { return vertices_.size(); }
+  // Whether any delta applied had vertex colours / labels (the mesh then has them for every vertex).
+  bool has_colors() const { return has_colors_; }
+  bool has_labels() const { return has_labels_; }
 
  private:
   struct Vertex {
     Eigen::Vector3d position;
     std::array<std::uint8_t, 3> color_rgb{0, 0, 0};
     Label label = 0;
+    std::uint32_t triangles = 0;  // held triangles that reference it
   };
+  // Adds `t` to the triangle counts of its vertices (which must be known), or removes it (`step` −1),
+  // forgetting the vertices it leaves without triangles.
+  void Reference(const std::array<VertexId, 3>& t, int step);
+  // Appends vertex `id` to `delta` (its id, position and, as the mesh has them, colour and label).
+  void AppendVertex(VertexId id, MeshDelta* delta) const;
+
   std::unordered_map<VertexId, Vertex> vertices_;
   std::unordered_map<TriangleId, std::array<VertexId, 3>> triangles_;
   bool has_colors_ = false;

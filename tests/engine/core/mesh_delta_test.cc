@@ -1,5 +1,6 @@
 #include "engine/core/mesh_delta.h"
 
+#include <map>
 #include <random>
 #include <set>
 
@@ -44,6 +45,18 @@ IdentifiedMesh MakeMesh(const std::vector<std::array<VertexId, 3>>& tris) {
     m.mesh.triangles.push_back(local);
   }
   return m;
+}
+
+// A delta adding `tris` with ids `ids`, and their vertices (id i at (i, i², 1)).
+MeshDelta MakeDelta(const std::vector<std::array<VertexId, 3>>& tris, const std::vector<TriangleId>& ids) {
+  const IdentifiedMesh m = MakeMesh(tris);
+  MeshDelta d;
+  d.vertex_ids = m.vertex_ids;
+  d.vertex_positions = m.mesh.vertices;
+  d.vertex_labels = m.mesh.labels;
+  d.added_triangle_ids = ids;
+  d.added_triangles = tris;
+  return d;
 }
 
 TEST(MeshDiffer, FirstUpdateAddsEverythingAndSecondIsEmpty) {
@@ -140,6 +153,51 @@ TEST(MeshAccumulator, UnknownRemovalsAreIgnored) {
   acc.Apply(d);
   EXPECT_EQ(acc.num_triangles(), 0u);
   EXPECT_TRUE(acc.ToMesh().vertices.empty());
+}
+
+TEST(MeshAccumulator, ForgetsTheVerticesNoTriangleReferences) {
+  // A live mesh that moves along: the accumulator holds the vertices of its triangles only, not every vertex
+  // it was ever sent.
+  MeshDiffer differ;
+  MeshAccumulator acc;
+  for (VertexId first = 0; first < 200; ++first) {
+    acc.Apply(differ.Update(std::int64_t(first), MakeMesh({{first, first + 1, first + 2}, {first + 1, first + 3, first + 2}})));
+    ASSERT_EQ(acc.num_triangles(), 2u);
+    ASSERT_EQ(acc.num_vertices(), 4u);
+  }
+}
+
+TEST(MeshAccumulator, TakeTrianglesReturnsThemWithTheirVerticesAndKeepsTheShared) {
+  MeshAccumulator acc;
+  MeshDelta d;
+  d.vertex_ids = {1, 2, 3, 4};
+  d.vertex_positions = {{1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}};
+  d.vertex_labels = {1, 2, 3, 4};
+  d.added_triangle_ids = {10, 11};
+  d.added_triangles = {{{1, 2, 3}}, {{2, 4, 3}}};
+  acc.Apply(d);
+  const MeshDelta taken = acc.TakeTriangles({10, 99});  // 99: unknown, passed over
+  ASSERT_EQ(taken.added_triangle_ids, std::vector<TriangleId>{10});
+  EXPECT_EQ(taken.added_triangles[0], (std::array<VertexId, 3>{1, 2, 3}));
+  EXPECT_EQ(taken.vertex_ids, (std::vector<VertexId>{1, 2, 3}));
+  EXPECT_EQ(taken.vertex_labels, (std::vector<Label>{1, 2, 3}));
+  EXPECT_TRUE(taken.vertex_colors_rgb.empty());  // the accumulator never had colours
+  // Vertex 1 was on the taken triangle only; 2 and 3 stay with triangle 11.
+  EXPECT_EQ(acc.num_triangles(), 1u);
+  EXPECT_EQ(acc.num_vertices(), 3u);
+  const Mesh rest = acc.ToMesh();
+  ASSERT_EQ(rest.num_vertices(), 3u);
+  EXPECT_EQ(rest.vertices[0].x(), 2.0);
+  EXPECT_TRUE(acc.TakeTriangles({10}).added_triangle_ids.empty());  // taken once
+}
+
+TEST(MeshAccumulator, ApplyingAnIdAgainReplacesItsTriangle) {
+  MeshAccumulator acc;
+  acc.Apply(MakeDelta({{1, 2, 3}}, {5}));
+  acc.Apply(MakeDelta({{4, 5, 6}}, {5}));
+  EXPECT_EQ(acc.num_triangles(), 1u);
+  EXPECT_EQ(acc.num_vertices(), 3u);  // 1, 2, 3 went with the triangle they were on
+  EXPECT_EQ(acc.ToMesh().vertices[0].x(), 4.0);
 }
 
 }  // namespace
