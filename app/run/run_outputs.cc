@@ -19,6 +19,9 @@ std::vector<PipelineSink*> RunOutputs::sinks() {
 }
 
 void RunOutputs::LogWritten() {
+  if (!mesh_.spill_error().empty()) {
+    spdlog::warn("{}; the finalised mesh was kept in memory from then on", mesh_.spill_error());
+  }
   for (const auto& f : mesh_.written()) spdlog::info("wrote {}", f.string());
   if (lcm_) {
     const auto c = lcm_->publisher().counters();

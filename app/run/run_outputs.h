@@ -22,8 +22,8 @@ class RunOutputs {
 
   // The sinks, in the order each frame reaches them: mesh files, stats, LCM.
   std::vector<PipelineSink*> sinks();
-  // The mesh as written so far (the whole mesh once the run has finished).
-  Mesh mesh() const { return mesh_.mesh(); }
+  // The whole mesh, once the run has finished (empty before).
+  const Mesh& mesh() const { return mesh_.mesh(); }
   // Logs the files written and, with LCM, the publisher's counters.
   void LogWritten();
 

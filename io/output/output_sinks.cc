@@ -1,5 +1,7 @@
 #include "io/output/output_sinks.h"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "engine/core/check.h"
@@ -46,18 +48,85 @@ nlohmann::json StatsJson(const FrameStats& s) {
 
 void OutputOptions::Check() const { SEMAP_CHECK_OPTION(!dir.empty(), "dir", "''", "must not be empty"); }
 
-MeshFileSink::MeshFileSink(const OutputOptions& options) : options_(options) {
+MeshFileSink::MeshFileSink(const OutputOptions& options)
+    : options_(options), spill_(std::filesystem::path(options.dir) / kSpillFileName) {
   options_.Check();
   CheckWritableFolder(options_.dir);
 }
 
 void MeshFileSink::OnFrame(const FrameStats&, const MeshDelta& delta, const std::optional<Pose3d>&) {
   accumulator_.Apply(delta);
+  if (delta.finalised_triangle_ids.empty()) return;
+  if (!spill_error_.empty()) return;  // kept in memory since the spill file failed
+  const MeshDelta finalised = accumulator_.TakeTriangles(delta.finalised_triangle_ids);
+  try {
+    spill_.Append(finalised);
+  } catch (const FileError& e) {
+    accumulator_.Apply(finalised);  // back where they were: nothing is lost
+    spill_error_ = e.what();
+  }
+}
+
+Mesh MeshFileSink::AssembleMesh() {
+  // Every triangle with its id, and every vertex record in the order it came (spilled ones first, then the
+  // live mesh's: the latest): a vertex takes its last record, as MeshAccumulator's upserts do. Flat arrays
+  // sorted once: what the end of a long drive holds (millions of triangles) at ~1/4 of the accumulator's
+  // memory per triangle.
+  struct VertexRecord {
+    VertexId id;
+    std::uint64_t order;
+    Eigen::Vector3d position;
+    std::array<std::uint8_t, 3> color_rgb;
+    Label label;
+  };
+  std::vector<std::pair<TriangleId, std::array<VertexId, 3>>> triangles;
+  std::vector<VertexRecord> records;
+  triangles.reserve(spill_.num_triangles() + accumulator_.num_triangles());
+  const auto take = [&](const MeshDelta& d) {
+    for (std::size_t i = 0; i < d.added_triangle_ids.size(); ++i) {
+      triangles.emplace_back(d.added_triangle_ids[i], d.added_triangles[i]);
+    }
+    for (std::size_t i = 0; i < d.vertex_ids.size(); ++i) {
+      records.push_back({d.vertex_ids[i], records.size(), d.vertex_positions[i],
+                         d.vertex_colors_rgb.empty() ? std::array<std::uint8_t, 3>{0, 0, 0} : d.vertex_colors_rgb[i],
+                         d.vertex_labels.empty() ? Label(0) : d.vertex_labels[i]});
+    }
+  };
+  spill_.ForEach(take);
+  take(accumulator_.AsSnapshot(-1));
+  std::sort(triangles.begin(), triangles.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(records.begin(), records.end(), [](const VertexRecord& a, const VertexRecord& b) {
+    return a.id != b.id ? a.id < b.id : a.order > b.order;  // the latest record of each vertex first
+  });
+  records.erase(std::unique(records.begin(), records.end(),
+                            [](const VertexRecord& a, const VertexRecord& b) { return a.id == b.id; }),
+                records.end());
+  const auto index_of = [&](VertexId id) {
+    const auto it = std::lower_bound(records.begin(), records.end(), id,
+                                     [](const VertexRecord& r, VertexId v) { return r.id < v; });
+    SEMAP_ASSERT(it != records.end() && it->id == id, "triangle references unknown vertex " << id);
+    return std::uint32_t(it - records.begin());
+  };
+  Mesh mesh;
+  mesh.vertices.reserve(records.size());
+  for (const VertexRecord& r : records) mesh.vertices.push_back(r.position);
+  if (accumulator_.has_colors()) {
+    for (const VertexRecord& r : records) mesh.colors_rgb.push_back(r.color_rgb);
+  }
+  if (accumulator_.has_labels()) {
+    for (const VertexRecord& r : records) mesh.labels.push_back(r.label);
+  }
+  mesh.triangles.reserve(triangles.size());
+  for (const auto& [id, t] : triangles) mesh.triangles.push_back({index_of(t[0]), index_of(t[1]), index_of(t[2])});
+  return mesh;
 }
 
 void MeshFileSink::OnFinish(const FrameStats&, const MeshDelta& final_delta) {
   accumulator_.Apply(final_delta);
-  const Mesh mesh = accumulator_.ToMesh();
+  mesh_ = AssembleMesh();
+  spill_.Remove();
+  const Mesh& mesh = mesh_;
   const std::filesystem::path dir(options_.dir);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);

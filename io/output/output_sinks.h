@@ -10,6 +10,7 @@
 #include "engine/core/mesh_delta.h"
 #include "engine/pipeline/pipeline.h"
 #include "io/lcm/lcm_publisher.h"
+#include "io/output/mesh_spill.h"
 
 namespace semap::io {
 
@@ -37,21 +38,40 @@ struct OutputOptions {
 };
 
 // Accumulates the mesh deltas and writes the final mesh at the end of the run, each file atomically (a
-// temporary name renamed into place). The constructor checks that the folder is writable; a file that cannot
-// be written later throws FileError (naming the path): the pipeline records it and goes on.
+// temporary name renamed into place). The triangles the map finalised (MeshDelta::finalised_triangle_ids)
+// leave its memory as they come, for a spill file in the folder (MeshSpill), so that its memory follows the
+// live mesh, not the length of the drive; at the end they are read back and the whole mesh is written
+// (triangles and vertices in the order of their ids, as MeshAccumulator::ToMesh would give them). When the
+// spill file cannot be written, the finalised triangles stay in memory from then on (spill_error() says why)
+// and nothing is lost. The constructor checks that the folder is writable; a mesh file that cannot be written
+// at the end throws FileError (naming the path): the pipeline records it and goes on.
 class MeshFileSink : public PipelineSink {
  public:
   explicit MeshFileSink(const OutputOptions& options);
   void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override;
   void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
-  // The mesh as accumulated so far (the final one after OnFinish).
-  Mesh mesh() const { return accumulator_.ToMesh(); }
+  // The whole mesh (after OnFinish; empty before).
+  const Mesh& mesh() const { return mesh_; }
   // Written files (after OnFinish).
   const std::vector<std::filesystem::path>& written() const { return written_; }
+  // The triangles held in memory now (the live mesh) and those moved to the spill file so far.
+  std::size_t num_triangles_in_memory() const { return accumulator_.num_triangles(); }
+  std::uint64_t num_triangles_spilled() const { return spill_.num_triangles(); }
+  // Why the finalised triangles stopped going to the spill file ("" while they go there).
+  const std::string& spill_error() const { return spill_error_; }
+
+  // The spill file's name in the output folder (removed at the end of the run).
+  static constexpr const char* kSpillFileName = ".mesh_finalised.spill";
 
  private:
+  // The whole mesh: the spilled triangles and the live ones.
+  Mesh AssembleMesh();
+
   OutputOptions options_;
   MeshAccumulator accumulator_;
+  MeshSpill spill_;
+  std::string spill_error_;
+  Mesh mesh_;
   std::vector<std::filesystem::path> written_;
 };
 

@@ -1,6 +1,8 @@
 #include "io/output/output_sinks.h"
 
 #include <fstream>
+#include <map>
+#include <random>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -156,6 +158,110 @@ TEST(StatsFileSink, AFailedStartLeavesThePreviousRunsFilesAlone) {
   EXPECT_FALSE(std::filesystem::exists(dir / "summary.json"));
   sink.OnFinish(Stats(0), {});
   EXPECT_TRUE(std::filesystem::exists(dir / "summary.json"));
+}
+
+// A drive's mesh stream: a live mesh that moves along a strip of vertices, and behind it triangles the map
+// finalises (some published while live, some never), with vertex colours that change from frame to frame (a
+// vertex's last upsert wins), made into deltas by the MeshDiffer as the pipeline does.
+std::vector<MeshDelta> DriveDeltas(int frames, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  MeshDiffer differ;
+  std::vector<MeshDelta> deltas;
+  auto mesh_of = [&](const std::vector<std::array<VertexId, 3>>& tris, int frame) {
+    IdentifiedMesh m;
+    std::map<VertexId, std::uint32_t> index;
+    for (const auto& t : tris) {
+      std::array<std::uint32_t, 3> local{};
+      for (int k = 0; k < 3; ++k) {
+        const auto [it, inserted] = index.emplace(t[k], std::uint32_t(m.vertex_ids.size()));
+        if (inserted) {
+          m.vertex_ids.push_back(t[k]);
+          m.mesh.vertices.emplace_back(double(t[k]), double(t[k] % 7), 0.5 * double(t[k] % 3));
+          m.mesh.colors_rgb.push_back({std::uint8_t(frame), std::uint8_t(t[k]), std::uint8_t(frame + t[k])});
+          m.mesh.labels.push_back(Label(t[k] % 19));
+        }
+        local[k] = it->second;
+      }
+      m.mesh.triangles.push_back(local);
+    }
+    return m;
+  };
+  std::vector<std::array<VertexId, 3>> previous_live;
+  for (int frame = 0; frame < frames; ++frame) {
+    const VertexId start = VertexId(6 * frame);
+    std::vector<std::array<VertexId, 3>> live, frozen;
+    for (VertexId v = start; v < start + 40; ++v) {
+      if (rng() % 4 != 0) live.push_back({v, v + 1, v + 2});
+    }
+    // Behind the live strip: some of the last frame's live triangles, and some never published.
+    for (const auto& t : previous_live) {
+      if (t[0] < start && rng() % 4 != 0) frozen.push_back(t);
+    }
+    if (frame % 3 == 0 && start >= 4) frozen.push_back({start - 4, start - 2, start - 3});
+    deltas.push_back(differ.Update(frame, mesh_of(live, frame), mesh_of(frozen, frame)));
+    previous_live = live;
+  }
+  return deltas;
+}
+
+void ExpectSameMesh(const Mesh& got, const Mesh& expected) {
+  EXPECT_EQ(got.vertices, expected.vertices);
+  EXPECT_EQ(got.triangles, expected.triangles);
+  EXPECT_EQ(got.colors_rgb, expected.colors_rgb);
+  EXPECT_EQ(got.labels, expected.labels);
+}
+
+TEST(MeshFileSink, KeepsOnlyTheLiveMeshInMemoryAndWritesWhatTheAccumulatorWould) {
+  const auto deltas = DriveDeltas(300, 5);
+  const auto dir = test::TempDir() / "out";
+  OutputOptions o;
+  o.dir = dir.string();
+  MeshFileSink sink(o);
+  MeshAccumulator reference;  // everything in memory: what the sink wrote before it spilled
+  std::size_t most_in_memory = 0;
+  for (std::size_t i = 0; i + 1 < deltas.size(); ++i) {
+    sink.OnFrame(Stats(std::int64_t(i)), deltas[i], std::nullopt);
+    reference.Apply(deltas[i]);
+    most_in_memory = std::max(most_in_memory, sink.num_triangles_in_memory());
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / MeshFileSink::kSpillFileName));
+  EXPECT_GT(sink.num_triangles_spilled(), 500u);
+  EXPECT_LE(most_in_memory, 120u);  // the live strip and what finalisation has not taken yet
+  sink.OnFinish(Stats(299), deltas.back());
+  reference.Apply(deltas.back());
+  EXPECT_FALSE(std::filesystem::exists(dir / MeshFileSink::kSpillFileName));
+  const Mesh expected = reference.ToMesh();
+  ASSERT_GT(expected.num_triangles(), sink.num_triangles_spilled());
+  ExpectSameMesh(sink.mesh(), expected);
+  // The files hold that mesh, byte for byte.
+  WriteMeshPly(dir / "expected.ply", expected, PlyEncoding::kBinaryLittleEndian);
+  WriteMeshOff(dir / "expected.off", expected);
+  EXPECT_EQ(test::ReadFile(dir / "mesh.ply"), test::ReadFile(dir / "expected.ply"));
+  EXPECT_EQ(test::ReadFile(dir / "mesh.off"), test::ReadFile(dir / "expected.off"));
+}
+
+TEST(MeshFileSink, ASpillFileThatCannotBeWrittenLosesNothing) {
+  // The folder is gone when the first finalised triangles come: they stay in memory, and so do all later
+  // ones; once the folder is back, the mesh written at the end is whole.
+  const auto deltas = DriveDeltas(60, 9);
+  const auto dir = test::TempDir() / "out";
+  OutputOptions o;
+  o.dir = dir.string();
+  MeshFileSink sink(o);
+  MeshAccumulator reference;
+  std::filesystem::remove_all(dir);
+  for (std::size_t i = 0; i + 1 < deltas.size(); ++i) {
+    sink.OnFrame(Stats(std::int64_t(i)), deltas[i], std::nullopt);
+    reference.Apply(deltas[i]);
+  }
+  EXPECT_NE(sink.spill_error().find(MeshFileSink::kSpillFileName), std::string::npos) << sink.spill_error();
+  EXPECT_EQ(sink.num_triangles_spilled(), 0u);
+  std::filesystem::create_directories(dir);
+  sink.OnFinish(Stats(59), deltas.back());
+  reference.Apply(deltas.back());
+  const Mesh expected = reference.ToMesh();
+  ExpectSameMesh(sink.mesh(), expected);
+  EXPECT_EQ(ReadMeshPly(dir / "mesh.ply").num_triangles(), expected.num_triangles());
 }
 
 }  // namespace
