@@ -19,15 +19,12 @@ bool LexLess(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 }  // namespace
 
 SurfaceFacet OrientedFacet(CellHandle carved_cell, int opposite) {
+  // Counter-clockwise seen from the carved side, where the opposite vertex lies: a finite cell of a CGAL
+  // triangulation is positively oriented, and CGAL's vertex triple of a facet is ordered counter-clockwise
+  // seen from the facet's opposite vertex in such a cell (no orientation test: tests/engine/map/
+  // surface_extraction_test.cc holds the two against each other).
   SurfaceFacet f;
-  for (int k = 0, n = 0; k < 4; ++k) {
-    if (k != opposite) f.vertices[n++] = carved_cell->vertex(k);
-  }
-  // Counter-clockwise seen from the carved side, where the opposite vertex lies.
-  if (CGAL::orientation(f.vertices[0]->point(), f.vertices[1]->point(), f.vertices[2]->point(),
-                        carved_cell->vertex(opposite)->point()) == CGAL::NEGATIVE) {
-    std::swap(f.vertices[1], f.vertices[2]);
-  }
+  for (int k = 0; k < 3; ++k) f.vertices[k] = carved_cell->vertex(Delaunay::vertex_triple_index(opposite, k));
   for (int k = 0; k < 3; ++k) f.id[k] = VertexKey(f.vertices[k]);
   std::sort(f.id.begin(), f.id.end());
   return f;

@@ -48,5 +48,32 @@ TEST(FacetsToMesh, EveryTriangleNamesItsFacetsVerticesOnce) {
   }
 }
 
+// OrientedFacet orders a facet by CGAL's vertex triple instead of testing its orientation: held against the
+// test on every facet of a random triangulation, points on a grid among them (coplanar and cospherical
+// quadruples, the degenerate cases of the predicates).
+TEST(OrientedFacet, IsCounterClockwiseSeenFromTheCell) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Delaunay dt;
+  for (int i = 0; i < 300; ++i) dt.insert(Point(unit(rng), unit(rng), unit(rng)));
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int z = 0; z < 4; ++z) dt.insert(Point(2.0 + x, y, z));
+  std::uint32_t id = 0;
+  for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) v->info().id = id++;
+  std::size_t checked = 0;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    for (int i = 0; i < 4; ++i) {
+      const SurfaceFacet f = OrientedFacet(c, i);
+      ASSERT_EQ(CGAL::orientation(f.vertices[0]->point(), f.vertices[1]->point(), f.vertices[2]->point(),
+                                  c->vertex(i)->point()),
+                CGAL::POSITIVE);
+      for (const VertexHandle v : f.vertices) EXPECT_NE(v, c->vertex(i));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 4000u);
+}
+
 }  // namespace
 }  // namespace semap::map_internal
