@@ -42,7 +42,9 @@ bool ManifoldCarver::IsRegular(VertexHandle v) {
     ends_.push_back(a);
     ends_.push_back(b);
   }
-  std::sort(ends_.begin(), ends_.end());
+  // By address: only equal ends must meet, and VertexHandle's operator< compares CGAL's time stamps, a load
+  // from each vertex (scattered over the map) per comparison.
+  std::sort(ends_.begin(), ends_.end(), [](VertexHandle a, VertexHandle b) { return &*a < &*b; });
   for (std::size_t i = 0; i < ends_.size(); i += 2) {
     if (ends_[i] != ends_[i + 1] || (i + 2 < ends_.size() && ends_[i + 2] == ends_[i])) return false;
   }
