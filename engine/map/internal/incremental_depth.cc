@@ -1,6 +1,5 @@
 // The incremental map's update with visibility votes from depth maps (map.visibility: depth).
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -8,7 +7,6 @@
 #include <stdexcept>
 
 #include "engine/core/check.h"
-#include "engine/core/parallel.h"
 #include "engine/map/internal/incremental_state.h"
 
 namespace semap::map_internal {
@@ -108,11 +106,8 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   for (std::size_t c = 0; c < frame.camera_centers_world.size(); ++c) {
     lattice_.Use(frame.camera_centers_world[c], frame_, &nodes);
     last_camera_ = frame.camera_centers_world[c];
-    views_.emplace_back(frame.camera_views[c]);
   }
-  while (views_.size() > std::size_t(options_.vote_window_frames) * std::max<std::size_t>(1, frame.camera_views.size())) {
-    views_.pop_front();
-  }
+  integrator_.AddFrame(frame.camera_views);
 
   std::vector<PendingVertex> pending;
   refined_.clear();
@@ -137,8 +132,12 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   result.insert_ms = Lap(&lap);
 
   touched_.clear();
+  newly_seen_.clear();
   touch_mark_ = NewMark();
-  result.cells_voted = VoteFromViews();
+  const std::uint32_t visit_mark = NewMark();
+  result.cells_voted =
+      integrator_.Integrate(created_cells_, {created_mark_, touch_mark_, visit_mark}, &touched_, &newly_seen_);
+  counters_.cells_visited += result.cells_voted;
   result.trace_ms = Lap(&lap);
   CarveAndFinalise(&result, &lap);
   return result;
@@ -147,7 +146,7 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
 void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result,
                                             std::vector<PendingVertex>* pending) {
   // One grid per camera of the frame (a stream frame has one), over the live vertices seen from it.
-  const std::size_t first_view = views_.size() - frame.camera_views.size();
+  const std::size_t first_view = integrator_.views().size() - frame.camera_views.size();
   std::vector<ProjectionGrid> grids;
   grids.reserve(frame.camera_views.size());
   const std::uint32_t refined_mark = NewMark();
@@ -160,12 +159,12 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
   };
   std::vector<Candidate> candidates;
   for (std::size_t c = 0; c < frame.camera_views.size(); ++c) {
-    grids.emplace_back(views_[first_view + c], options_.merge_radius_px);
+    grids.emplace_back(integrator_.views()[first_view + c], options_.merge_radius_px);
     ProjectionGrid& grid = grids.back();
     if (dt_.dimension() < 0) continue;
     // A vertex this view measures again from much nearer, within the noise of the sighting that placed it,
     // is a candidate, kept out of the grid: no point of this view merges into it.
-    const double focal_baseline_m_px = views_[first_view + c].focal_baseline_m_px;
+    const double focal_baseline_m_px = integrator_.views()[first_view + c].focal_baseline_m_px;
     const bool refine =
         options_.refine_depth_ratio > 0.0 && options_.disparity_sigma_px > 0.0 && focal_baseline_m_px > 0.0;
     const double band_per_depth2 =
@@ -203,7 +202,7 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
   std::vector<ProjectionGrid> unconfirmed_grids;
   if (confirm) {
     for (std::size_t c = 0; c < frame.camera_views.size(); ++c) {
-      unconfirmed_grids.emplace_back(views_[first_view + c], options_.merge_radius_px);
+      unconfirmed_grids.emplace_back(integrator_.views()[first_view + c], options_.merge_radius_px);
       for (std::size_t k = 0; k < earlier; ++k) {
         int gu, gv;
         double depth;
@@ -406,137 +405,6 @@ void IncrementalState::SeenAgain(std::uint32_t id) {
   }
 }
 
-namespace {
-
-// Whether the facet of `c` opposite vertex `k` has a frozen vertex: the fans of frozen vertices were fixed
-// when they froze (RecordFan), so which of their facets are seen may not change any more.
-bool TouchesFrozen(CellHandle c, int k) {
-  for (int j = 0; j < 4; ++j) {
-    if (j != k && c->vertex(j)->info().frozen) return true;
-  }
-  return false;
-}
-
-constexpr std::size_t kGrainCells = 4096;
-// The created cells are voted in blocks of this many spatial neighbours, one view after the other.
-constexpr std::size_t kGrainCreatedCells = 256;
-// Their spatial order: a Morton code of the centroid on a grid of this step, around the newest camera.
-constexpr double kMortonStepM = 0.25;
-constexpr double kMortonHalfExtentM = double(1u << 20) * kMortonStepM;
-// How many cells ahead the vote loops start fetching the depth map lines a cell's samples will read
-// (PrefetchCellDepths): 200 urban frames, PS, half resolution, five pairs against the loops without it: map.votes
-// 53.8 → 50.1 ms a frame, the same mesh (bench/RESULTS.md, session 17); 8 cells ahead measured no better.
-constexpr std::size_t kPrefetchDepthCells = 4;
-
-// Morton code of a point quantised to `step_m` from `origin` (21 bits per axis): nearby points get nearby
-// codes, so cells sorted by it read nearby pixels of each view one after the other.
-std::uint64_t MortonCode(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, double step_m) {
-  std::uint64_t code = 0;
-  std::array<std::uint64_t, 3> q;
-  for (int a = 0; a < 3; ++a) {
-    q[a] = std::uint64_t(std::clamp((p[a] - origin[a]) / step_m, 0.0, double((1u << 21) - 1)));
-  }
-  for (int bit = 20; bit >= 0; --bit) {
-    for (int a = 0; a < 3; ++a) code = (code << 1) | ((q[a] >> bit) & 1u);
-  }
-  return code;
-}
-
-// Appends the cells of `stamped` to `out` by creation time (CGAL's time stamps, unique). The stamps are read
-// once into the keys: a comparison that read them from the cells missed the cache on ~10^5 cells a frame.
-void AppendInCreationOrder(std::vector<Stamped>* stamped, std::vector<CellHandle>* out) {
-  std::sort(stamped->begin(), stamped->end(),
-            [](const Stamped& a, const Stamped& b) { return a.time_stamp < b.time_stamp; });
-  for (const Stamped& s : *stamped) out->push_back(s.cell);
-}
-
-}  // namespace
-
-std::size_t IncrementalState::VoteCreatedCells(std::size_t created_count) {
-  // The cells an insertion created (~15 k a frame) are voted from every view of the window: 8 depth maps of
-  // up to 1.8 MB each, more than the caches hold. In cell order each cell read 8 maps at random places and
-  // most reads missed the cache; here the cells are sorted in space and, in blocks of neighbours, voted one
-  // view at a time, so that consecutive reads fall on the same lines (200 urban frames, PS, half
-  // resolution: map.votes 82–96 → 70–76 ms a frame, measured interleaved; bench/RESULTS.md, session 15).
-  // The sums are integers: the votes do not depend on the order, and the mesh is the same byte for byte.
-  const std::vector<CellHandle>& cells = vote_scratch_.cells;
-  if (created_count == 0) return 0;
-  std::vector<VoteScratch::Created>& order = vote_scratch_.created_order;
-  order.resize(created_count);
-  const Eigen::Vector3d origin = views_.back().view->world_from_cam.translation() -
-                                 Eigen::Vector3d::Constant(kMortonHalfExtentM);
-  ParallelFor(std::size_t(0), created_count, kGrainCells, [&](std::size_t first, std::size_t last) {
-    for (std::size_t j = first; j != last; ++j) {
-      const CellHandle c = cells[j];
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 4; ++k) centroid += ToEigen(c->vertex(k)->point());
-      order[j] = {MortonCode(0.25 * centroid, origin, kMortonStepM), std::uint32_t(j)};
-    }
-  });
-  // Sorted as 16-byte keys (with their vertices they were 112 bytes to move); the vertices are read again per
-  // block below.
-  std::sort(order.begin(), order.end(), [](const VoteScratch::Created& a, const VoteScratch::Created& b) {
-    return a.key != b.key ? a.key < b.key : a.index < b.index;
-  });
-  std::vector<std::uint8_t>& seen = vote_scratch_.seen;
-  std::vector<std::uint8_t>& touched = vote_scratch_.touched;
-  const bool track_seen = Emit().drop_unseen;
-  std::atomic<std::size_t> voted{0};
-  ParallelFor(std::size_t(0), order.size(), kGrainCreatedCells, [&](std::size_t first, std::size_t last) {
-    std::size_t voted_here = 0;
-    std::array<std::array<Eigen::Vector3d, 4>, kGrainCreatedCells> vertices_block;
-    std::array<VoteIncrement, kGrainCreatedCells> fresh_block;
-    std::array<std::uint8_t, kGrainCreatedCells> candidates_block;
-    for (std::size_t begin = first; begin < last; begin += kGrainCreatedCells) {
-      const std::size_t end = std::min(last, begin + kGrainCreatedCells);
-      std::array<Eigen::Vector3d, 4>* vertices = vertices_block.data() - begin;
-      VoteIncrement* fresh = fresh_block.data() - begin;
-      std::uint8_t* candidates = candidates_block.data() - begin;
-      for (std::size_t j = begin; j != end; ++j) {
-        fresh[j] = {};
-        // The facets to look for: every facet (the cell's carving is not known yet) no view saw yet. A facet
-        // between two created cells is looked for from the older one only (see LooksFromOtherSide).
-        const CellHandle c = cells[order[j].index];
-        for (int k = 0; k < 4; ++k) vertices[j][k] = ToEigen(c->vertex(k)->point());
-        candidates[j] = 0;
-        for (int k = 0; track_seen && k < 4; ++k) {
-          if (!FacetSeen(c, k) && !TouchesFrozen(c, k) && !LooksFromOtherSide(c, k)) {
-            candidates[j] |= std::uint8_t(1u << k);
-          }
-        }
-      }
-      // Each view votes the block's cells and looks for their facets while its depth map's lines are in the
-      // cache (newest view first: one view seeing a facet is enough).
-      for (auto view = views_.rbegin(); view != views_.rend(); ++view) {
-        for (std::size_t j = begin; j != end; ++j) {
-          if (j + kPrefetchDepthCells < end) PrefetchCellDepths(vertices[j + kPrefetchDepthCells], *view);
-          const VoteIncrement v = VoteCell(vertices[j], *view, depth_geometry_);
-          fresh[j].free_q += v.free_q;
-          fresh[j].matter_q += v.matter_q;
-          if (candidates[j] == 0) continue;
-          const std::uint8_t found = SeenFacets(vertices[j], candidates[j], *view, depth_geometry_);
-          seen[order[j].index] |= found;
-          candidates[j] &= std::uint8_t(~found);
-        }
-      }
-      for (std::size_t j = begin; j != end; ++j) {
-        // Seen by the window: its own votes replace the inherited ones (the increment cancels them). Adding
-        // them instead let the history of a big parent cell outweigh what the views see of its children
-        // (80 urban frames, PS: RMSE vs Velodyne 1.74 → 2.37 m).
-        CellInfo& info = cells[order[j].index]->info();
-        std::int64_t free_q = 0, matter_q = 0;
-        if (fresh[j].free_q != 0 || fresh[j].matter_q != 0) {
-          free_q = fresh[j].free_q - info.free_q;
-          matter_q = fresh[j].matter_q - info.matter_q;
-        }
-        voted_here += AddVotes(free_q, matter_q, &info, &touched[order[j].index]);
-      }
-    }
-    voted += voted_here;
-  });
-  return voted;
-}
-
 void IncrementalState::CollectCreatedCells() {
   // Every cell around a vertex inserted now is new. The cells a refinement's removal created before the
   // insertions (and that these left) lie around its link's vertices: they carry the mark already.
@@ -555,116 +423,6 @@ void IncrementalState::CollectCreatedCells() {
       created_cells_.push_back(c);
     }
   }
-}
-
-void IncrementalState::CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells) {
-  // A sealed cell never changes: its votes do not matter.
-  const auto old_and_unsealed = [&](CellHandle c) {
-    return !c->info().IsSealed() && c->info().created != created_mark_;
-  };
-  std::vector<CellHandle>& walked = vote_scratch_.walk;
-  if (CellsInView(dt_, view, NewMark(), &walked)) {
-    std::copy_if(walked.begin(), walked.end(), std::back_inserter(*cells), old_and_unsealed);
-    return;
-  }
-  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
-    if (old_and_unsealed(c)) cells->push_back(c);
-  }
-}
-
-bool IncrementalState::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info,
-                                std::uint8_t* touched) const {
-  const bool was_free = info->IsFree();
-  const bool has_vote = free_q != 0 || matter_q != 0;
-  info->free_q += free_q;
-  info->matter_q += matter_q;
-  // Changed, or free and still outside the carved region (the manifold test refused it before: retried
-  // while the view sees it, as the exact map retries the cells each new ray crosses).
-  const bool retry = info->IsFree() && !info->carved && has_vote;
-  if ((info->created == created_mark_ || was_free != info->IsFree() || retry) && info->stamp != touch_mark_) {
-    info->stamp = touch_mark_;
-    *touched = 1;
-  }
-  return has_vote;
-}
-
-std::size_t IncrementalState::VoteFromViews() {
-  if (dt_.dimension() < 3 || views_.empty()) return 0;
-  // The scratch vectors keep their capacity between frames: the created cells and those in the newest view
-  // (~100 k on a street; every live cell, ~650 k on a long drive, when the walk cannot start), which
-  // allocated anew (and paged in, and zeroed) every frame cost more than the serial part of the votes.
-  // `cells`: the created cells first, then the old ones. A sealed cell never changes: its votes do not
-  // matter.
-  std::vector<CellHandle>& cells = vote_scratch_.cells;
-  cells.clear();
-  for (const CellHandle c : created_cells_) {
-    if (!dt_.is_infinite(c) && !c->info().IsSealed()) cells.push_back(c);
-  }
-  const std::size_t first_old = cells.size();
-  const VotingView& newest = views_.back();
-  CollectOldCellsInView(newest, &cells);
-  // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
-  // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
-  // newest view sees that no view saw yet, in that view.
-  const bool track_seen = Emit().drop_unseen;
-  std::vector<std::uint8_t>& seen = vote_scratch_.seen;
-  seen.assign(track_seen ? cells.size() : 0, 0);
-  // Each cell's votes go into its own record, by the thread that computes them: a vote reads the cell's
-  // vertices and, for the seen facets, its neighbours' carving and seen bits, never their votes, so the
-  // result does not depend on the threads. Which cells are touched is decided there too, and listed below in
-  // cell order (deterministic).
-  std::vector<std::uint8_t>& touched = vote_scratch_.touched;
-  touched.assign(cells.size(), 0);
-  std::atomic<std::size_t> voted{VoteCreatedCells(first_old)};
-  ParallelFor(first_old, cells.size(), kGrainCells, [&](std::size_t first, std::size_t last) {
-    std::size_t voted_here = 0;
-    std::array<Eigen::Vector3d, 4> vertices;
-    for (std::size_t i = first; i != last; ++i) {
-      if (i + kPrefetchCells < last) {
-        const CellHandle ahead = cells[i + kPrefetchCells];
-        for (int k = 0; k < 4; ++k) __builtin_prefetch(&*ahead->vertex(k));
-      }
-      if (i + kPrefetchDepthCells < last) {
-        const CellHandle ahead = cells[i + kPrefetchDepthCells];
-        std::array<Eigen::Vector3d, 4> ahead_vertices;
-        for (int k = 0; k < 4; ++k) ahead_vertices[k] = ToEigen(ahead->vertex(k)->point());
-        PrefetchCellDepths(ahead_vertices, newest);
-      }
-      const CellHandle c = cells[i];
-      for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
-      const VoteIncrement vote = VoteCell(vertices, newest, depth_geometry_);
-      voted_here += AddVotes(vote.free_q, vote.matter_q, &c->info(), &touched[i]);
-      // An old cell the newest view does not see has no facet it could see.
-      if (!track_seen || !vote.in_view || !c->info().carved) continue;
-      std::uint8_t candidates = 0;
-      for (int k = 0; k < 4; ++k) {
-        if (!NeighbourCarved(c, k) && !FacetSeen(c, k) && !TouchesFrozen(c, k)) {
-          candidates |= std::uint8_t(1u << k);
-        }
-      }
-      if (candidates != 0) seen[i] = SeenFacets(vertices, candidates, newest, depth_geometry_);
-    }
-    voted += voted_here;
-  });
-  // The seen bits go on both sides of a facet, so they are set in one thread.
-  newly_seen_.clear();
-  std::vector<Stamped>& touched_stamped = vote_scratch_.touched_stamped;
-  std::vector<Stamped>& seen_stamped = vote_scratch_.seen_stamped;
-  touched_stamped.clear();
-  seen_stamped.clear();
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (touched[i]) touched_stamped.push_back({cells[i]->time_stamp(), cells[i]});
-    if (!track_seen || seen[i] == 0) continue;
-    seen_stamped.push_back({cells[i]->time_stamp(), cells[i]});
-    for (int k = 0; k < 4; ++k) {
-      if ((seen[i] >> k) & 1) MarkFacetSeen(cells[i], k);
-    }
-  }
-  // In creation order, whatever order the cells were found in: the carving takes them in this order.
-  AppendInCreationOrder(&touched_stamped, &touched_);
-  AppendInCreationOrder(&seen_stamped, &newly_seen_);
-  counters_.cells_visited += voted;
-  return voted.load();
 }
 
 }  // namespace semap::map_internal

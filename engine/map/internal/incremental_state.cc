@@ -62,8 +62,8 @@ double Lap(std::chrono::steady_clock::time_point* since) {
 IncrementalState::IncrementalState(const MapOptions& options)
     : options_(options),
       geometry_(options),
-      depth_geometry_(options),
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
+      integrator_(&dt_, options),
       lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
 
 MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::vector<Observation>& extra) {

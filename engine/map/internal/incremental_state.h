@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/map/incremental_map.h"
-#include "engine/map/internal/depth_votes.h"
+#include "engine/map/internal/depth_integrator.h"
 #include "engine/map/internal/manifold_carver.h"
 #include "engine/map/internal/ray_registry.h"
 #include "engine/map/internal/ray_tracer.h"
@@ -33,12 +33,6 @@ struct PendingVertex {
   std::uint32_t point_id = kNoId;  // kNoId for a Steiner node
   LatticeKey node = 0;
   PointAttributes attributes;
-};
-
-// A cell with its creation time (CGAL's time stamp), to sort by.
-struct Stamped {
-  std::size_t time_stamp;
-  CellHandle cell;
 };
 
 // The label and colour of frame point i (defaults where the frame has none).
@@ -87,25 +81,9 @@ class IncrementalState {
   // Stamps every cell around `vertices` with a new mark, returned: after a removal, the cells around them
   // without it are the ones refilling the hole.
   std::uint32_t StampCellsAround(const std::vector<VertexHandle>& vertices);
-  // Adds the votes of the newest view to the cells it sees. A cell created in this update (created_mark_)
-  // gets the votes of every stored view instead of those it inherited, unless none of them sees it. The cells
-  // whose free/matter state changed, and the created ones, go to touched_ (in creation order). Returns the
-  // number of cells that got a vote. Also marks the facets views see as a surface (map.drop_unseen_surface).
-  std::size_t VoteFromViews();
   // kDepth: marks the cells around the inserted vertices created and lists every cell this update created
   // (those of a refinement's removal too) in created_cells_.
   void CollectCreatedCells();
-  // The cells VoteFromViews votes from `view` alone, appended to `cells`: the live unsealed cells not created
-  // by this update that may be in the view (CellsInView, a walk from the camera's cell), or all of them when
-  // the camera is outside the triangulation.
-  void CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells);
-  // VoteFromViews' votes (and seen facets) of the cells this update created, the first `created_count` of
-  // vote_scratch_.cells, from every view of the window; returns how many got a vote.
-  std::size_t VoteCreatedCells(std::size_t created_count);
-  // Adds a vote to a cell's record and sets `touched` when the carving must look at the cell again (created
-  // this update, changed sides, or free and still outside). Returns whether the vote was not zero. Safe on
-  // distinct cells in parallel: writes the cell's votes and stamp only.
-  bool AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info, std::uint8_t* touched) const;
 
   // A new data point for frame point i, pending insertion (its record made, its age starting now).
   std::uint32_t NewPoint(const LabelledCloud& frame, std::uint32_t i, std::vector<PendingVertex>* pending);
@@ -171,15 +149,6 @@ class IncrementalState {
   // The two halves of a trace: the walk (const, safe to run concurrently) and the bookkeeping.
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
   void ApplyVotes(std::uint32_t ray, int sign, const RayVotes& votes);
-  // Whether the facet of created cell `c` opposite vertex `k` is looked for as a surface from its other
-  // side (VoteCreatedCells): the neighbour there was created by this update too, and before `c`. Each view
-  // tests such a facet once instead of twice; the test is the same up to rounding (the vertices in another
-  // order).
-  bool LooksFromOtherSide(CellHandle c, int k) const {
-    const CellHandle n = c->neighbor(k);
-    return n->info().created == created_mark_ && !dt_.is_infinite(n) && !n->info().IsSealed() &&
-           n->time_stamp() < c->time_stamp();
-  }
   std::uint32_t NewMark() { return ++mark_; }
   // The surface facets the output leaves out (live mesh and finalised triangles alike).
   EmitRule Emit() const {
@@ -189,12 +158,11 @@ class IncrementalState {
 
   MapOptions options_;
   RayGeometry geometry_;
-  DepthVoteGeometry depth_geometry_;
   Delaunay dt_;
   ManifoldCarver carver_;
+  DepthIntegrator integrator_;  // kDepth: the window of views and their votes
   SteinerLattice lattice_;
   RayRegistry rays_;
-  std::deque<VotingView> views_;  // kDepth: the last vote_window_frames views, newest last
   std::unordered_map<std::uint32_t, PointRecord> points_;
   std::unordered_map<std::uint32_t, CameraRecord> cameras_;
   std::unordered_map<LatticeKey, VertexHandle> steiner_;
@@ -234,19 +202,7 @@ class IncrementalState {
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
   std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
-  std::vector<CellHandle> newly_seen_;      // kDepth: cells VoteFromViews marked facets of seen
-  struct VoteScratch {  // VoteFromViews, per cell it visits
-    std::vector<CellHandle> cells;      // the cells this update created, then the old ones in the view
-    std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
-    std::vector<std::uint8_t> touched;  // goes to touched_
-    struct Created {
-      std::uint64_t key;    // spatial order
-      std::uint32_t index;  // in `cells`
-    };
-    std::vector<Created> created_order;  // the created cells, in spatial order
-    std::vector<CellHandle> walk;        // CollectOldCellsInView's queue
-    std::vector<Stamped> touched_stamped, seen_stamped;  // touched_ and newly_seen_ before their sort
-  } vote_scratch_;
+  std::vector<CellHandle> newly_seen_;      // kDepth: cells the integrator marked facets of seen
 
   // Outputs.
   IdentifiedMesh finalised_;

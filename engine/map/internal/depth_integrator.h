@@ -1,0 +1,101 @@
+// The visibility integrator of map.visibility: depth: the window of the last frames' depth views, and their
+// votes added to the cells of the triangulation it works on (depth_votes.h says how a vote relates to the
+// paper's formula).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "engine/core/depth_view.h"
+#include "engine/map/internal/depth_votes.h"
+#include "engine/map/internal/triangulation.h"
+#include "engine/map/map_options.h"
+
+namespace semap::map_internal {
+
+// A cell with its creation time (CGAL's time stamp), to sort by.
+struct Stamped {
+  std::size_t time_stamp;
+  CellHandle cell;
+};
+
+// Like voxblox's integrators, it takes the map it writes and reports what changed: Integrate adds the votes
+// of the window's views to the cells of the triangulation and marks the facets they see as a surface, and
+// lists the cells whose state the carving must look at again. It writes the cells' votes, seen bits and
+// stamps (CellInfo: free_q, matter_q, seen_facets, stamp), nothing else. Works on a triangulation it does not
+// own; not thread-safe (Integrate runs its loops on TBB's workers, on distinct cells).
+class DepthIntegrator {
+ public:
+  DepthIntegrator(Delaunay* dt, const MapOptions& options);
+
+  // Adds one frame's views (one per camera, none null or empty) to the window; the views of the frames before
+  // the last map.vote_window_frames leave it.
+  void AddFrame(const std::vector<std::shared_ptr<const DepthView>>& views);
+  // The window, oldest first (the frame just added last).
+  const std::deque<VotingView>& views() const { return views_; }
+
+  // The marks of one update in CellInfo: `created` is the `created` mark of the cells the update created;
+  // `touch` and `visit` are fresh stamps (of the cells listed as touched, of the cells the walk visits).
+  struct Marks {
+    std::uint32_t created = 0;
+    std::uint32_t touch = 0;
+    std::uint32_t visit = 0;
+  };
+  // Adds the votes of the newest view to the old cells it sees (the live unsealed cells not created now that
+  // a walk from the camera's cell finds in its frustum, or every one when the camera lies outside the
+  // triangulation). A cell of `created` (cells this update created, each marked `marks.created`) gets the
+  // votes of every view of the window instead of those it inherited, unless none of them sees it.
+  // With map.drop_unseen_surface, marks the facets the views see as a surface (SeenFacets): every facet of a
+  // created cell, in the window's views; the surface facets no view saw yet of the old cells the newest view
+  // sees, in that view. Appends to `touched` (stamped `marks.touch`) the cells the carving must look at again
+  // (created now, changed sides, or free and still outside the carved region), and to `newly_seen` the cells
+  // it marked facets of seen, both in creation order. Returns the number of cells that got a vote. The votes
+  // are integers: the result does not depend on the threads.
+  std::size_t Integrate(const std::vector<CellHandle>& created, const Marks& marks,
+                        std::vector<CellHandle>* touched, std::vector<CellHandle>* newly_seen);
+
+ private:
+  // The cells Integrate votes from `view` alone, appended to `cells`.
+  void CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells);
+  // The votes (and seen facets) of the created cells, the first `created_count` of scratch_.cells, from every
+  // view of the window; returns how many got a vote.
+  std::size_t VoteCreatedCells(std::size_t created_count);
+  // Adds a vote to a cell's record and sets `touched` when the carving must look at the cell again. Returns
+  // whether the vote was not zero. Safe on distinct cells in parallel: writes the cell's votes and stamp only.
+  bool AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info, std::uint8_t* touched) const;
+  // Whether the facet of created cell `c` opposite vertex `k` is looked for as a surface from its other side
+  // (VoteCreatedCells): the neighbour there was created by this update too, and before `c`. Each view tests
+  // such a facet once instead of twice; the test is the same up to rounding (the vertices in another order).
+  bool LooksFromOtherSide(CellHandle c, int k) const {
+    const CellHandle n = c->neighbor(k);
+    return n->info().created == marks_.created && !dt_->is_infinite(n) && !n->info().IsSealed() &&
+           n->time_stamp() < c->time_stamp();
+  }
+
+  Delaunay* dt_;
+  DepthVoteGeometry geometry_;
+  std::size_t window_frames_;
+  bool track_seen_;                // map.drop_unseen_surface
+  std::deque<VotingView> views_;   // the window, newest last
+  std::deque<std::size_t> frame_views_;  // views per frame in the window, oldest first
+  Marks marks_;                    // the running Integrate's
+  // Scratch, keeping its capacity between frames: the created cells and those in the newest view (~100 k on a
+  // street; every live cell, ~650 k on a long drive, when the walk cannot start), which allocated anew (and
+  // paged in, and zeroed) every frame cost more than the serial part of the votes.
+  struct Scratch {
+    std::vector<CellHandle> cells;      // the cells this update created, then the old ones in the view
+    std::vector<std::uint8_t> seen;     // facets found seen (bit per facet)
+    std::vector<std::uint8_t> touched;  // goes to `touched`
+    struct Created {
+      std::uint64_t key;    // spatial order
+      std::uint32_t index;  // in `cells`
+    };
+    std::vector<Created> created_order;  // the created cells, in spatial order
+    std::vector<CellHandle> walk;        // CollectOldCellsInView's queue
+    std::vector<Stamped> touched_stamped, seen_stamped;  // `touched` and `newly_seen` before their sort
+  } scratch_;
+};
+
+}  // namespace semap::map_internal
