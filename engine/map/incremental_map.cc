@@ -36,27 +36,6 @@ MapStatistics IncrementalMap::Sizes() const { return impl_->Sizes(); }
 
 namespace map_internal {
 
-IdentifiedMesh IncrementalState::ExtractMesh() const {
-  // Non-regular vertices, and their neighbours on the surface (an edge with more than two facets makes both
-  // ends non-regular), get their runs by wedges.
-  std::vector<VertexHandle> irregular;
-  std::vector<SurfaceFacet> around;
-  for (const auto& [key, v] : irregular_) {
-    around.clear();
-    SurfaceAround(dt_, v, &around);
-    irregular.push_back(v);
-    for (const SurfaceFacet& f : around) irregular.insert(irregular.end(), f.vertices.begin(), f.vertices.end());
-  }
-  return ExtractSurfaceMesh(dt_, Emit(), irregular, &fan_copies_, PointAttributes{}.label);
-}
-
-IdentifiedMesh IncrementalState::TakeFinalisedMesh() {
-  IdentifiedMesh out = std::move(finalised_);
-  finalised_ = IdentifiedMesh();
-  finalised_index_.clear();
-  return out;
-}
-
 MapSnapshot IncrementalState::ExportSnapshot() const {
   MapSnapshot s;
   std::map<std::uint32_t, std::uint32_t> camera_index;  // camera id → cloud index (ordered by id)

@@ -279,7 +279,7 @@ bool IncrementalState::Refinable(std::uint32_t id) const {
   const auto it = points_.find(id);
   if (it == points_.end() || it->second.vertex == VertexHandle()) return false;
   const VertexHandle v = it->second.vertex;
-  if (v->info().frozen || irregular_.count(&*v)) return false;
+  if (v->info().frozen || mesher_.IsIrregular(v)) return false;
   std::vector<CellHandle> star;
   dt_.incident_cells(v, std::back_inserter(star));
   return std::none_of(star.begin(), star.end(), [](CellHandle c) { return IsPinned(c); });

@@ -86,7 +86,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
       }
     }
   }
-  EmitFinalisedFacets(removed, seam, cell_mark);
+  mesher_.EmitHole(destroyed_, cell_mark, removed, seam);
   // The carving seen across each facet of the hole's boundary, from inside the hole: the cells that will
   // fill the hole keep it (SealHole).
   std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash> hole_side;
@@ -125,7 +125,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   // One hole per connected cluster of removed vertices, re-triangulated once: the same Delaunay result as
   // removing them one by one, about 2.5 times faster on the ~30,000 vertices of a finalisation.
   TakeIrregular();
-  for (const VertexHandle v : removed) irregular_.erase(&*v);
+  mesher_.ForgetIrregular(removed);
   dt_.remove_cluster(removed.begin(), removed.end());
   for (std::uint32_t id : finalised) points_.erase(id);
   created_mark_ = NewMark();
@@ -173,74 +173,6 @@ void IncrementalState::SealHole(
       h->info().carved = false;
     }
   }
-}
-
-void IncrementalState::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* around) {
-  around->clear();
-  SurfaceAround(dt_, v, around);
-  around->erase(std::remove_if(around->begin(), around->end(),
-                               [&](const SurfaceFacet& f) { return LeftOut(f, Emit()); }),
-                around->end());
-  std::vector<const SurfaceFacet*> fan;
-  for (const SurfaceFacet& f : *around) fan.push_back(&f);
-  const std::vector<std::uint8_t> copies = FanRuns(dt_, v, fan, /*regular=*/false);
-  const std::uint64_t key = VertexKey(v);
-  for (std::size_t f = 0; f < fan.size(); ++f) {
-    const FacetKey& id = fan[f]->id;
-    auto it = fan_copies_.try_emplace(id, std::array<std::uint8_t, 3>{kUnassigned, kUnassigned, kUnassigned}).first;
-    it->second[std::find(id.begin(), id.end(), key) - id.begin()] = copies[f];
-  }
-}
-
-void IncrementalState::EmitFinalisedFacets(const std::vector<VertexHandle>& removed,
-                                           const std::vector<VertexHandle>& seam, std::uint32_t destroyed_mark) {
-  // The copies of every vertex of the emitted facets, fixed from its whole cycle while the whole surface is
-  // still here: the seam's vertices keep them while they stay live and pinned.
-  std::vector<SurfaceFacet> around;
-  for (const VertexHandle v : seam) {
-    if (!v->info().frozen) RecordFan(v, &around);
-  }
-  for (const VertexHandle v : removed) {
-    if (!v->info().frozen) RecordFan(v, &around);
-  }
-  // Every surface facet inside the hole goes: those through the removed vertices, and those between two
-  // destroyed cells whose three vertices stay (the re-triangulation does not keep them).
-  std::unordered_set<FacetKey, FacetKeyHash> emitted;
-  around.clear();
-  for (const CellHandle c : destroyed_) {
-    if (dt_.is_infinite(c)) continue;
-    for (int i = 0; i < 4; ++i) {
-      if (c->neighbor(i)->info().stamp == destroyed_mark && TakenFrom(dt_, c, i)) {
-        around.push_back(OrientedSurfaceFacet(c, i));
-      }
-    }
-  }
-  {
-    for (const SurfaceFacet& f : around) {
-      if (LeftOut(f, Emit()) || !emitted.insert(f.id).second) continue;
-      const auto copies = fan_copies_.find(f.id);
-      SEMAP_ASSERT(copies != fan_copies_.end(), "a finalised facet without the copies of its vertices");
-      std::array<std::uint32_t, 3> tri;
-      for (int k = 0; k < 3; ++k) {
-        const VertexHandle u = f.vertices[k];
-        const std::uint64_t key = VertexKey(u);
-        std::uint8_t copy = copies->second[std::find(f.id.begin(), f.id.end(), key) - f.id.begin()];
-        if (copy == kUnassigned) copy = 0;
-        const std::uint64_t id = CopyKey(key, copy);
-        auto [it, inserted] = finalised_index_.try_emplace(id, std::uint32_t(finalised_.mesh.vertices.size()));
-        if (inserted) {
-          finalised_.mesh.vertices.push_back(ToEigen(u->point()));
-          finalised_.vertex_ids.push_back(id);
-          const PointAttributes& a = u->info().attributes;  // the defaults for a Steiner vertex
-          finalised_.mesh.labels.push_back(a.label);
-          finalised_.mesh.colors_rgb.push_back(a.color_rgb);
-        }
-        tri[k] = it->second;
-      }
-      finalised_.mesh.triangles.push_back(tri);
-    }
-  }
-  for (const FacetKey& id : emitted) fan_copies_.erase(id);
 }
 
 }  // namespace semap::map_internal

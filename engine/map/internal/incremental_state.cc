@@ -64,7 +64,8 @@ IncrementalState::IncrementalState(const MapOptions& options)
       geometry_(options),
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
       integrator_(&dt_, options),
-      lattice_(options.steiner_spacing_m, options.steiner_margin_cubes) {}
+      lattice_(options.steiner_spacing_m, options.steiner_margin_cubes),
+      mesher_(&dt_, Emit()) {}
 
 MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::vector<Observation>& extra) {
   frame.AssertConsistent();
@@ -267,7 +268,7 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
 }
 
 void IncrementalState::TakeIrregular() {
-  for (const VertexHandle v : carver_.TakeUnrepaired()) irregular_.emplace(&*v, v);
+  mesher_.AddIrregular(carver_.TakeUnrepaired());
 }
 
 std::size_t IncrementalState::DropPinnedConflicts(

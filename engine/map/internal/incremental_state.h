@@ -11,6 +11,7 @@
 #include "engine/map/incremental_map.h"
 #include "engine/map/internal/depth_integrator.h"
 #include "engine/map/internal/manifold_carver.h"
+#include "engine/map/internal/mesher.h"
 #include "engine/map/internal/ray_registry.h"
 #include "engine/map/internal/ray_tracer.h"
 #include "engine/map/internal/steiner_lattice.h"
@@ -47,8 +48,8 @@ class IncrementalState {
   explicit IncrementalState(const MapOptions& options);
 
   MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
-  IdentifiedMesh ExtractMesh() const;
-  IdentifiedMesh TakeFinalisedMesh();
+  IdentifiedMesh ExtractMesh() const { return mesher_.ExtractLive(); }
+  IdentifiedMesh TakeFinalisedMesh() { return mesher_.TakeFinalised(); }
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
   MapSnapshot ExportSnapshot() const;
   MapStatistics Statistics() const;
@@ -133,18 +134,11 @@ class IncrementalState {
   std::size_t DropPinnedConflicts(const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,
                                   std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays,
                                   MapUpdateResult* result);
-  // Emits the surface facets inside the hole that removing `removed` will leave (between two cells of
-  // destroyed_, stamped `destroyed_mark`) as finalised triangles, with the copies of pinched vertices fixed
-  // in fan_copies_ (for the removed vertices and the `seam`, the staying vertices of the touched surface).
-  void EmitFinalisedFacets(const std::vector<VertexHandle>& removed, const std::vector<VertexHandle>& seam,
-                           std::uint32_t destroyed_mark);
   // kDepth, map.fill_unseen_holes_facets: marks seen the small holes of unseen surface facets ringed by seen
   // ones around the cells whose carving or seen facets this update changed (see seen_holes.h).
   void FillSeenHoles();
-  // Moves the vertices the carver could not repair to irregular_.
+  // Hands the vertices the carver could not repair to the mesher.
   void TakeIrregular();
-  // Fixes in fan_copies_ the copy of `v` in each emitted facet of its cycle (`around`: scratch).
-  void RecordFan(VertexHandle v, std::vector<SurfaceFacet>* around);
 
   // The two halves of a trace: the walk (const, safe to run concurrently) and the bookkeeping.
   bool ComputeVotes(std::uint32_t ray, bool only_created, RayVotes* votes) const;
@@ -204,13 +198,7 @@ class IncrementalState {
   std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
   std::vector<CellHandle> newly_seen_;      // kDepth: cells the integrator marked facets of seen
 
-  // Outputs.
-  IdentifiedMesh finalised_;
-  std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // copy key → finalised_mesh_ vertex
-  FanCopies fan_copies_;
-  // Vertices the carver left non-regular (beside a seam, where every fix would change a pinned cell): the
-  // output gives each of their wedges' runs its own copy. Removed with their vertices.
-  std::unordered_map<const void*, VertexHandle> irregular_;  // the copies at frozen vertices (and, during a finalisation, at the removed ones)
+  Mesher mesher_;  // the output: live surface, finalised triangles
   MapStatistics counters_;
 };
 

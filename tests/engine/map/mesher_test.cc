@@ -1,0 +1,112 @@
+// The mesher against the surface read off the triangulation directly (CollectSurface, FacetsToMesh).
+#include "engine/map/internal/mesher.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "engine/map/internal/manifold_carver.h"
+
+namespace semap::map_internal {
+namespace {
+
+using KeyTriangles = std::multiset<std::array<VertexId, 3>>;
+
+// A mesh's triangles by vertex ids, each rotated to start at its smallest id (orientation kept).
+KeyTriangles ByIds(const IdentifiedMesh& m) {
+  KeyTriangles out;
+  for (const auto& t : m.mesh.triangles) {
+    out.insert(CanonicalTriangle({m.vertex_ids[t[0]], m.vertex_ids[t[1]], m.vertex_ids[t[2]]}));
+  }
+  return out;
+}
+
+// A carved manifold region in a random cloud: the cells on the x < 5 side free, the others matter, grown from
+// one seed; its surface runs along x = 5 through the middle of the cloud.
+class MesherTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> coordinate(0.0, 10.0);
+    for (std::uint32_t i = 0; i < 1500; ++i) {
+      const VertexHandle v = dt_.insert(Point(coordinate(rng), coordinate(rng), coordinate(rng)));
+      v->info().id = i;
+    }
+    std::uniform_int_distribution<std::int64_t> votes(1, 100);
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+      double x = 0.0;
+      for (int k = 0; k < 4; ++k) x += 0.25 * c->vertex(k)->point().x();
+      (x < 5.0 ? c->info().free_q : c->info().matter_q) = votes(rng);
+    }
+    ManifoldCarver carver(&dt_, /*max_passes=*/3);
+    carver.Grow({dt_.locate(Point(2.5, 5.0, 5.0))});
+    ASSERT_GT(CountCarvedCells(dt_), 1000u);
+  }
+
+  Delaunay dt_;
+  const EmitRule rule_{/*drop_steiner=*/true, /*drop_unseen=*/false};
+};
+
+TEST_F(MesherTest, LiveMeshIsTheWholeSurface) {
+  const Mesher mesher(&dt_, rule_);
+  std::vector<SurfaceFacet> facets;
+  CollectSurface(dt_, rule_, &facets);
+  const IdentifiedMesh live = mesher.ExtractLive();
+  EXPECT_EQ(ByIds(live), ByIds(FacetsToMesh(facets, 0)));
+  EXPECT_GT(live.mesh.num_triangles(), 300u);  // 488: the plane x = 5 and the hull around the free side
+}
+
+// A hole about to be cut (the stars of a few vertices): the finalised triangles are the surface facets with
+// both cells in the hole, each once and oriented as on the surface, with the vertices' ids; taking them
+// empties the mesher.
+TEST_F(MesherTest, EmitsTheSurfaceInsideAHoleOnce) {
+  Mesher mesher(&dt_, rule_);
+  std::vector<VertexHandle> removed;
+  for (auto v = dt_.finite_vertices_begin(); v != dt_.finite_vertices_end(); ++v) {
+    const Eigen::Vector3d p = ToEigen(v->point());
+    if ((p - Eigen::Vector3d(5.0, 5.0, 5.0)).norm() < 2.0) removed.push_back(v);
+  }
+  ASSERT_GT(removed.size(), 20u);
+  constexpr std::uint32_t kDestroyed = 5;
+  std::vector<CellHandle> destroyed;
+  for (const VertexHandle v : removed) {
+    std::vector<CellHandle> star;
+    dt_.incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) {
+      if (c->info().stamp == kDestroyed) continue;
+      c->info().stamp = kDestroyed;
+      destroyed.push_back(c);
+    }
+  }
+  // The seam: the staying vertices of the surface facets of the destroyed cells.
+  std::set<const void*> removed_set;
+  for (const VertexHandle v : removed) removed_set.insert(&*v);
+  std::vector<VertexHandle> seam;
+  std::set<const void*> in_seam;
+  std::vector<SurfaceFacet> facets;
+  CollectSurface(dt_, rule_, &facets);
+  std::vector<SurfaceFacet> inside;  // the reference: both cells of the facet destroyed
+  for (const SurfaceFacet& f : facets) {
+    Delaunay::Cell_handle c;
+    int i, j, k;
+    ASSERT_TRUE(dt_.is_facet(f.vertices[0], f.vertices[1], f.vertices[2], c, i, j, k));
+    const int opposite = 6 - i - j - k;
+    const bool both = c->info().stamp == kDestroyed && c->neighbor(opposite)->info().stamp == kDestroyed;
+    if (both) inside.push_back(f);
+    if (c->info().stamp != kDestroyed && c->neighbor(opposite)->info().stamp != kDestroyed) continue;
+    for (const VertexHandle v : f.vertices) {
+      if (!removed_set.count(&*v) && in_seam.insert(&*v).second) seam.push_back(v);
+    }
+  }
+  ASSERT_GT(inside.size(), 20u);
+
+  mesher.EmitHole(destroyed, kDestroyed, removed, seam);
+  const IdentifiedMesh finalised = mesher.TakeFinalised();
+  EXPECT_EQ(ByIds(finalised), ByIds(FacetsToMesh(inside, 0)));
+  EXPECT_EQ(finalised.vertex_ids.size(), finalised.mesh.vertices.size());
+  EXPECT_EQ(mesher.TakeFinalised().mesh.num_triangles(), 0u);
+}
+
+}  // namespace
+}  // namespace semap::map_internal
