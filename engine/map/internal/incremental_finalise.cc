@@ -68,34 +68,11 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   // The seam: the staying vertices of the surface facets the change touches (emitted, or kept by a sealed
   // cell), and of the hole's boundary facets with carved space behind (a sealed cell keeps it carved across
   // them). Only their cells must never change again; the rest of the hole's boundary stays free.
-  std::vector<VertexHandle> seam;
-  {
-    const std::uint32_t seam_mark = NewMark();
-    for (const CellHandle d : destroyed_) {
-      for (int i = 0; i < 4; ++i) {
-        // A surface facet, or a boundary facet the hole is carved behind (a sealed cell will keep that).
-        const bool surface = d->info().CarvedAcross(i) != NeighbourCarved(d, i);
-        const bool carved_behind = d->neighbor(i)->info().stamp != cell_mark && d->info().CarvedAcross(i);
-        if (!surface && !carved_behind) continue;
-        for (int k = 0; k < 4; ++k) {
-          const VertexHandle v = d->vertex(k);
-          if (k == i || dt_.is_infinite(v) || v->info().stamp == removing || v->info().stamp == seam_mark) continue;
-          v->info().stamp = seam_mark;
-          seam.push_back(v);
-        }
-      }
-    }
-  }
+  const std::vector<VertexHandle> seam = HoleSeam(dt_, destroyed_, cell_mark, removing, NewMark());
   mesher_.EmitHole(destroyed_, cell_mark, removed, seam);
   // The carving seen across each facet of the hole's boundary, from inside the hole: the cells that will
   // fill the hole keep it (SealHole).
-  std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash> hole_side;
-  for (const CellHandle d : destroyed_) {
-    for (int i = 0; i < 4; ++i) {
-      if (d->neighbor(i)->info().stamp == cell_mark) continue;
-      hole_side[SortedFacet(d, i)] = {d->info().CarvedAcross(i), FacetSeen(d, i)};
-    }
-  }
+  const HoleSides hole_side = RecordHoleSides(destroyed_, cell_mark);
   std::vector<std::uint32_t> affected;
   CollectAffectedRays(&affected);
   // The finalised points' rays are untraced in full (they may cross cells far from the removed stars).
@@ -131,7 +108,7 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   created_mark_ = NewMark();
   MarkCreatedCells(boundary_, old_mark);
   // Removing nearly everything can leave a flat or empty triangulation: no cells to seal then.
-  if (dt_.dimension() == 3) SealHole(hole_side);
+  if (dt_.dimension() == 3) SealHole(&dt_, boundary_, created_mark_, hole_side);
   // The seam's fans, part emitted and part live, stay whole: every cell around them keeps its carving.
   for (const VertexHandle v : seam) v->info().frozen = true;
   result->points_finalised = finalised.size();
@@ -151,28 +128,6 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   result->rays_retraced += retrace.size();
   result->cells_uncarved += uncarved.size() - lost.size() + ShrinkNonFree();
   result->cells_carved += Regrow();
-}
-
-void IncrementalState::SealHole(
-    const std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash>& hole_side) {
-  std::vector<CellHandle> star;
-  for (const VertexHandle v : boundary_) {
-    star.clear();
-    dt_.incident_cells(v, std::back_inserter(star));
-    for (const CellHandle h : star) {
-      if (h->info().created != created_mark_ || h->info().IsSealed()) continue;
-      std::uint8_t sealed = CellInfo::kSealed;
-      for (int i = 0; i < 4; ++i) {
-        if (h->neighbor(i)->info().created == created_mark_) continue;  // inside the hole: no surface
-        const auto it = hole_side.find(SortedFacet(h, i));
-        SEMAP_ASSERT(it != hole_side.end(), "a facet of the refilled hole was not on the hole's boundary");
-        if (it->second.carved) sealed |= std::uint8_t(1u << i);
-        if (it->second.seen) MarkFacetSeen(h, i);
-      }
-      h->info().sealed = sealed;
-      h->info().carved = false;
-    }
-  }
 }
 
 }  // namespace semap::map_internal

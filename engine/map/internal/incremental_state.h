@@ -10,6 +10,7 @@
 
 #include "engine/map/incremental_map.h"
 #include "engine/map/internal/depth_integrator.h"
+#include "engine/map/internal/hole_cut.h"
 #include "engine/map/internal/manifold_carver.h"
 #include "engine/map/internal/mesher.h"
 #include "engine/map/internal/ray_registry.h"
@@ -19,12 +20,6 @@
 #include "engine/map/internal/triangulation.h"
 
 namespace semap::map_internal {
-
-// What a released cell leaves across one facet of a finalisation's hole boundary to the cell that refills it.
-struct HoleSide {
-  bool carved = false;  // the released cell counted as carved across the facet
-  bool seen = false;    // the facet was seen as a surface (CellInfo::seen_facets)
-};
 
 // A pending insertion: a data point (id) or a Steiner node (node key).
 inline constexpr std::uint32_t kNoMark = 0xFFFFFFFFu;  // a stamp never given
@@ -126,9 +121,6 @@ class IncrementalState {
   // The last steps of both updates (rays, depth) once the votes are in: uncarve the touched cells no longer
   // free, regrow, finalise, take the irregular vertices; carve_ms and finalise_ms timed from `lap`.
   void CarveAndFinalise(MapUpdateResult* result, std::chrono::steady_clock::time_point* lap);
-  // Seals the cells that refilled the hole of a finalisation (created_mark_, around boundary_) with the
-  // carving `hole_side` recorded across the hole's boundary facets.
-  void SealHole(const std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash>& hole_side);
   // Drops the pending vertices whose insertion would destroy a pinned cell (a seam of finalisation): their
   // points are dropped (counted in `result`) with their rays. Returns the number dropped.
   std::size_t DropPinnedConflicts(const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,

@@ -6,7 +6,7 @@
 #include <random>
 #include <set>
 
-#include "engine/map/internal/manifold_carver.h"
+#include "tests/engine/map/carved_cloud.h"
 
 namespace semap::map_internal {
 namespace {
@@ -22,25 +22,10 @@ KeyTriangles ByIds(const IdentifiedMesh& m) {
   return out;
 }
 
-// A carved manifold region in a random cloud: the cells on the x < 5 side free, the others matter, grown from
-// one seed; its surface runs along x = 5 through the middle of the cloud.
 class MesherTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::mt19937 rng(31);
-    std::uniform_real_distribution<double> coordinate(0.0, 10.0);
-    for (std::uint32_t i = 0; i < 1500; ++i) {
-      const VertexHandle v = dt_.insert(Point(coordinate(rng), coordinate(rng), coordinate(rng)));
-      v->info().id = i;
-    }
-    std::uniform_int_distribution<std::int64_t> votes(1, 100);
-    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
-      double x = 0.0;
-      for (int k = 0; k < 4; ++k) x += 0.25 * c->vertex(k)->point().x();
-      (x < 5.0 ? c->info().free_q : c->info().matter_q) = votes(rng);
-    }
-    ManifoldCarver carver(&dt_, /*max_passes=*/3);
-    carver.Grow({dt_.locate(Point(2.5, 5.0, 5.0))});
+    test::CarveHalfCloud(&dt_);
     ASSERT_GT(CountCarvedCells(dt_), 1000u);
   }
 
@@ -62,23 +47,10 @@ TEST_F(MesherTest, LiveMeshIsTheWholeSurface) {
 // empties the mesher.
 TEST_F(MesherTest, EmitsTheSurfaceInsideAHoleOnce) {
   Mesher mesher(&dt_, rule_);
-  std::vector<VertexHandle> removed;
-  for (auto v = dt_.finite_vertices_begin(); v != dt_.finite_vertices_end(); ++v) {
-    const Eigen::Vector3d p = ToEigen(v->point());
-    if ((p - Eigen::Vector3d(5.0, 5.0, 5.0)).norm() < 2.0) removed.push_back(v);
-  }
+  const std::vector<VertexHandle> removed = test::VerticesNear(dt_, Eigen::Vector3d(5.0, 5.0, 5.0), 2.0);
   ASSERT_GT(removed.size(), 20u);
   constexpr std::uint32_t kDestroyed = 5;
-  std::vector<CellHandle> destroyed;
-  for (const VertexHandle v : removed) {
-    std::vector<CellHandle> star;
-    dt_.incident_cells(v, std::back_inserter(star));
-    for (const CellHandle c : star) {
-      if (c->info().stamp == kDestroyed) continue;
-      c->info().stamp = kDestroyed;
-      destroyed.push_back(c);
-    }
-  }
+  const std::vector<CellHandle> destroyed = test::StarsOf(dt_, removed, kDestroyed);
   // The seam: the staying vertices of the surface facets of the destroyed cells.
   std::set<const void*> removed_set;
   for (const VertexHandle v : removed) removed_set.insert(&*v);
