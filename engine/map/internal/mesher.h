@@ -12,11 +12,11 @@
 
 namespace semap::map_internal {
 
-// The mesher of the incremental map. Reads the triangulation it is given (never writes it) and keeps what the
-// output needs across updates: the finalised triangles not yet taken; the copies of pinched vertices fixed at
-// the seams of finalisation (FanCopies: a seam vertex's fan, part emitted and part live, keeps the copies its
-// whole cycle had); the vertices the carver left non-regular, whose runs are found by wedges. Not
-// thread-safe.
+// The mesher of the incremental map. Reads the triangulation it is given (never writes it, but for the marks
+// CGAL's own star walks set and clear) and keeps what the output needs across updates: the finalised
+// triangles not yet taken; the copies of pinched vertices fixed at the seams of finalisation (FanCopies: a
+// seam vertex's fan, part emitted and part live, keeps the copies its whole cycle had); the vertices the
+// carver left non-regular, whose runs are found by wedges. Not thread-safe.
 class Mesher {
  public:
   Mesher(const Delaunay* dt, const EmitRule& rule) : dt_(dt), rule_(rule) {}
