@@ -11,7 +11,7 @@ namespace semap::map_internal {
 namespace {
 
 // Whether the facet of `c` opposite vertex `k` has a frozen vertex: the fans of frozen vertices were fixed
-// when they froze (RecordFan), so which of their facets are seen may not change any more.
+// when they froze (Mesher::RecordFan), so which of their facets are seen may not change any more.
 bool TouchesFrozen(CellHandle c, int k) {
   for (int j = 0; j < 4; ++j) {
     if (j != k && c->vertex(j)->info().frozen) return true;
