@@ -79,7 +79,6 @@ class DepthIntegrator {
   std::size_t window_frames_;
   bool track_seen_;                // map.drop_unseen_surface
   std::deque<VotingView> views_;   // the window, newest last
-  std::deque<std::size_t> frame_views_;  // views per frame in the window, oldest first
   Marks marks_;                    // the running Integrate's
   // Scratch, keeping its capacity between frames: the created cells and those in the newest view (~100 k on a
   // street; every live cell, ~650 k on a long drive, when the walk cannot start), which allocated anew (and

@@ -6,6 +6,7 @@
 #include <random>
 #include <set>
 
+#include "engine/map/internal/hole_cut.h"
 #include "tests/engine/map/carved_cloud.h"
 
 namespace semap::map_internal {
@@ -49,13 +50,11 @@ TEST_F(MesherTest, EmitsTheSurfaceInsideAHoleOnce) {
   Mesher mesher(&dt_, rule_);
   const std::vector<VertexHandle> removed = test::VerticesNear(dt_, Eigen::Vector3d(5.0, 5.0, 5.0), 2.0);
   ASSERT_GT(removed.size(), 20u);
-  constexpr std::uint32_t kDestroyed = 5;
+  constexpr std::uint32_t kRemoved = 3, kDestroyed = 5, kSeam = 7;
+  for (const VertexHandle v : removed) v->info().stamp = kRemoved;
   const std::vector<CellHandle> destroyed = test::StarsOf(dt_, removed, kDestroyed);
-  // The seam: the staying vertices of the surface facets of the destroyed cells.
-  std::set<const void*> removed_set;
-  for (const VertexHandle v : removed) removed_set.insert(&*v);
-  std::vector<VertexHandle> seam;
-  std::set<const void*> in_seam;
+  // The seam as the finaliser gives it (HoleSeam, tested in hole_cut_test.cc): an input here.
+  const std::vector<VertexHandle> seam = HoleSeam(dt_, destroyed, kDestroyed, kRemoved, kSeam);
   std::vector<SurfaceFacet> facets;
   CollectSurface(dt_, rule_, &facets);
   std::vector<SurfaceFacet> inside;  // the reference: both cells of the facet destroyed
@@ -64,12 +63,7 @@ TEST_F(MesherTest, EmitsTheSurfaceInsideAHoleOnce) {
     int i, j, k;
     ASSERT_TRUE(dt_.is_facet(f.vertices[0], f.vertices[1], f.vertices[2], c, i, j, k));
     const int opposite = 6 - i - j - k;
-    const bool both = c->info().stamp == kDestroyed && c->neighbor(opposite)->info().stamp == kDestroyed;
-    if (both) inside.push_back(f);
-    if (c->info().stamp != kDestroyed && c->neighbor(opposite)->info().stamp != kDestroyed) continue;
-    for (const VertexHandle v : f.vertices) {
-      if (!removed_set.count(&*v) && in_seam.insert(&*v).second) seam.push_back(v);
-    }
+    if (c->info().stamp == kDestroyed && c->neighbor(opposite)->info().stamp == kDestroyed) inside.push_back(f);
   }
   ASSERT_GT(inside.size(), 20u);
 
