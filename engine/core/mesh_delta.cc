@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <map>
 #include <set>
-#include <utility>
 #include <unordered_set>
+#include <utility>
 
 #include "engine/core/check.h"
 

@@ -83,7 +83,8 @@ void MeshSpill::ForEach(const std::function<void(const MeshDelta&)>& f) {
   std::ifstream in(path_, std::ios::binary);
   std::string magic(sizeof(kMagic) - 1, '\0');
   in.read(magic.data(), std::streamsize(magic.size()));
-  if (!in || magic != kMagic) throw FileError(path_, "the spill file of the finalised mesh is not this run's");
+  if (!in || magic != kMagic)
+    throw FileError(path_, "the spill file of the finalised mesh is not this run's");
   MeshDelta d;
   for (std::uint64_t r = 0; r < num_records_; ++r) {
     RecordHeader h;

@@ -1,5 +1,5 @@
-// The finalised part of a run's mesh, kept on disk while the run goes on. The map finalises what the drive has
-// left behind and never changes it again (MeshDelta::finalised_triangle_ids); MeshFileSink moves those
+// The finalised part of a run's mesh, kept on disk while the run goes on. The map finalises what the drive
+// has left behind and never changes it again (MeshDelta::finalised_triangle_ids); MeshFileSink moves those
 // triangles out of its memory into a spill file, so that its memory follows the live mesh, not the whole
 // drive, and reads them back once, at the end, to write mesh.ply and mesh.off.
 #pragma once
@@ -24,9 +24,9 @@ class MeshSpill {
   MeshSpill(const MeshSpill&) = delete;
   MeshSpill& operator=(const MeshSpill&) = delete;
 
-  // Appends `finalised` (its added triangles and vertices; nothing else is kept), flushed to the file before it
-  // returns. Throws FileError naming the file when it cannot be created or written; what was appended before
-  // stays readable, and every later Append throws.
+  // Appends `finalised` (its added triangles and vertices; nothing else is kept), flushed to the file before
+  // it returns. Throws FileError naming the file when it cannot be created or written; what was appended
+  // before stays readable, and every later Append throws.
   void Append(const MeshDelta& finalised);
   // Calls `f` with each appended delta, in the order appended. Throws FileError naming the file when it
   // cannot be read back whole.

@@ -70,8 +70,8 @@ void MeshFileSink::OnFrame(const FrameStats&, const MeshDelta& delta, const std:
 Mesh MeshFileSink::AssembleMesh() {
   // Every triangle with its id, and every vertex record in the order it came (spilled ones first, then the
   // live mesh's: the latest): a vertex takes its last record, as MeshAccumulator's upserts do. Flat arrays
-  // sorted once, not hash maps and their ordered copies as ToMesh makes: the end of a 2,000-frame drive (2.1 M
-  // triangles) peaked at 537 MiB instead of 710 MiB (bench/RESULTS.md, session 18).
+  // sorted once, not hash maps and their ordered copies as ToMesh makes: the end of a 2,000-frame drive
+  // (2.1 M triangles) peaked at 537 MiB instead of 710 MiB (bench/RESULTS.md, session 18).
   struct VertexRecord {
     VertexId id;
     std::uint64_t order;
@@ -87,9 +87,10 @@ Mesh MeshFileSink::AssembleMesh() {
       triangles.emplace_back(d.added_triangle_ids[i], d.added_triangles[i]);
     }
     for (std::size_t i = 0; i < d.vertex_ids.size(); ++i) {
-      records.push_back({d.vertex_ids[i], records.size(), d.vertex_positions[i],
-                         d.vertex_colors_rgb.empty() ? std::array<std::uint8_t, 3>{0, 0, 0} : d.vertex_colors_rgb[i],
-                         d.vertex_labels.empty() ? Label(0) : d.vertex_labels[i]});
+      records.push_back(
+          {d.vertex_ids[i], records.size(), d.vertex_positions[i],
+           d.vertex_colors_rgb.empty() ? std::array<std::uint8_t, 3>{0, 0, 0} : d.vertex_colors_rgb[i],
+           d.vertex_labels.empty() ? Label(0) : d.vertex_labels[i]});
     }
   };
   spill_.ForEach(take);
@@ -118,7 +119,8 @@ Mesh MeshFileSink::AssembleMesh() {
     for (const VertexRecord& r : records) mesh.labels.push_back(r.label);
   }
   mesh.triangles.reserve(triangles.size());
-  for (const auto& [id, t] : triangles) mesh.triangles.push_back({index_of(t[0]), index_of(t[1]), index_of(t[2])});
+  for (const auto& [id, t] : triangles)
+    mesh.triangles.push_back({index_of(t[0]), index_of(t[1]), index_of(t[2])});
   return mesh;
 }
 

@@ -1,14 +1,16 @@
-// Soak (label soak, not in the default suite; scripts/soak runs it and plots the curve): a generated sequence,
-// looped (input.loops, each pass shifted onto new ground) to SEMAP_SOAK_FRAMES frames (default 10,000),
-// streamed through the whole engine by `semap run` with LCM publishing on. Every 100 frames the RSS, map size,
-// per-frame time and queue occupancy go to soak.csv (in SEMAP_SOAK_DIR, default a temporary folder).
+// Soak (label soak, not in the default suite; scripts/soak runs it and plots the curve): a generated
+// sequence, looped (input.loops, each pass shifted onto new ground) to SEMAP_SOAK_FRAMES frames (default
+// 10,000), streamed through the whole engine by `semap run` with LCM publishing on. Every 100 frames the RSS,
+// map size, per-frame time and queue occupancy go to soak.csv (in SEMAP_SOAK_DIR, default a temporary
+// folder).
 //
 // Pass conditions:
 //  - no crash, no deadlock: the run ends by itself (bounded by `timeout`) with exit code 0;
 //  - every frame accounted for: processed + failed + dropped = frames of the looped sequence, and on this
 //    intact sequence none failed or was dropped;
 //  - the written mesh is a 2-manifold with boundary (the independent checker on mesh.ply);
-//  - the map's memory bound holds: its live Delaunay size (vertices, cells) after warm-up stays within 1.5× of
+//  - the map's memory bound holds: its live Delaunay size (vertices, cells) after warm-up stays within 1.5×
+//  of
 //    its size at the end of warm-up (the finalised parts leave it);
 //  - RSS after warm-up grows by at most 64 MiB + 192 B per published mesh triangle added since. What grows by
 //    design is the LCM sender's finalised blocks, kept encoded for its round-robin (late subscribers, lost
@@ -18,8 +20,8 @@
 //    covers allocator slack;
 //  - per-frame time does not grow: the median CPU time per frame (the process's, all threads) over the last
 //    quarter of the run is at most 1.5× the median over the quarter after warm-up (a cost that grows with the
-//    drive would multiply it over 10,000 frames). CPU time, not wall time, so that other processes sharing the
-//    cores do not decide the verdict; the wall time per frame is recorded next to it.
+//    drive would multiply it over 10,000 frames). CPU time, not wall time, so that other processes sharing
+//    the cores do not decide the verdict; the wall time per frame is recorded next to it.
 #include <sys/wait.h>
 
 #include <algorithm>

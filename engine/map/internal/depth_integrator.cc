@@ -26,8 +26,9 @@ constexpr std::size_t kGrainCreatedCells = 256;
 constexpr double kMortonStepM = 0.25;
 constexpr double kMortonHalfExtentM = double(1u << 20) * kMortonStepM;
 // How many cells ahead the vote loops start fetching the depth map lines a cell's samples will read
-// (PrefetchCellDepths): 200 urban frames, PS, half resolution, five pairs against the loops without it: map.votes
-// 53.8 → 50.1 ms a frame, the same mesh (bench/RESULTS.md, session 17); 8 cells ahead measured no better.
+// (PrefetchCellDepths): 200 urban frames, PS, half resolution, five pairs against the loops without it:
+// map.votes 53.8 → 50.1 ms a frame, the same mesh (bench/RESULTS.md, session 17); 8 cells ahead measured no
+// better.
 constexpr std::size_t kPrefetchDepthCells = 4;
 
 // Morton code of a point quantised to `step_m` from `origin` (21 bits per axis): nearby points get nearby
@@ -76,8 +77,8 @@ std::size_t DepthIntegrator::VoteCreatedCells(std::size_t created_count) {
   if (created_count == 0) return 0;
   std::vector<Scratch::Created>& order = scratch_.created_order;
   order.resize(created_count);
-  const Eigen::Vector3d origin = views_.back().view->world_from_cam.translation() -
-                                 Eigen::Vector3d::Constant(kMortonHalfExtentM);
+  const Eigen::Vector3d origin =
+      views_.back().view->world_from_cam.translation() - Eigen::Vector3d::Constant(kMortonHalfExtentM);
   ParallelFor(std::size_t(0), created_count, kGrainCells, [&](std::size_t first, std::size_t last) {
     for (std::size_t j = first; j != last; ++j) {
       const CellHandle c = cells[j];
@@ -149,7 +150,6 @@ std::size_t DepthIntegrator::VoteCreatedCells(std::size_t created_count) {
   return voted;
 }
 
-
 void DepthIntegrator::CollectOldCellsInView(const VotingView& view, std::vector<CellHandle>* cells) {
   // A sealed cell never changes: its votes do not matter.
   const auto old_and_unsealed = [&](CellHandle c) {
@@ -166,7 +166,7 @@ void DepthIntegrator::CollectOldCellsInView(const VotingView& view, std::vector<
 }
 
 bool DepthIntegrator::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info,
-                                std::uint8_t* touched) const {
+                               std::uint8_t* touched) const {
   const bool was_free = info->IsFree();
   const bool has_vote = free_q != 0 || matter_q != 0;
   info->free_q += free_q;
@@ -174,7 +174,8 @@ bool DepthIntegrator::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellI
   // Changed, or free and still outside the carved region (the manifold test refused it before: retried
   // while the view sees it, as the exact map retries the cells each new ray crosses).
   const bool retry = info->IsFree() && !info->carved && has_vote;
-  if ((info->created == marks_.created || was_free != info->IsFree() || retry) && info->stamp != marks_.touch) {
+  if ((info->created == marks_.created || was_free != info->IsFree() || retry) &&
+      info->stamp != marks_.touch) {
     info->stamp = marks_.touch;
     *touched = 1;
   }
@@ -182,12 +183,12 @@ bool DepthIntegrator::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellI
 }
 
 std::size_t DepthIntegrator::Integrate(const std::vector<CellHandle>& created, const Marks& marks,
-                                      std::vector<CellHandle>* touched_cells,
-                                      std::vector<CellHandle>* newly_seen) {
+                                       std::vector<CellHandle>* touched_cells,
+                                       std::vector<CellHandle>* newly_seen) {
   marks_ = marks;
   if (dt_->dimension() < 3 || views_.empty()) return 0;
-  // `cells` (scratch_, see there): the created cells first, then the old ones. A sealed cell never changes: its votes do not
-  // matter.
+  // `cells` (scratch_, see there): the created cells first, then the old ones. A sealed cell never changes:
+  // its votes do not matter.
   std::vector<CellHandle>& cells = scratch_.cells;
   cells.clear();
   for (const CellHandle c : created) {
@@ -256,6 +257,5 @@ std::size_t DepthIntegrator::Integrate(const std::vector<CellHandle>& created, c
   AppendInCreationOrder(&seen_stamped, newly_seen);
   return voted.load();
 }
-
 
 }  // namespace semap::map_internal

@@ -63,7 +63,8 @@ class DepthIntegrator {
   // view of the window; returns how many got a vote.
   std::size_t VoteCreatedCells(std::size_t created_count);
   // Adds a vote to a cell's record and sets `touched` when the carving must look at the cell again. Returns
-  // whether the vote was not zero. Safe on distinct cells in parallel: writes the cell's votes and stamp only.
+  // whether the vote was not zero. Safe on distinct cells in parallel: writes the cell's votes and stamp
+  // only.
   bool AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info, std::uint8_t* touched) const;
   // Whether the facet of created cell `c` opposite vertex `k` is looked for as a surface from its other side
   // (VoteCreatedCells): the neighbour there was created by this update too, and before `c`. Each view tests
@@ -77,9 +78,9 @@ class DepthIntegrator {
   Delaunay* dt_;
   DepthVoteGeometry geometry_;
   std::size_t window_frames_;
-  bool track_seen_;                // map.drop_unseen_surface
-  std::deque<VotingView> views_;   // the window, newest last
-  Marks marks_;                    // the running Integrate's
+  bool track_seen_;               // map.drop_unseen_surface
+  std::deque<VotingView> views_;  // the window, newest last
+  Marks marks_;                   // the running Integrate's
   // Scratch, keeping its capacity between frames: the created cells and those in the newest view (~100 k on a
   // street; every live cell, ~650 k on a long drive, when the walk cannot start), which allocated anew (and
   // paged in, and zeroed) every frame cost more than the serial part of the votes.
@@ -91,8 +92,8 @@ class DepthIntegrator {
       std::uint64_t key;    // spatial order
       std::uint32_t index;  // in `cells`
     };
-    std::vector<Created> created_order;  // the created cells, in spatial order
-    std::vector<CellHandle> walk;        // CollectOldCellsInView's queue
+    std::vector<Created> created_order;                  // the created cells, in spatial order
+    std::vector<CellHandle> walk;                        // CollectOldCellsInView's queue
     std::vector<Stamped> touched_stamped, seen_stamped;  // `touched` and `newly_seen` before their sort
   } scratch_;
 };

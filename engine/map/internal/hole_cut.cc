@@ -17,7 +17,8 @@ std::vector<VertexHandle> HoleSeam(const Delaunay& dt, const std::vector<CellHan
       if (!surface && !carved_behind) continue;
       for (int k = 0; k < 4; ++k) {
         const VertexHandle v = d->vertex(k);
-        if (k == i || dt.is_infinite(v) || v->info().stamp == removed_mark || v->info().stamp == seam_mark) continue;
+        if (k == i || dt.is_infinite(v) || v->info().stamp == removed_mark || v->info().stamp == seam_mark)
+          continue;
         v->info().stamp = seam_mark;
         seam.push_back(v);
       }

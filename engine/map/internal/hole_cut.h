@@ -19,11 +19,11 @@ struct HoleSide {
 };
 using HoleSides = std::unordered_map<FacetHandles, HoleSide, FacetHandlesHash>;
 
-// The seam of a cut: the staying vertices (not stamped `removed_mark`) of the facets of `destroyed` (the cells
-// the removal destroys, stamped `destroyed_mark`) that are surface facets (emitted, or kept by a sealed cell)
-// or boundary facets of the hole with carved space behind it (a sealed cell keeps it carved across them).
-// Only their cells must never change again; the rest of the hole's boundary stays free. Stamps the seam's
-// vertices `seam_mark`.
+// The seam of a cut: the staying vertices (not stamped `removed_mark`) of the facets of `destroyed` (the
+// cells the removal destroys, stamped `destroyed_mark`) that are surface facets (emitted, or kept by a sealed
+// cell) or boundary facets of the hole with carved space behind it (a sealed cell keeps it carved across
+// them). Only their cells must never change again; the rest of the hole's boundary stays free. Stamps the
+// seam's vertices `seam_mark`.
 std::vector<VertexHandle> HoleSeam(const Delaunay& dt, const std::vector<CellHandle>& destroyed,
                                    std::uint32_t destroyed_mark, std::uint32_t removed_mark,
                                    std::uint32_t seam_mark);
@@ -32,8 +32,8 @@ std::vector<VertexHandle> HoleSeam(const Delaunay& dt, const std::vector<CellHan
 // not stamped `destroyed_mark`), by the facet's vertices.
 HoleSides RecordHoleSides(const std::vector<CellHandle>& destroyed, std::uint32_t destroyed_mark);
 
-// Seals the cells refilling the hole (around `boundary`, marked `created_mark` in CellInfo::created, not sealed
-// yet) with `sides`: each facet towards a cell not created now must be in `sides`.
+// Seals the cells refilling the hole (around `boundary`, marked `created_mark` in CellInfo::created, not
+// sealed yet) with `sides`: each facet towards a cell not created now must be in `sides`.
 void SealHole(Delaunay* dt, const std::vector<VertexHandle>& boundary, std::uint32_t created_mark,
               const HoleSides& sides);
 

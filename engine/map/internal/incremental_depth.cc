@@ -135,8 +135,8 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   newly_seen_.clear();
   touch_mark_ = NewMark();
   const std::uint32_t visit_mark = NewMark();
-  result.cells_voted =
-      integrator_.Integrate(created_cells_, {created_mark_, touch_mark_, visit_mark}, &touched_, &newly_seen_);
+  result.cells_voted = integrator_.Integrate(created_cells_, {created_mark_, touch_mark_, visit_mark},
+                                             &touched_, &newly_seen_);
   counters_.cells_visited += result.cells_voted;
   result.trace_ms = Lap(&lap);
   CarveAndFinalise(&result, &lap);

@@ -267,9 +267,7 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
   CollectBoundary(kNoMark);
 }
 
-void IncrementalState::TakeIrregular() {
-  mesher_.AddIrregular(carver_.TakeUnrepaired());
-}
+void IncrementalState::TakeIrregular() { mesher_.AddIrregular(carver_.TakeUnrepaired()); }
 
 std::size_t IncrementalState::DropPinnedConflicts(
     const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,

@@ -123,7 +123,8 @@ class IncrementalState {
   void CarveAndFinalise(MapUpdateResult* result, std::chrono::steady_clock::time_point* lap);
   // Drops the pending vertices whose insertion would destroy a pinned cell (a seam of finalisation): their
   // points are dropped (counted in `result`) with their rays. Returns the number dropped.
-  std::size_t DropPinnedConflicts(const std::vector<char>& conflicts_pinned, std::vector<PendingVertex>* pending,
+  std::size_t DropPinnedConflicts(const std::vector<char>& conflicts_pinned,
+                                  std::vector<PendingVertex>* pending,
                                   std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays,
                                   MapUpdateResult* result);
   // kDepth, map.fill_unseen_holes_facets: marks seen the small holes of unseen surface facets ringed by seen
@@ -188,7 +189,7 @@ class IncrementalState {
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
   std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
-  std::vector<CellHandle> newly_seen_;      // kDepth: cells the integrator marked facets of seen
+  std::vector<CellHandle> newly_seen_;     // kDepth: cells the integrator marked facets of seen
 
   Mesher mesher_;  // the output: live surface, finalised triangles
   MapStatistics counters_;

@@ -16,7 +16,8 @@ IdentifiedMesh Mesher::ExtractLive() const {
     around.clear();
     SurfaceAround(*dt_, v, &around);
     irregular.push_back(v);
-    for (const SurfaceFacet& f : around) irregular.insert(irregular.end(), f.vertices.begin(), f.vertices.end());
+    for (const SurfaceFacet& f : around)
+      irregular.insert(irregular.end(), f.vertices.begin(), f.vertices.end());
   }
   return ExtractSurfaceMesh(*dt_, rule_, irregular, &fan_copies_, PointAttributes{}.label);
 }
@@ -48,7 +49,8 @@ void Mesher::RecordFan(VertexHandle v, std::vector<SurfaceFacet>* around) {
   const std::uint64_t key = VertexKey(v);
   for (std::size_t f = 0; f < fan.size(); ++f) {
     const FacetKey& id = fan[f]->id;
-    auto it = fan_copies_.try_emplace(id, std::array<std::uint8_t, 3>{kUnassigned, kUnassigned, kUnassigned}).first;
+    auto it =
+        fan_copies_.try_emplace(id, std::array<std::uint8_t, 3>{kUnassigned, kUnassigned, kUnassigned}).first;
     it->second[std::find(id.begin(), id.end(), key) - id.begin()] = copies[f];
   }
 }
@@ -88,7 +90,8 @@ void Mesher::EmitHole(const std::vector<CellHandle>& destroyed, std::uint32_t de
         std::uint8_t copy = copies->second[std::find(f.id.begin(), f.id.end(), key) - f.id.begin()];
         if (copy == kUnassigned) copy = 0;
         const std::uint64_t id = CopyKey(key, copy);
-        auto [it, inserted] = finalised_index_.try_emplace(id, std::uint32_t(finalised_.mesh.vertices.size()));
+        auto [it, inserted] =
+            finalised_index_.try_emplace(id, std::uint32_t(finalised_.mesh.vertices.size()));
         if (inserted) {
           finalised_.mesh.vertices.push_back(ToEigen(u->point()));
           finalised_.vertex_ids.push_back(id);

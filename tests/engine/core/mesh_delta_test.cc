@@ -161,7 +161,8 @@ TEST(MeshAccumulator, ForgetsTheVerticesNoTriangleReferences) {
   MeshDiffer differ;
   MeshAccumulator acc;
   for (VertexId first = 0; first < 200; ++first) {
-    acc.Apply(differ.Update(std::int64_t(first), MakeMesh({{first, first + 1, first + 2}, {first + 1, first + 3, first + 2}})));
+    acc.Apply(differ.Update(std::int64_t(first),
+                            MakeMesh({{first, first + 1, first + 2}, {first + 1, first + 3, first + 2}})));
     ASSERT_EQ(acc.num_triangles(), 2u);
     ASSERT_EQ(acc.num_vertices(), 4u);
   }

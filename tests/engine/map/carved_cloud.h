@@ -1,4 +1,5 @@
-// Test support: a triangulation of a random cloud with a carved manifold region whose surface runs through it.
+// Test support: a triangulation of a random cloud with a carved manifold region whose surface runs through
+// it.
 #pragma once
 
 #include <random>
@@ -28,7 +29,8 @@ inline void CarveHalfCloud(Delaunay* dt) {
 }
 
 // The finite vertices within `radius_m` of `centre`.
-inline std::vector<VertexHandle> VerticesNear(const Delaunay& dt, const Eigen::Vector3d& centre, double radius_m) {
+inline std::vector<VertexHandle> VerticesNear(const Delaunay& dt, const Eigen::Vector3d& centre,
+                                              double radius_m) {
   std::vector<VertexHandle> out;
   for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
     if ((ToEigen(v->point()) - centre).norm() < radius_m) out.push_back(v);

@@ -114,19 +114,22 @@ TEST_F(DepthIntegratorTest, CreatedCellsGetTheWindowsVotes) {
       const CellHandle n = c->neighbor(k);
       if (!dt_.is_infinite(n) && n->time_stamp() < c->time_stamp()) continue;  // looked for from n
       bool seen = false;
-      for (const VotingView& view : window) seen = seen || (SeenFacets(Vertices(c), 1u << k, view, geometry) != 0);
+      for (const VotingView& view : window)
+        seen = seen || (SeenFacets(Vertices(c), 1u << k, view, geometry) != 0);
       expected_seen[SortedFacet(c, k)] = expected_seen[SortedFacet(c, k)] || seen;
     }
   }
 
   std::vector<CellHandle> touched, newly_seen;
-  const std::size_t voted = integrator.Integrate(created, {kCreated, /*touch=*/11, /*visit=*/13}, &touched, &newly_seen);
+  const std::size_t voted =
+      integrator.Integrate(created, {kCreated, /*touch=*/11, /*visit=*/13}, &touched, &newly_seen);
   const std::size_t seen_facets = ExpectCells(expected, expected_seen);
   EXPECT_EQ(voted, expected_voted);
   EXPECT_GT(voted, 1000u);
   EXPECT_GT(seen_facets, 100u);
   ASSERT_EQ(touched.size(), expected.size()) << "every created cell is touched";
-  for (std::size_t i = 1; i < touched.size(); ++i) EXPECT_LT(touched[i - 1]->time_stamp(), touched[i]->time_stamp());
+  for (std::size_t i = 1; i < touched.size(); ++i)
+    EXPECT_LT(touched[i - 1]->time_stamp(), touched[i]->time_stamp());
   for (const CellHandle c : newly_seen) EXPECT_NE(c->info().seen_facets, 0);
   EXPECT_FALSE(newly_seen.empty());
 }

@@ -19,7 +19,8 @@ std::set<std::array<VertexId, 3>> OrientedSurface(const Delaunay& dt) {
   CollectSurface(dt, EmitRule{/*drop_steiner=*/false, /*drop_unseen=*/false}, &facets);
   std::set<std::array<VertexId, 3>> out;
   for (const SurfaceFacet& f : facets) {
-    out.insert(CanonicalTriangle({VertexKey(f.vertices[0]), VertexKey(f.vertices[1]), VertexKey(f.vertices[2])}));
+    out.insert(
+        CanonicalTriangle({VertexKey(f.vertices[0]), VertexKey(f.vertices[1]), VertexKey(f.vertices[2])}));
   }
   return out;
 }
@@ -45,11 +46,13 @@ TEST(HoleCut, KeepsTheSurfaceThatStays) {
   for (const CellHandle d : destroyed) {
     for (int i = 0; i < 4; ++i) {
       const VertexHandle v = d->vertex(i);
-      if (!dt.is_infinite(v) && v->info().stamp != kRemoved && in_boundary.insert(&*v).second) boundary.push_back(v);
+      if (!dt.is_infinite(v) && v->info().stamp != kRemoved && in_boundary.insert(&*v).second)
+        boundary.push_back(v);
       if (dt.is_infinite(d) || !TakenFrom(dt, d, i)) continue;
       const SurfaceFacet f = OrientedSurfaceFacet(d, i);
       if (d->neighbor(i)->info().stamp == kDestroyed) {
-        inside.insert(CanonicalTriangle({VertexKey(f.vertices[0]), VertexKey(f.vertices[1]), VertexKey(f.vertices[2])}));
+        inside.insert(CanonicalTriangle(
+            {VertexKey(f.vertices[0]), VertexKey(f.vertices[1]), VertexKey(f.vertices[2])}));
       }
       for (const VertexHandle u : f.vertices) {
         if (u->info().stamp != kRemoved) seam_expected.insert(&*u);

@@ -63,7 +63,8 @@ TEST_F(MesherTest, EmitsTheSurfaceInsideAHoleOnce) {
     int i, j, k;
     ASSERT_TRUE(dt_.is_facet(f.vertices[0], f.vertices[1], f.vertices[2], c, i, j, k));
     const int opposite = 6 - i - j - k;
-    if (c->info().stamp == kDestroyed && c->neighbor(opposite)->info().stamp == kDestroyed) inside.push_back(f);
+    if (c->info().stamp == kDestroyed && c->neighbor(opposite)->info().stamp == kDestroyed)
+      inside.push_back(f);
   }
   ASSERT_GT(inside.size(), 20u);
 

@@ -38,11 +38,12 @@ void ExpectSame(const MeshDelta& a, const MeshDelta& b) {
 
 TEST(MeshSpill, GivesBackWhatWasAppendedInOrderAndRemovesItsFile) {
   const auto path = test::TempDir() / "spill";
-  const std::vector<MeshDelta> appended = {Triangles(1, 3, true), Triangles(4, 1, false), Triangles(9, 50, true)};
+  const std::vector<MeshDelta> appended = {Triangles(1, 3, true), Triangles(4, 1, false),
+                                           Triangles(9, 50, true)};
   {
     MeshSpill spill(path);
     EXPECT_FALSE(std::filesystem::exists(path));  // nothing yet
-    spill.Append(MeshDelta{});                       // nothing to keep
+    spill.Append(MeshDelta{});                    // nothing to keep
     EXPECT_FALSE(std::filesystem::exists(path));
     for (const MeshDelta& d : appended) spill.Append(d);
     EXPECT_EQ(spill.num_triangles(), 54u);
