@@ -182,12 +182,12 @@ TEST_F(LcmLogger, LiveSubscriberStartedAfterHalfTheFramesStopsAtTheRunsEnd) {
 }
 
 // What a log carries of each block ("(x,y,z)#serial", as semap lcm-mesh names it): the version a subscriber
-// that read the log in order ends with (a whole state newer than what it holds replaces it; a delta applies to
-// its base only: MeshBlockAssembler's rules, for blocks in one part, which this small run's are), and the ways
-// the block's last version was sent (whole copies and deltas).
+// that read the log in order ends with (a whole state newer than what it holds replaces it; a delta applies
+// to its base only: MeshBlockAssembler's rules, for blocks in one part, which this small run's are), and the
+// ways the block's last version was sent (whole copies and deltas).
 struct BlockFate {
-  std::int32_t last = 0;    // the newest version sent
-  std::int32_t held = 0;    // what the reader ends with
+  std::int32_t last = 0;               // the newest version sent
+  std::int32_t held = 0;               // what the reader ends with
   std::map<std::int32_t, int> routes;  // version → whole copies of it and deltas to it
 };
 std::map<std::string, BlockFate> BlockFates(const std::filesystem::path& log) {
@@ -216,7 +216,8 @@ std::set<std::string> ReportedLacking(const std::string& output) {
     const auto open = line.find("  (");
     const auto colon = line.find(": ", open == std::string::npos ? 0 : open);
     if (open == std::string::npos || colon == std::string::npos ||
-        (line.find("lacks version", colon) == std::string::npos && line.find("never received", colon) == std::string::npos)) {
+        (line.find("lacks version", colon) == std::string::npos &&
+         line.find("never received", colon) == std::string::npos)) {
       continue;
     }
     keys.insert(line.substr(open + 2, colon - open - 2));
@@ -229,9 +230,9 @@ std::set<std::string> ReportedLacking(const std::string& output) {
 // with probability at most ~0.05³ ≈ 10⁻⁴ a draw, and the share of the mesh held is ≥ 0.999 in expectation.
 // That is checked as what it rests on, deterministically: the three sendings in the log, and for every draw,
 // the tool reports lacking exactly the blocks whose last version the lossy log no longer carries (a reader of
-// the log in order; only those it saw a newer version of, when the closing index is lost too), holds the whole
-// mesh when none lacks, and says so by its exit code. (A single draw held
-// to ≥ 0.999 failed a few runs in a hundred: one lacking block is ~1 % of this small mesh.)
+// the log in order; only those it saw a newer version of, when the closing index is lost too), holds the
+// whole mesh when none lacks, and says so by its exit code. (A single draw held to ≥ 0.999 failed a few runs
+// in a hundred: one lacking block is ~1 % of this small mesh.)
 TEST_F(LcmLogger, FivePercentOfTheMeshMessagesLost) {
   const auto sent = BlockFates(At("early.lcmlog"));
   ASSERT_GT(sent.size(), 20u);
@@ -245,9 +246,10 @@ TEST_F(LcmLogger, FivePercentOfTheMeshMessagesLost) {
   int draws_lacking = 0;
   for (int seed = 1; seed <= kDraws; ++seed) {
     std::mt19937 rng(seed);
-    const auto dropped = test::FilterLog(At("early.lcmlog"), At("lossy.lcmlog"), [&](std::int64_t, const io::LcmLogEvent& e) {
-      return !test::IsMeshEvent(e) || std::uniform_real_distribution<double>(0, 1)(rng) >= 0.05;
-    });
+    const auto dropped =
+        test::FilterLog(At("early.lcmlog"), At("lossy.lcmlog"), [&](std::int64_t, const io::LcmLogEvent& e) {
+          return !test::IsMeshEvent(e) || std::uniform_real_distribution<double>(0, 1)(rng) >= 0.05;
+        });
     ASSERT_GT(dropped, 0);
     std::set<std::string> lacking;
     const auto received = BlockFates(At("lossy.lcmlog"));
@@ -259,13 +261,17 @@ TEST_F(LcmLogger, FivePercentOfTheMeshMessagesLost) {
     const std::set<std::string> reported = ReportedLacking(r.output);
     if (r.Has("run ended") || r.Has("every block of its index held")) {
       EXPECT_EQ(reported, lacking) << "seed " << seed << "\n" << r.output;
-    } else {  // the closing index lost too: the tool knows only the versions it saw, and says the end is unseen
+    } else {  // the closing index lost too: the tool knows only the versions it saw, and says the end is
+              // unseen
       EXPECT_TRUE(r.Has("run not seen to end")) << "seed " << seed << "\n" << r.output;
       EXPECT_TRUE(std::includes(lacking.begin(), lacking.end(), reported.begin(), reported.end()))
-          << "seed " << seed << "\n" << r.output;
+          << "seed " << seed << "\n"
+          << r.output;
     }
     EXPECT_EQ(r.exit_code, reported.empty() ? 0 : 1) << "seed " << seed << "\n" << r.output;
-    if (lacking.empty()) EXPECT_EQ(Triangles(rebuilt), written) << "seed " << seed;
+    if (lacking.empty()) {
+      EXPECT_EQ(Triangles(rebuilt), written) << "seed " << seed;
+    }
     draws_lacking += lacking.empty() ? 0 : 1;
     held_sum += FractionHeld(rebuilt, Written());
   }
