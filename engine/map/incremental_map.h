@@ -36,6 +36,10 @@ struct MapUpdateResult {
   std::size_t points_finalised = 0;
   std::size_t vertices_removed = 0;  // finalised points and released Steiner vertices
   std::size_t vertices_refined = 0;  // kDepth: vertices replaced by a nearer sighting (refine_depth_ratio)
+  // kDepth, map.fuse_gate_sigmas: vertices moved to their fused estimate (replaced by a vertex there), and
+  // vertices the views saw through that left the map (map.outlier_sightings).
+  std::size_t vertices_moved = 0;
+  std::size_t vertices_outliers = 0;
   // kDepth, map.confirm_beyond_m: far points held for a second sighting (not in point_ids' vertices), and
   // held points of earlier frames that this frame confirmed (each became a vertex).
   std::size_t points_held = 0;

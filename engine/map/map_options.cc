@@ -28,6 +28,13 @@ void MapOptions::Check() const {
                      refine_noise_sigmas, "must be in [0, 1000)");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_sigma_px) && disparity_sigma_px >= 0.0, "disparity_sigma_px",
                      disparity_sigma_px, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(matter_behind_sigmas) && matter_behind_sigmas >= 0.0, "matter_behind_sigmas",
+                     matter_behind_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(fuse_gate_sigmas) && fuse_gate_sigmas >= 0.0, "fuse_gate_sigmas",
+                     fuse_gate_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(fuse_move_sigmas) && fuse_move_sigmas >= 0.0, "fuse_move_sigmas",
+                     fuse_move_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(outlier_sightings >= 0, "outlier_sightings", outlier_sightings, "must be >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(seen_noise_sigmas) && seen_noise_sigmas >= 0.0, "seen_noise_sigmas",
                      seen_noise_sigmas, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(fill_unseen_holes_facets >= 0, "fill_unseen_holes_facets", fill_unseen_holes_facets,

@@ -42,6 +42,10 @@ struct MapOptions {
   double merge_radius_px = 3.0;
   double merge_depth_fraction = 0.03;
   double disparity_sigma_px = 0.5;
+  double matter_behind_sigmas = 3.0;
+  double fuse_gate_sigmas = 3.0;
+  double fuse_move_sigmas = 1.0;
+  int outlier_sightings = 3;
   double refine_depth_ratio = 0.0;
   double refine_noise_sigmas = 6.0;
   double confirm_beyond_m = 20.0;
@@ -87,8 +91,27 @@ struct MapOptions {
     v.Field("merge_depth_fraction", &merge_depth_fraction, "depth: see merge_radius_px");
     v.Field(
         "disparity_sigma_px", &disparity_sigma_px,
-        "depth: σ of the stereo disparity, px; a pixel's depth z is uncertain by z²σ/(f·B): cells are voted "
-        "free only before that band, matter within it (0 = exact points, the paper's votes)");
+        "depth: σ of the stereo disparity, px; a pixel's depth z is uncertain by z²σ/(f·B): a cell d before "
+        "the pixel's point is voted free with weight Φ(d/σ_z) and matter with 1 − Φ(d/σ_z) (0 = exact "
+        "points, the paper's votes)");
+    v.Field("matter_behind_sigmas", &matter_behind_sigmas,
+            "depth: matter is voted behind a pixel's point out to the ray extension + this many of its depth σ "
+            "(disparity_sigma_px > 0)");
+    // Each live vertex is the inverse-variance estimate of its sightings, one per view, read off the view's
+    // depth at the vertex's pixel (engine/map/internal/depth_filter.h says what each rule approximates).
+    v.Field("fuse_gate_sigmas", &fuse_gate_sigmas,
+            "depth: a view's depth at a live vertex's pixel within this many σ (the view's and the vertex's, "
+            "combined) of the vertex's depth is a sighting of it, fused into its position by inverse variance; "
+            "0 = vertices stay where their first sighting placed them");
+    // Each move re-triangulates the vertex's star and re-votes its cells: a smaller threshold follows the
+    // estimate more closely at a higher cost.
+    v.Field("fuse_move_sigmas", &fuse_move_sigmas,
+            "depth: a vertex moves to its fused estimate once that lies farther than this many of the "
+            "estimate's σ from it (>= 0)");
+    v.Field("outlier_sightings", &outlier_sightings,
+            "depth: a vertex that at least this many views saw through (their depth at its pixel beyond the "
+            "gate, or sky), and more than saw it, leaves the map (an SGBM mismatch, or a moving object that "
+            "left); 0 = never");
     // A vertex keeps the position of the sighting that placed it, and the first sighting of what lies ahead
     // is the farthest and noisiest (σ_z grows with z²). Off by default: on 80 urban frames (PS) ratio 0.75
     // with a 6 σ band puts 75.5 % of the area within 0.2 m of the truth instead of 73.3 %, the paper's RMSE

@@ -10,6 +10,9 @@ namespace semap::map_internal {
 namespace {
 
 constexpr int kSamplesPerCell = 5;
+// 1 − Φ(6) = 1e-9 is below a quarter of a fixed-point vote unit (kVoteScale = 2^24): a sample this many σ
+// before its point is free with weight 1.
+constexpr double kFreeSaturationSigmas = 6.0;
 // A cell with a vertex this close to the camera plane (or behind it) may contain the camera: its footprint
 // is taken as the whole image.
 constexpr double kNearPlaneM = 0.05;
@@ -40,6 +43,23 @@ bool ContainsOrigin(const std::array<Eigen::Vector3d, 4>& t) {
 }
 
 }  // namespace
+
+PixelQuad QuadAround(const DepthView& v, const Eigen::Vector2d& uv) {
+  PixelQuad quad;
+  const int u0 = int(std::floor(uv.x())), v0 = int(std::floor(uv.y()));
+  if (!(u0 >= 0 && v0 >= 0 && u0 + 1 < v.depth_m.cols && v0 + 1 < v.depth_m.rows)) return quad;
+  quad.inside = true;
+  quad.depth_m = {v.depth_m.at<float>(v0, u0), v.depth_m.at<float>(v0, u0 + 1), v.depth_m.at<float>(v0 + 1, u0),
+                  v.depth_m.at<float>(v0 + 1, u0 + 1)};
+  quad.a = uv.x() - u0;
+  quad.b = uv.y() - v0;
+  return quad;
+}
+
+double PixelQuad::InterpolatedDepth() const {
+  const double inverse = (1 - b) * ((1 - a) / depth_m[0] + a / depth_m[1]) + b * ((1 - a) / depth_m[2] + a / depth_m[3]);
+  return 1.0 / inverse;
+}
 
 VotingView::VotingView(std::shared_ptr<const DepthView> v) : view(std::move(v)) {
   SEMAP_ASSERT(view && !view->empty(), "a voting view needs a depth map");
@@ -108,15 +128,28 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     }
     const double depth_m = depth;
     const double d = range * (depth_m / x.z() - 1.0);  // the sample is d before the pixel's point
-    // The pixel's point is uncertain by ± noise along the ray: no vote within that band; free before it,
-    // matter up to the ray's extension behind it.
-    const double noise = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px * range / x.z();
-    if (d - noise > geometry.free_saturation_m) {
-      free += 1.0;  // the Gaussian term is below a quarter of a fixed-point unit
-    } else if (d > noise) {
-      free += GaussianComplement(d - noise, geometry.ray.sigma_free_m);
-    } else if (d < -noise && -d - noise <= geometry.ray.extension_m) {
-      matter += GaussianComplement(-d - noise, geometry.ray.sigma_matter_m);
+    if (geometry.disparity_sigma_px == 0.0) {  // exact points: the paper's weights
+      if (d > geometry.free_saturation_m) {
+        free += 1.0;  // the Gaussian term is below a quarter of a fixed-point unit
+      } else if (d > 0.0) {
+        free += GaussianComplement(d, geometry.ray.sigma_free_m);
+      } else if (-d <= geometry.ray.extension_m) {
+        matter += GaussianComplement(-d, geometry.ray.sigma_matter_m);
+      }
+      continue;
+    }
+    // The pixel's point is uncertain along the ray by its own σ (see the header): the sample is free with the
+    // probability that the true surface lies beyond it, Φ(d/σ), matter otherwise, out to the extension plus
+    // matter_behind_sigmas σ behind the point.
+    const double sigma_m = std::hypot(
+        depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px * range / x.z(),
+        geometry.ray.sigma_free_m);
+    if (d > kFreeSaturationSigmas * sigma_m) {
+      free += 1.0;  // 1 − Φ is below a quarter of a fixed-point unit
+    } else if (d >= -(geometry.ray.extension_m + geometry.matter_behind_sigmas * sigma_m)) {
+      const double p_free = 0.5 * std::erfc(-d / (sigma_m * std::sqrt(2.0)));  // Φ(d/σ)
+      free += p_free;
+      matter += 1.0 - p_free;
     }
   }
   const double rays_per_sample = footprint_px * v.rays_per_pixel / kSamplesPerCell;
@@ -129,17 +162,8 @@ namespace {
 // interpolated bilinearly where the four pixels around have depth (1/z is linear in the image over a plane,
 // so a plane's depth comes back exactly), else the nearest pixel's. 0 or kFreeToFarRange as the map says.
 double DepthAt(const DepthView& v, const Eigen::Vector2d& uv) {
-  const int u0 = int(std::floor(uv.x())), v0 = int(std::floor(uv.y()));
-  if (u0 >= 0 && v0 >= 0 && u0 + 1 < v.depth_m.cols && v0 + 1 < v.depth_m.rows) {
-    const float d00 = v.depth_m.at<float>(v0, u0), d01 = v.depth_m.at<float>(v0, u0 + 1);
-    const float d10 = v.depth_m.at<float>(v0 + 1, u0), d11 = v.depth_m.at<float>(v0 + 1, u0 + 1);
-    const auto valid = [](float d) { return d > 0.0f && d != kFreeToFarRange; };
-    if (valid(d00) && valid(d01) && valid(d10) && valid(d11)) {
-      const double a = uv.x() - u0, b = uv.y() - v0;
-      const double inverse = (1 - b) * ((1 - a) / d00 + a / d01) + b * ((1 - a) / d10 + a / d11);
-      return 1.0 / inverse;
-    }
-  }
+  const PixelQuad quad = QuadAround(v, uv);
+  if (quad.AllValid()) return quad.InterpolatedDepth();
   return v.At(std::round(uv.x()), std::round(uv.y()));
 }
 

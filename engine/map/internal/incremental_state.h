@@ -66,6 +66,16 @@ class IncrementalState {
   void MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result);
   // A point seen again (kDepth): more support, and its age restarts.
   void SeenAgain(std::uint32_t id);
+  // map.fuse_gate_sigmas > 0 (and a depth noise model): each live vertex is the fused estimate of its
+  // sightings (depth_filter.h).
+  bool Fusing() const { return options_.fuse_gate_sigmas > 0.0 && options_.disparity_sigma_px > 0.0; }
+  // The sighting of live vertex `v` by `view` added to its depth filter. A vertex more views saw through
+  // than saw (map.outlier_sightings) leaves the map; one whose estimate moved away from it (beyond
+  // map.fuse_move_sigmas of its σ) is replaced by a vertex at the estimate, pending insertion with a new
+  // point id. Both are listed in refined_ for removal (only when Refinable). Returns the id the frame's
+  // points landing on it merge into: its own, its successor's, or kNoId when it leaves the map.
+  std::uint32_t FilterVertex(VertexHandle v, const VotingView& view, MapUpdateResult* result,
+                             std::vector<PendingVertex>* pending);
   // Whether the vertex of point `id` may be refined (MapOptions::refine_depth_ratio): live, neither frozen
   // nor left irregular, and no pinned cell around it (its removal must not change a seam).
   bool Refinable(std::uint32_t id) const;

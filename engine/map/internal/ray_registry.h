@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "engine/map/internal/depth_filter.h"
 #include "engine/map/internal/surface_extraction.h"
 #include "engine/map/internal/triangulation.h"
 
@@ -21,6 +22,8 @@ struct PointRecord {
   std::uint32_t support = 1;        // kDepth: the observations merged into it, its own included
   // kDepth: the camera-frame depth of the sighting that placed it (its stereo noise grows with its square).
   double sighting_depth_m = 0.0;
+  // kDepth, map.fuse_gate_sigmas > 0: the fused estimate of its sightings (depth_filter.h).
+  DepthFilter filter;
 };
 
 struct CameraRecord {

@@ -582,6 +582,7 @@ TEST(IncrementalMap, DepthVotesRefineVerticesANearerViewMeasuresAgain) {
   options.visibility = Visibility::kDepth;
   options.disparity_sigma_px = kNoisePerDepth2 * kFocalBaselineMPx;  // the map's noise model is the points'
   options.refine_noise_sigmas = 3.0;
+  options.fuse_gate_sigmas = 0.0;  // the rule on first-sighting vertices (fused ones gain nothing from it)
   MapOptions plain_options = options;
   plain_options.refine_depth_ratio = 0.0;
   options.refine_depth_ratio = 0.75;
@@ -629,6 +630,7 @@ TEST(IncrementalMap, DepthVotesConfirmFarPointsBeforeInsertingThem) {
   options.finalise_age_frames = 10;
   options.finalise_every_frames = 3;
   options.visibility = Visibility::kDepth;
+  options.fuse_gate_sigmas = 0.0;  // the rule on first-sighting vertices
   MapOptions plain_options = options;
   plain_options.confirm_beyond_m = 0.0;
   options.confirm_beyond_m = kConfirmBeyondM;
@@ -709,6 +711,193 @@ TEST(IncrementalMap, SizesCountsEveryFiniteCell) {
     map.Update(test::StreetDepthFrame(scene, 1.0 * f, 4));
     EXPECT_EQ(map.Sizes().num_cells, map.CellVotesSnapshot().size()) << "frame " << f;
   }
+}
+
+namespace fusion_test {
+
+constexpr double kFocalBaselineMPx = 24.0;  // StreetDepthFrame's f·B (48 px × 0.5 m)
+
+// The street frame at y_m with stereo-like noise on its depth view: each pixel's depth D becomes
+// D + σ_z·n, σ_z = D²·disparity_sigma_px/(f·B), n a standard normal draw; the frame's points move with their
+// pixels' depths (they are the view's points, as the depth stage makes them).
+LabelledCloud NoisyStreetFrame(const test::StreetScene& scene, double y_m, double disparity_sigma_px,
+                               std::mt19937* rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  LabelledCloud frame = test::StreetDepthFrame(scene, y_m, 2);
+  auto view = std::make_shared<DepthView>(*frame.camera_views[0]);
+  view->depth_m = view->depth_m.clone();
+  cv::Mat& depth = view->depth_m;
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      float& d = depth.at<float>(v, u);
+      if (d > 0.0f && d != kFreeToFarRange) d += float(d * d * disparity_sigma_px / kFocalBaselineMPx * unit(*rng));
+    }
+  }
+  const Eigen::Vector3d camera = frame.camera_centers_world[0];
+  const Pose3d cam_from_world = view->world_from_cam.inverse();
+  for (Eigen::Vector3d& p : frame.positions_world) {
+    const Eigen::Vector3d p_cam = cam_from_world * p;
+    const Eigen::Vector2d uv = view->intrinsics.Project(p_cam);
+    const float noisy = depth.at<float>(int(std::lround(uv.y())), int(std::lround(uv.x())));
+    p = camera + (p - camera) * (double(noisy) / p_cam.z());
+  }
+  frame.camera_views[0] = view;
+  return frame;
+}
+
+// bias_m: the mean error of the rays within kBiasWindowM (a mesh hole seen through is a structural error,
+// not a bias; the paper protocol leaves out errors beyond 2 m the same way).
+constexpr double kBiasWindowM = 1.0;
+struct RayErrors {
+  double bias_m = 0.0, rmse_m = 0.0, median_abs_m = 0.0;
+  std::size_t rays = 0;
+};
+
+double MedianAbs(std::vector<double> errors) {
+  if (errors.empty()) return 0.0;
+  for (double& e : errors) e = std::abs(e);
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  return errors[errors.size() / 2];
+}
+
+// Per pixel of the frames' views (the cameras at `frames`, at or nearer than max_depth_m of exact depth):
+// the mesh's depth and the frame's own noisy depth, each against the exact depth, over the pixels where the
+// mesh has a surface.
+struct FusionErrors {
+  RayErrors mesh, frame;
+};
+FusionErrors PixelErrors(const Mesh& mesh, const test::StreetScene& scene, const std::vector<LabelledCloud>& frames,
+                         double max_depth_m) {
+  std::vector<double> mesh_errors, frame_errors;
+  for (const LabelledCloud& frame : frames) {
+    const DepthView& view = *frame.camera_views[0];
+    const LabelledCloud exact = test::StreetDepthFrame(scene, view.world_from_cam.translation().y(), 2);
+    const cv::Mat& exact_depth = exact.camera_views[0]->depth_m;
+    for (int v = 0; v < exact_depth.rows; ++v) {
+      for (int u = 0; u < exact_depth.cols; ++u) {
+        const float d = exact_depth.at<float>(v, u);
+        if (d <= 0.0f || d == kFreeToFarRange || d > max_depth_m) continue;
+        const Eigen::Vector3d ray_cam((u - view.intrinsics.cx_px) / view.intrinsics.fx_px,
+                                      (v - view.intrinsics.cy_px) / view.intrinsics.fy_px, 1.0);
+        const auto hit = test::RayMeshDistance(mesh, view.world_from_cam.translation(),
+                                               view.world_from_cam.linear() * ray_cam.normalized());
+        if (!hit) continue;
+        mesh_errors.push_back(*hit / ray_cam.norm() - d);
+        frame_errors.push_back(view.depth_m.at<float>(v, u) - d);
+      }
+    }
+  }
+  const auto figures = [](const std::vector<double>& errors) {
+    RayErrors r;
+    double sum_sq = 0.0, sum_within = 0.0;
+    std::size_t within = 0;
+    for (const double e : errors) {
+      sum_sq += e * e;
+      if (std::abs(e) <= kBiasWindowM) {
+        sum_within += e;
+        ++within;
+      }
+    }
+    r.rays = errors.size();
+    if (!errors.empty()) r.rmse_m = std::sqrt(sum_sq / errors.size());
+    if (within > 0) r.bias_m = sum_within / within;
+    r.median_abs_m = MedianAbs(errors);
+    return r;
+  };
+  return {figures(mesh_errors), figures(frame_errors)};
+}
+
+}  // namespace fusion_test
+
+// Stereo-like noise on every depth map (σ_z = 0.25 m at 10 m, 1 m at 20 m): the votes by each point's own σ
+// and the fused vertices put the mesh where the surfaces are (its mean error at the frames' pixels is near
+// 0), where the paper's exact-point votes with first-sighting vertices put it behind them; and it is more
+// accurate by median and RMSE.
+TEST(IncrementalMap, FusedSightingsCentreTheMesh) {
+  const test::StreetScene scene;
+  constexpr double kDisparitySigmaPx = 0.06;  // σ_z = D² · 0.06 / 24 = 0.0025 D²
+  constexpr int kFrames = 30;
+  MapOptions fused;
+  fused.visibility = Visibility::kDepth;
+  fused.disparity_sigma_px = kDisparitySigmaPx;  // the map's noise model is the depth maps'
+  fused.confirm_beyond_m = 0.0;
+  MapOptions paper = fused;
+  paper.disparity_sigma_px = 0.0;  // exact-point weights, vertices at their first sighting
+  IncrementalMap fused_map(fused), paper_map(paper);
+  PublishedMesh fused_mesh, paper_mesh;
+  std::mt19937 rng(21);
+  std::vector<LabelledCloud> evaluated;  // every other frame of the first two thirds
+  std::size_t moved = 0;
+  for (int f = 0; f < kFrames; ++f) {
+    const LabelledCloud frame = fusion_test::NoisyStreetFrame(scene, 1.0 * f, kDisparitySigmaPx, &rng);
+    moved += fused_map.Update(frame).vertices_moved;
+    paper_map.Update(frame);
+    fused_mesh.Update(&fused_map, f);
+    paper_mesh.Update(&paper_map, f);
+    const auto report = test::CheckManifold(fused_mesh.accumulator.ToMesh(), /*allow_boundary=*/true);
+    ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
+    if (f % 2 == 0 && f < 2 * kFrames / 3) evaluated.push_back(frame);
+  }
+  constexpr double kMaxDepthM = 20.0;
+  const auto fused_errors = fusion_test::PixelErrors(fused_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
+  const auto paper_errors = fusion_test::PixelErrors(paper_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
+  std::cout << moved << " vertices moved; fused mesh: bias " << fused_errors.mesh.bias_m << " m, median |error| "
+            << fused_errors.mesh.median_abs_m << " m, RMSE " << fused_errors.mesh.rmse_m << " m over "
+            << fused_errors.mesh.rays << " px (the frames there: bias " << fused_errors.frame.bias_m << " m, median "
+            << fused_errors.frame.median_abs_m << " m); exact-point votes: bias " << paper_errors.mesh.bias_m
+            << " m, median " << paper_errors.mesh.median_abs_m << " m, RMSE " << paper_errors.mesh.rmse_m << " m over "
+            << paper_errors.mesh.rays << " px (the frames there: median " << paper_errors.frame.median_abs_m
+            << " m)\n";
+  // Measured (seed 21): bias 0.030 against 0.083 m, median 0.060 against 0.074 m, RMSE 0.34 against 0.42 m;
+  // the frames' own median there is 0.056 m: on this sparse synthetic street the fused mesh is about as
+  // accurate as one frame at its pixels, not better (bench/RESULTS.md, "Fusion").
+  EXPECT_GT(moved, 100u);
+  EXPECT_GT(fused_errors.mesh.rays, paper_errors.mesh.rays);
+  EXPECT_GT(paper_errors.mesh.bias_m, 0.06) << "exact-point votes on noisy depth: the mesh behind the surfaces";
+  EXPECT_LT(std::abs(fused_errors.mesh.bias_m), 0.5 * paper_errors.mesh.bias_m);
+  EXPECT_LT(fused_errors.mesh.median_abs_m, 0.9 * paper_errors.mesh.median_abs_m);
+  EXPECT_LT(fused_errors.mesh.rmse_m, 0.9 * paper_errors.mesh.rmse_m);
+}
+
+// A point floating in the street's free space (an SGBM mismatch, seen in one frame only) becomes a vertex;
+// the later views see the street through it and it leaves the map. With map.outlier_sightings: 0 it stays.
+TEST(IncrementalMap, AVertexTheViewsSeeThroughLeavesTheMap) {
+  const test::StreetScene scene;
+  MapOptions options;
+  options.visibility = Visibility::kDepth;
+  options.disparity_sigma_px = 0.01;
+  options.confirm_beyond_m = 0.0;
+  MapOptions keep = options;
+  keep.outlier_sightings = 0;
+  IncrementalMap map(options), kept_map(keep);
+  const Eigen::Vector3d floating(0.0, 12.0, 3.0);  // 12 m ahead, 1.4 m above the camera, mid-street
+  std::size_t outliers = 0;
+  for (int f = 0; f < 8; ++f) {
+    LabelledCloud frame = test::StreetDepthFrame(scene, 1.0 * f, 2);
+    if (f == 0) {
+      // The first frame's depth map and points see the floating point at its pixel.
+      auto view = std::make_shared<DepthView>(*frame.camera_views[0]);
+      view->depth_m = view->depth_m.clone();
+      const Eigen::Vector3d p_cam = view->world_from_cam.inverse() * floating;
+      const Eigen::Vector2d uv = view->intrinsics.Project(p_cam);
+      view->depth_m.at<float>(int(std::lround(uv.y())), int(std::lround(uv.x()))) = float(p_cam.z());
+      frame.camera_views[0] = view;
+      frame.positions_world.push_back(floating);
+      frame.labels.push_back(frame.labels.front());
+      frame.camera_index.push_back(0);
+    }
+    outliers += map.Update(frame).vertices_outliers;
+    kept_map.Update(frame);
+  }
+  const auto near_floating = [&](const IncrementalMap& m) {
+    const MapSnapshot snapshot = m.ExportSnapshot();
+    return std::count_if(snapshot.cloud.positions_world.begin(), snapshot.cloud.positions_world.end(),
+                         [&](const Eigen::Vector3d& p) { return (p - floating).norm() < 0.3; });
+  };
+  EXPECT_EQ(near_floating(kept_map), 1) << "without the outlier rule the mismatch stays";
+  EXPECT_EQ(near_floating(map), 0);
+  EXPECT_GE(outliers, 1u);
+  EXPECT_EQ(map.Statistics().vertices_outliers, outliers);
 }
 
 }  // namespace
