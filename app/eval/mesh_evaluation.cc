@@ -14,15 +14,6 @@ namespace semap::app {
 using namespace io;  // the frame sources, mesh files and ground truth of io/
 namespace {
 
-// Exact depth map of frame `id` of a generated sequence (depth/data/%010d.png beside image_02), if any.
-std::optional<std::filesystem::path> ExactDepthPath(const SequenceInfo& info, std::int64_t id) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "%010lld.png", static_cast<long long>(id));
-  const auto path = info.root / "depth" / "data" / name;
-  if (std::filesystem::is_regular_file(path)) return path;
-  return std::nullopt;
-}
-
 // The frame ids to draw error images of: the named ones, else `count` spread evenly over the selection.
 std::set<std::int64_t> ErrorImageFrames(const MeshEvaluationOptions& options, const SequenceInfo& info) {
   if (!options.error_image_frames.empty()) {
@@ -44,6 +35,14 @@ std::string ErrorImageTitle(std::int64_t frame_id, const char* reference) {
 }
 
 }  // namespace
+
+std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info, std::int64_t id) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%010lld.png", static_cast<long long>(id));
+  const auto path = info.root / "depth" / "data" / name;
+  if (std::filesystem::is_regular_file(path)) return path;
+  return std::nullopt;
+}
 
 void MeshEvaluationOptions::Check() const {
   SEMAP_CHECK_OPTION(error_images >= 0, "error_images", error_images, "must be >= 0");

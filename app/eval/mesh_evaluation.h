@@ -83,6 +83,9 @@ struct MeshEvaluation {
   Eigen::Vector3d camera_up = Eigen::Vector3d::Zero();
 };
 
+// The exact depth map of frame `id` of a generated sequence (depth/data/%010d.png beside image_02), if any.
+std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info, std::int64_t id);
+
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;
 // frames without a pose are skipped) and compares `mesh` with them. Throws FileError for an unreadable
 // dataset; frames that fail to read are skipped and counted.
