@@ -225,7 +225,8 @@ std::vector<std::string> UnknownWords(const std::string& command, const HelpText
   if (semap == words.end() || semap + 1 == words.end()) return unknown;
   std::string sub = *(semap + 1);
   const bool root = sub[0] == '-';
-  if (!root && (sub.find_first_of("<>") != std::string::npos || sub == "SUB")) return unknown;  // a placeholder
+  // A placeholder (`semap <cmd> --help`), or a message quoted from the program (`semap view: port ...`).
+  if (!root && (sub.find_first_of("<>") != std::string::npos || sub == "SUB" || sub.back() == ':')) return unknown;
   if (!root && help.subcommands.count(sub) == 0) {
     unknown.push_back("subcommand '" + sub + "'");
     return unknown;
