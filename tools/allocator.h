@@ -11,7 +11,7 @@ namespace semap::tools {
 // allocates the same few hundred MB every frame (SGBM's buffers, the votes' scratch, CGAL's cells); with
 // mimalloc 2.0's defaults (25 and 500 ms) those pages were decommitted between frames and faulted in again:
 // 80 urban frames, PS, half resolution, 2 cores: 3.86 → 5.30 f/s, CPU −27 %, peak RSS +17 % (bench/RESULTS.md,
-// session 10). Call first thing in main(), before anything allocates. No-op without mimalloc.
+// 8ce4319). Call first thing in main(), before anything allocates. No-op without mimalloc.
 inline constexpr long kDecommitDelayMs = 1000;
 void ConfigureAllocator();
 

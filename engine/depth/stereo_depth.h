@@ -98,7 +98,7 @@ struct DepthOptions {
     // (vote_stride_px). Dense SGBM frames have ~350 k valid pixels. At half resolution, one point per matched
     // pixel, 10,000 are 10 % of a frame's valid pixels against 2.5 % at full resolution: there 6,000 ran 200
     // urban frames 15 % faster, with accuracy within ±4 % either way on four sequences (bench/RESULTS.md,
-    // session 17).
+    // "The point budget at half resolution", 2026-11-26, a48c885).
     v.Field("max_points_per_frame", &max_points_per_frame,
             "point budget per frame after the stride, by uniform decimation (0 = none)");
     // The default keeps matched pixels only: the filled pixels improve the disparity map (D1) but are

@@ -116,7 +116,7 @@ struct MapOptions {
     // is the farthest and noisiest (σ_z grows with z²). Off by default: on 80 urban frames (PS) ratio 0.75
     // with a 6 σ band puts 75.5 % of the area within 0.2 m of the truth instead of 73.3 %, the paper's RMSE
     // falls 6 % and the mesh 14 %, but the strict RMSE rises 3 % and the frame rate falls 14 %; KITTI 04:
-    // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/RESULTS.md, session 12).
+    // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/RESULTS.md, 2026-11-25).
     v.Field("refine_depth_ratio", &refine_depth_ratio,
             "depth: a live vertex that a view sees again from less than this fraction of the depth of the "
             "sighting that placed it, within refine_noise_sigmas of that sighting's depth σ, is removed where "
@@ -126,10 +126,10 @@ struct MapOptions {
             "that refine it");
     // A far sighting is noisy (σ_z = z²σ/(f·B): 0.5 m at 20 m, 1.2 m at 30 m on KITTI), and a vertex keeps
     // the position it was placed at; SGBM's outliers at range seldom repeat. 80 frames, PS, 20 m and 3
-    // frames against 0 (bench/RESULTS.md, session 12): area within 0.2 m of the truth 73.3 → 77.9 % (urban),
+    // frames against 0 (bench/RESULTS.md, 2026-11-25): area within 0.2 m of the truth 73.3 → 77.9 % (urban),
     // 71.1 → 73.8 % (vegetated); strict RMSE vs Velodyne −1.7 % / −6.1 %, KITTI 04 −13 %; truth completeness
     // −0.6 / −0.5 points, Velodyne pixels covered −0.1 point; fewer vertices, a faster map. The default since
-    // session 13 (bench/RESULTS.md, "Session 13").
+    // dd6974d (bench/RESULTS.md, "Far points confirmed by a second sighting").
     v.Field("confirm_beyond_m", &confirm_beyond_m,
             "depth: a point farther than this (camera-frame depth, m) that no live vertex explains becomes a "
             "vertex only when a point of a later frame lands on it (within merge_radius_px and "
@@ -183,7 +183,7 @@ struct MapOptions {
     // large unseen regions and stay out (engine/map/internal/seen_holes.h). The default fills single facets
     // whose three neighbours were seen: 200 urban frames, PS: strict RMSE vs Velodyne 3.89 → 3.45 m for 1
     // point less area within 0.2 m of the truth; 4 facets: 2.99 m for 4.8 points less (bench/RESULTS.md,
-    // session 10).
+    // 89c8e2f).
     v.Field("fill_unseen_holes_facets", &fill_unseen_holes_facets,
             "depth: a hole of at most this many unseen triangles, connected across edges and ringed by seen "
             "ones, counts as seen; 0 = never");

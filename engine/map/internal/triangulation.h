@@ -132,7 +132,7 @@ inline void MarkFacetSeen(CellHandle c, int i) {
 }
 
 // How far ahead of the cell it is at a loop over scattered cells fetches what it will read of them (8 cells:
-// the distance that hid the misses of the vote, surface and hole loops; bench/RESULTS.md, sessions 15–16).
+// the distance that hid the misses of the vote, surface and hole loops; bench/RESULTS.md, d999786 and aecce04).
 inline constexpr std::size_t kPrefetchCells = 8;
 // Starts fetching the records of the neighbours of `c` (carving, sealing and seen bits, as NeighbourCarved,
 // AsCarvedFacet and FacetSeen read them): a loop over cells scattered over the map calls it for the cell
