@@ -5,6 +5,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -42,7 +43,7 @@ PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, c
   std::vector<double> stamps;
   while (auto frame = source->Next()) {
     if (!frame->world_from_cam) {
-      throw ConfigError(dataset + ": frame " + std::to_string(frame->id) +
+      throw std::runtime_error(dataset + ": frame " + std::to_string(frame->id) +
                         " has no pose: nothing to evaluate the estimate against");
     }
     truth.push_back(*frame->world_from_cam);

@@ -23,8 +23,8 @@ constexpr int kRelativeErrorFrames = 10;
 
 // Reads the frames config.input selects from `dataset` (they must have poses) and the estimate `poses`: KITTI
 // pose format, one line per selected frame, or TUM (".tum"; each frame takes the pose with the nearest
-// timestamp, within half the smallest frame period). Throws io::FileError naming the file, or ConfigError when
-// the sequence has no poses.
+// timestamp, within half the smallest frame period). Throws io::FileError naming the file, or
+// std::runtime_error naming the first frame without a pose.
 PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, const std::filesystem::path& poses);
 
 // The evaluation as text (one figure a line) and as JSON.

@@ -149,6 +149,10 @@ TEST_F(Odometry, EvalPosesOfATrajectoryOfAnotherLengthNamesBothCounts) {
   const CliRun r = test::RunSemap("eval-poses " + Pristine().string() + " --poses " + (dir_ / "short.txt").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(r.Has("has 1 poses but the sequence has 12 frames")) << r.output;
+  // Nothing to evaluate against: the copy without poses.
+  const CliRun none = test::RunSemap("eval-poses " + (dir_ / "seq").string() + " --poses " + (dir_ / "short.txt").string());
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_TRUE(none.Has("frame 0 has no pose")) << none.output;
 }
 
 // Beside the sequence's own poses: the map takes those, the odometry's trajectory and figures are written.
