@@ -464,6 +464,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
       s.ref_left_pyramid = std::move(old_pyramid);
       s.ref_left_px = std::move(old_left);
       s.ref_right_px = std::move(old_right);
+      result.stereo_features = 0;  // this frame did not become the reference
     }
   }
   result.status = OdometryStatus::kBridged;
