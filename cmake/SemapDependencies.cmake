@@ -1,7 +1,7 @@
 # Every dependency comes from a Debian package; see third_party_notes/.
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(CGAL REQUIRED)
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs calib3d dnn ml)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs calib3d dnn ml features2d video)
 find_package(nanoflann REQUIRED)
 find_package(TBB REQUIRED)
 find_package(Threads REQUIRED)

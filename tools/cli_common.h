@@ -45,6 +45,7 @@ void RegisterInfoCommand(CLI::App& app, int* exit_code);
 void RegisterDepthCommand(CLI::App& app, int* exit_code);
 void RegisterSegmentCommand(CLI::App& app, int* exit_code);
 void RegisterEvalCommand(CLI::App& app, int* exit_code);
+void RegisterEvalPosesCommand(CLI::App& app, int* exit_code);
 void RegisterRunCommand(CLI::App& app, int* exit_code);
 void RegisterTableCommand(CLI::App& app, int* exit_code);
 void RegisterCompareCommand(CLI::App& app, int* exit_code);

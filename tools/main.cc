@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       RegisterDepthCommand,
       RegisterSegmentCommand,
       RegisterEvalCommand,
+      RegisterEvalPosesCommand,
       RegisterTableCommand,
       RegisterCompareCommand,
       RegisterRenderCommand,

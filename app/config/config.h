@@ -11,6 +11,8 @@
 #include "engine/semantics/segmenter.h"
 #include "engine/simplify/simplify.h"
 #include "engine/map/map_options.h"
+#include "engine/odometry/stereo_odometry.h"
+#include "app/config/pose_input.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
 #include "engine/eval/depth_accuracy.h"
@@ -30,11 +32,13 @@ class ConfigError : public std::runtime_error {
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
   io::FrameSourceOptions input;  // where frames come from and what is loaded with them
+  PoseInputOptions pose_input;   // input.poses: where the camera poses come from
   sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
   PipelineOptions pipeline;  // stage threads, queues, modes
   io::OutputOptions output;      // files written by a run
   io::LcmOptions lcm;            // mesh / stats publishing over LCM
   DepthAccuracyOptions eval; // accuracy against Velodyne / exact depth
+  StereoOdometryOptions odometry;  // poses from the images (input.poses)
   DepthOptions depth;        // stereo matching and point cloud
   SemanticsOptions semantics;  // where per-pixel labels come from
   SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)

@@ -18,10 +18,23 @@ Section MakeSection(std::string name, std::string doc, Options& options) {
 
 }  // namespace
 
+const char* PoseSourceName(PoseSource source) {
+  switch (source) {
+    case PoseSource::kAuto: return "auto";
+    case PoseSource::kFile: return "file";
+    case PoseSource::kOxts: return "oxts";
+    case PoseSource::kOdometry: return "odometry";
+  }
+  return "?";
+}
+
 std::vector<Section> BindSections(Config& c) {
   // In the order of the data flow.
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
+  c.pose_input.Describe(s.back().binder);  // input.poses: the app's, not the frame source's
+  s.push_back(MakeSection("odometry", "Stereo visual odometry: poses from the images (input.poses = odometry, or auto "
+                          "on a sequence without poses).", c.odometry));
   s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
   s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
                           c.semantics));

@@ -43,7 +43,7 @@ std::unique_ptr<io::FrameSource> OpenStreamingSource(const Config& config, const
 }
 
 std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_ptr<io::FrameSource> source,
-                                             std::unique_ptr<SimplifyStage> simplify) {
+                                             std::unique_ptr<SimplifyStage> simplify, const RunOdometry* odometry) {
   const ClassMap class_map = source->class_map();
   if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
   std::unique_ptr<FrameReader> reader;
@@ -51,6 +51,10 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
     reader = std::make_unique<LabelSizeWarnings>(std::move(source));
   } else {
     reader = std::move(source);
+  }
+  if (odometry != nullptr && odometry->log) {
+    reader = std::make_unique<OdometryReader>(std::move(reader), config.odometry, odometry->plan.replace_poses,
+                                              odometry->log);
   }
   // ENet on keyframes (semantics.enet_every_frames > 1) runs on its own thread and the depth workers load
   // none; on every frame (1) each depth worker runs its own, so that the workers segment frames in parallel
@@ -70,13 +74,16 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
 
 EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, double progress_s,
                          std::unique_ptr<SimplifyStage> simplify, const std::vector<PipelineSink*>& extra_sinks) {
+  const RunOdometry odometry = PrepareOdometry(config, dataset);
   auto source = OpenStreamingSource(config, dataset);
   const std::int64_t total = source->size();
   RunOutputs outputs(config, RunOutputs::Lcm::kOff);
+  if (odometry.log) outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
   std::unique_ptr<ProgressSink> progress;
   if (progress_s > 0.0) progress = std::make_unique<ProgressSink>(total, progress_s);
 
-  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source), std::move(simplify));
+  const std::unique_ptr<Pipeline> engine =
+      MakeEnginePipeline(config, std::move(source), std::move(simplify), &odometry);
   Pipeline& pipeline = *engine;
   for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
   if (progress) pipeline.AddSink(progress.get());
@@ -90,6 +97,7 @@ EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, doubl
     throw std::runtime_error(dataset + ": no frame could be processed (all " +
                              std::to_string(s.frames_failed) + " failed)");
   }
+  if (odometry.log) WriteOdometryTrajectory(*odometry.log, config.output.dir);
   run.mesh = outputs.mesh();
   run.evaluation = EvaluateMesh(run.mesh, dataset, config.input, config.eval);
   return run;

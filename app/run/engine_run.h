@@ -11,6 +11,7 @@
 #include "engine/pipeline/stages.h"
 #include "app/config/config.h"
 #include "app/eval/mesh_evaluation.h"
+#include "app/run/odometry_reader.h"
 #include "io/frame_source.h"
 
 namespace semap::app {
@@ -20,9 +21,11 @@ namespace semap::app {
 std::unique_ptr<io::FrameSource> OpenStreamingSource(const Config& config, const std::string& dataset);
 
 // The engine's stages on `source` as `config` says: SGBM + labels, `simplify` (or the configured windowed
-// simplification when null), the incremental map. Sinks are the caller's to add.
+// simplification when null), the incremental map. With `odometry` (its log not null), visual odometry runs in
+// the reader as its plan says (OdometryReader). Sinks are the caller's to add.
 std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_ptr<io::FrameSource> source,
-                                             std::unique_ptr<SimplifyStage> simplify = nullptr);
+                                             std::unique_ptr<SimplifyStage> simplify = nullptr,
+                                             const RunOdometry* odometry = nullptr);
 
 struct EngineRun {
   PipelineSummary summary;  // fps (frames / seconds of the whole incremental build), stage times

@@ -22,6 +22,10 @@ class RunOutputs {
 
   // The sinks, in the order each frame reaches them: mesh files, stats, LCM.
   std::vector<PipelineSink*> sinks();
+  // Adds `source`'s figures to each frame's line of the per-frame stats (when they are written).
+  void SetFigureSource(io::FrameFigureSource source) {
+    if (stats_) stats_->SetFigureSource(std::move(source));
+  }
   // The whole mesh, once the run has finished (empty before).
   const Mesh& mesh() const { return mesh_.mesh(); }
   // Logs the files written and, with LCM, the publisher's counters.

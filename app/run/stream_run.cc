@@ -15,6 +15,7 @@
 namespace semap::app {
 
 StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request) {
+  const RunOdometry odometry = PrepareOdometry(config, request.dataset);
   auto source = OpenStreamingSource(config, request.dataset);
   const std::int64_t total = source->size();
   spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers, {}", request.dataset, total,
@@ -25,8 +26,14 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
   RunOutputs outputs(config);
   ProgressSink progress(total, request.progress_s);
+  if (odometry.log) {
+    spdlog::info("poses: stereo visual odometry{}", odometry.plan.replace_poses
+                                                        ? ""
+                                                        : " beside the sequence's own (the map takes the sequence's)");
+    outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
+  }
 
-  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source));
+  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source), nullptr, &odometry);
   Pipeline& pipeline = *engine;
   for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
   pipeline.AddSink(&progress);
@@ -46,6 +53,20 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF", mesh.num_vertices(), mesh.num_triangles(),
                static_cast<double>(io::OffSizeBytes(mesh)) / 1e6);
   outputs.LogWritten();
+  if (odometry.log) {
+    const std::vector<OdometryRecord> records = odometry.log->Records();
+    double cpu_ms = 0.0;
+    for (const auto& r : records) cpu_ms += r.result.cpu_ms;
+    spdlog::info("odometry: {} frames, {} bridged or restarted (tracking failed: not mapped, pose guessed), "
+                 "mean {:.1f} ms CPU a frame",
+                 records.size(), odometry.log->failures(), records.empty() ? 0.0 : cpu_ms / records.size());
+    try {
+      for (const auto& f : WriteOdometryTrajectory(*odometry.log, config.output.dir)) spdlog::info("wrote {}", f.string());
+    } catch (const io::FileError& e) {
+      spdlog::error("{}", e.what());
+      return StreamRunOutcome::kOutputErrors;
+    }
+  }
   if (request.evaluate && mesh.num_triangles() == 0) {
     spdlog::warn("--eval: the mesh has no faces: nothing to evaluate");
   } else if (request.evaluate) {

@@ -161,6 +161,7 @@ void StatsFileSink::OpenOnce() {
 
 void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::optional<Pose3d>&) {
   OpenOnce();
+  const std::vector<FrameFigure> figures = figure_source_ ? figure_source_(s.frame_id) : std::vector<FrameFigure>();
   if (!header_written_) {
     csv_ << "frame_id,timestamp_s,elapsed_s,fps,frames_processed,frames_dropped,frames_failed";
     // A step of a stage ("map.votes") has a time and no queue of its own.
@@ -168,7 +169,13 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
       csv_ << "," << st.name << "_ms";
       if (!IsStageStep(st.name)) csv_ << "," << st.name << "_queue";
     }
-    csv_ << ",points_in,points_kept,map_vertices,map_cells,map_rays,mesh_triangles,rss_mb,cpu_s\n";
+    csv_ << ",points_in,points_kept,map_vertices,map_cells,map_rays,mesh_triangles,rss_mb,cpu_s";
+    // The figures measured outside the stages (e.g. visual odometry's): the first frame's names are the columns.
+    for (const auto& f : figures) {
+      csv_ << "," << f.name;
+      figure_columns_.push_back(f.name);
+    }
+    csv_ << '\n';
     header_written_ = true;
   }
   csv_ << s.frame_id << ',' << s.timestamp_s << ',' << s.elapsed_s << ',' << s.fps << ',' << s.frames_processed
@@ -178,8 +185,16 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
     if (!IsStageStep(st.name)) csv_ << ',' << st.queue_occupancy;
   }
   csv_ << ',' << s.points_in << ',' << s.points_kept << ',' << s.map_vertices << ',' << s.map_cells << ','
-       << s.map_rays << ',' << s.mesh_triangles << ',' << s.rss_mb << ',' << s.cpu_s << '\n';
-  jsonl_ << StatsJson(s).dump() << '\n';
+       << s.map_rays << ',' << s.mesh_triangles << ',' << s.rss_mb << ',' << s.cpu_s;
+  for (const auto& name : figure_columns_) {
+    csv_ << ',';
+    const auto it = std::find_if(figures.begin(), figures.end(), [&](const FrameFigure& f) { return f.name == name; });
+    if (it != figures.end()) csv_ << it->value;  // empty when this frame lacks it
+  }
+  csv_ << '\n';
+  nlohmann::json line = StatsJson(s);
+  for (const auto& f : figures) line[f.name] = f.value;
+  jsonl_ << line.dump() << '\n';
   // Flushed per frame (a few hundred bytes at a few frames per second): the files can be followed live, hold
   // every frame processed when the process dies, and a failing disk is reported at the frame it fails.
   csv_.flush();

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -75,6 +76,16 @@ class MeshFileSink : public PipelineSink {
   std::vector<std::filesystem::path> written_;
 };
 
+// A figure of a frame measured outside the pipeline's stages (e.g. by visual odometry in the reader: features
+// tracked, inliers, time): one frames.csv column per name.
+struct FrameFigure {
+  std::string name;
+  double value = 0.0;
+};
+// The figures of a frame by its id (the same names in the same order for every frame), called from the
+// sink's thread: the source must be safe to call from there while the frames are read.
+using FrameFigureSource = std::function<std::vector<FrameFigure>(std::int64_t frame_id)>;
+
 // frames.csv + frames.jsonl (one line per processed frame) and summary.json at the end; frame errors go
 // to errors.jsonl. The constructor checks that the folder is writable (throws FileError naming it); the
 // per-frame files are opened (and a previous run's files replaced) at the first frame, so that a run that
@@ -87,6 +98,9 @@ class StatsFileSink : public PipelineSink {
   void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override;
   void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) override;
   void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
+  // Adds the figures of `source` to each frame's line (columns named by the first frame's figures); before
+  // the first frame.
+  void SetFigureSource(FrameFigureSource source) { figure_source_ = std::move(source); }
 
  private:
   void OpenOnce();
@@ -97,6 +111,8 @@ class StatsFileSink : public PipelineSink {
   std::ofstream jsonl_;
   std::ofstream errors_;
   bool header_written_ = false;
+  FrameFigureSource figure_source_;
+  std::vector<std::string> figure_columns_;  // the figures named in the header
 };
 
 // Publishes every mesh delta, frame stats and camera pose. Never blocks (see LcmPublisher).

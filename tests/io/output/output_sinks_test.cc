@@ -129,6 +129,36 @@ TEST(StatsFileSink, WritesCsvJsonLinesErrorsAndSummary) {
   EXPECT_DOUBLE_EQ(j["stages"]["depth"]["last_ms"].get<double>(), 20.0);
 }
 
+// Figures measured outside the stages (visual odometry's) become columns named by the first frame's, and keys
+// of the JSON lines; a frame without them leaves its cells empty.
+TEST(StatsFileSink, FiguresOfAFigureSourceAreColumns) {
+  OutputOptions o;
+  o.dir = (test::TempDir() / "figures").string();
+  {
+    StatsFileSink sink(o);
+    sink.SetFigureSource([](std::int64_t id) {
+      if (id == 1) return std::vector<FrameFigure>{};
+      return std::vector<FrameFigure>{{"odometry_features", 100.0 + id}, {"odometry_inliers", 50.0}};
+    });
+    for (int id : {0, 1, 2}) sink.OnFrame(Stats(id), {}, std::nullopt);
+    sink.OnFinish(Stats(2), {});
+  }
+  const std::filesystem::path dir(o.dir);
+  std::ifstream csv(dir / "frames.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",cpu_s,odometry_features,odometry_inliers"), std::string::npos) << header;
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].substr(rows[0].size() - 7), ",100,50");
+  EXPECT_EQ(rows[1].substr(rows[1].size() - 2), ",,");
+  EXPECT_EQ(rows[2].substr(rows[2].size() - 7), ",102,50");
+  std::ifstream jsonl(dir / "frames.jsonl");
+  std::getline(jsonl, line);
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(line)["odometry_features"].get<double>(), 100.0);
+}
+
 TEST(StatsFileSink, UnwritableFolderFailsAtConstructionNamingThePath) {
   const auto blocker = test::TempDir() / "file";
   std::ofstream(blocker) << "x";

@@ -1,0 +1,130 @@
+// Stereo visual odometry: the left camera's pose from a stream of rectified stereo pairs, for sequences
+// that come without poses (see engine/odometry/README.md for the scheme and why it was chosen).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "engine/core/calibration.h"
+
+namespace semap {
+
+struct StereoOdometryOptions {
+  // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
+  int max_features = 500;
+  int grid_cols = 12;
+  int grid_rows = 4;
+  int fast_threshold = 15;
+  int klt_window_px = 11;
+  int klt_levels = 3;
+  int stereo_levels = 5;
+  double max_epipolar_error_px = 1.0;
+  double max_stereo_check_px = 0.75;
+  double min_disparity_px = 1.0;
+  double ransac_threshold_px = 2.0;
+  int ransac_iterations = 150;
+  double inlier_threshold_px = 1.5;
+  int min_inliers = 40;
+  double min_inlier_ratio = 0.2;
+  double max_speed_mps = 50.0;
+  double max_rotation_rate_deg_s = 120.0;
+  int max_bridged_frames = 3;
+
+  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
+  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("max_features", &max_features,
+            "features kept per frame (tracked ones first, then new FAST corners in the emptiest grid cells)");
+    v.Field("grid_cols", &grid_cols, "columns of the grid that spreads the features over the image");
+    v.Field("grid_rows", &grid_rows, "rows of that grid");
+    v.Field("fast_threshold", &fast_threshold, "FAST corner threshold (grey levels)");
+    v.Field("klt_window_px", &klt_window_px, "pyramidal KLT window side, px (odd)");
+    v.Field("klt_levels", &klt_levels, "KLT pyramid levels above full resolution for tracking between frames");
+    v.Field("stereo_levels", &stereo_levels,
+            "KLT pyramid levels for left-to-right matching (reaches disparities of about window x 2^levels)");
+    v.Field("max_epipolar_error_px", &max_epipolar_error_px,
+            "a stereo match may leave the left point's row by this much, px (rectified images)");
+    v.Field("max_stereo_check_px", &max_stereo_check_px,
+            "left -> right -> left round trip of a stereo match must land this close to the start, px");
+    v.Field("min_disparity_px", &min_disparity_px, "stereo matches below this disparity are not triangulated, px");
+    v.Field("ransac_threshold_px", &ransac_threshold_px, "P3P RANSAC inlier reprojection error, px");
+    v.Field("ransac_iterations", &ransac_iterations, "P3P RANSAC iterations");
+    v.Field("inlier_threshold_px", &inlier_threshold_px,
+            "after refinement, a track is an inlier when its stereo reprojection error is below this, px");
+    v.Field("min_inliers", &min_inliers, "fewer inliers than this: tracking failed on the frame");
+    v.Field("min_inlier_ratio", &min_inlier_ratio,
+            "inliers below this fraction of the tracked features: tracking failed on the frame");
+    v.Field("max_speed_mps", &max_speed_mps, "a motion faster than this is a jump: tracking failed, m/s");
+    v.Field("max_rotation_rate_deg_s", &max_rotation_rate_deg_s,
+            "a rotation faster than this is a jump: tracking failed, deg/s");
+    v.Field("max_bridged_frames", &max_bridged_frames,
+            "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
+            "frame");
+  }
+
+  void Check() const;
+};
+
+// How a frame's pose was found.
+enum class OdometryStatus {
+  kFirst,      // the first frame: the pose it was given (the identity by default)
+  kTracked,    // estimated from the features tracked from the reference frame
+  kBridged,    // tracking failed: constant-velocity guess from the last tracked frame
+  kRestarted,  // tracking restarted on this frame after failing: its pose is a constant-velocity guess
+};
+
+const char* OdometryStatusName(OdometryStatus status);
+
+struct OdometryResult {
+  Pose3d world_from_cam = Pose3d::Identity();
+  OdometryStatus status = OdometryStatus::kFirst;
+  int features = 0;        // reference features tracked into this frame
+  int inliers = 0;         // of those, consistent with the estimated motion
+  int stereo_features = 0;  // features of this frame with a stereo match (the next frame's reference)
+  double cpu_ms = 0.0;     // CPU time of this Track() call (the calling thread's)
+  std::string problem;     // why tracking failed (kBridged, kRestarted); empty otherwise
+};
+
+// Frame-to-frame stereo odometry. Each frame: the reference frame's features (FAST corners with a stereo
+// match) are tracked into the left image (pyramidal KLT from a constant-velocity prediction), matched into
+// the right one, the motion comes from P3P RANSAC and a robust Gauss-Newton refinement of the stereo
+// reprojection error in both frames, and the frame becomes the next reference, topped up with new corners.
+// A frame whose tracking fails keeps the last tracked frame as reference (the next frame is tracked from it)
+// and gets a constant-velocity pose; after max_bridged_frames such frames tracking restarts.
+// Not thread-safe: one thread calls Track() with the frames in order.
+class StereoOdometry {
+ public:
+  // Throws InvalidOption when `options` or `calibration` is invalid.
+  StereoOdometry(const StereoOdometryOptions& options, const StereoCalibration& calibration);
+  ~StereoOdometry();
+  StereoOdometry(const StereoOdometry&) = delete;
+  StereoOdometry& operator=(const StereoOdometry&) = delete;
+
+  // The pose of the first frame (default identity); only before the first Track().
+  void SetFirstPose(const Pose3d& world_from_cam);
+
+  // The pose of the frame (rectified CV_8UC1 or CV_8UC3 pair of the calibration's size) taken at `timestamp_s`.
+  // Throws std::invalid_argument when the images do not fit the calibration.
+  OdometryResult Track(const cv::Mat& left, const cv::Mat& right, double timestamp_s);
+
+  int frames_tracked() const { return frames_tracked_; }
+  int frames_bridged() const { return frames_bridged_; }
+  int restarts() const { return restarts_; }
+
+ private:
+  struct State;
+  StereoOdometryOptions options_;
+  StereoCalibration calibration_;
+  std::unique_ptr<State> state_;
+  int frames_tracked_ = 0;
+  int frames_bridged_ = 0;
+  int restarts_ = 0;
+};
+
+}  // namespace semap

@@ -1,0 +1,135 @@
+#include "app/run/odometry_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <deque>
+
+#include "engine/sim/camera_renderer.h"
+#include "engine/sim/synthetic_sequence.h"
+
+namespace semap::app {
+namespace {
+
+// Frames of a generated drive, with (or without) their exact poses; `blank` frames have black images.
+class DriveReader : public FrameReader {
+ public:
+  DriveReader(const sim::SyntheticSequence& seq, int frames, bool with_poses, int blank = -1) {
+    const sim::CameraRenderer renderer(seq.scene(), seq.options());
+    for (int i = 0; i < frames; ++i) {
+      Frame f;
+      f.id = i;
+      f.timestamp_s = seq.trajectory().timestamp_s(i);
+      f.calibration = seq.rig().calibration;
+      f.left = renderer.Render(f.calibration, seq.scene_from_cam2(i), {1.0, 2u * i + 1}).color;
+      f.right = renderer.Render(f.calibration, seq.scene_from_cam3(i), {1.0, 2u * i + 2}).color;
+      if (i == blank) {
+        f.left.setTo(0);
+        f.right.setTo(0);
+      }
+      if (with_poses) f.world_from_cam = seq.world_from_cam2(i);
+      frames_.push_back(std::move(f));
+    }
+  }
+  std::optional<Frame> Next() override {
+    if (frames_.empty()) return std::nullopt;
+    Frame f = std::move(frames_.front());
+    frames_.pop_front();
+    return f;
+  }
+
+ private:
+  std::deque<Frame> frames_;
+};
+
+sim::SynthOptions Drive(int frames) {
+  sim::SynthOptions o;
+  o.num_frames = frames;
+  o.seed = 3;
+  return o;
+}
+
+// The frames leave with the odometry's poses (what the map and the LCM camera-pose channel receive), in the
+// sequence's world frame; the log holds one record per frame and the frames.csv figures.
+TEST(OdometryReader, ReplacesThePosesWithTheEstimate) {
+  const sim::SyntheticSequence seq(Drive(5));
+  auto log = std::make_shared<OdometryLog>();
+  OdometryReader reader(std::make_unique<DriveReader>(seq, 5, true), StereoOdometryOptions{}, true, log);
+  for (int i = 0; i < 5; ++i) {
+    const std::optional<Frame> f = reader.Next();
+    ASSERT_TRUE(f && f->world_from_cam);
+    const OdometryRecord r = log->Records().back();
+    EXPECT_TRUE(f->world_from_cam->isApprox(r.result.world_from_cam));
+    // Exact to a few centimetres: the estimate, not a copy of the truth (which it is only at frame 0).
+    EXPECT_LT((f->world_from_cam->translation() - seq.world_from_cam2(i).translation()).norm(), 0.05);
+  }
+  EXPECT_FALSE(reader.Next());
+  EXPECT_EQ(log->Records().size(), 5u);
+  EXPECT_EQ(log->failures(), 0);
+  const auto figures = log->Figures(3);
+  ASSERT_EQ(figures.size(), 5u);
+  EXPECT_EQ(figures[0].name, "odometry_status");
+  EXPECT_EQ(figures[0].value, 1.0);  // tracked
+  EXPECT_GT(figures[2].value, 50.0);  // inliers
+  EXPECT_TRUE(log->Figures(99).empty());
+}
+
+// Beside the sequence's poses: the frames keep theirs; the odometry still runs and logs.
+TEST(OdometryReader, BesideTheSequencesPosesKeepsThem) {
+  const sim::SyntheticSequence seq(Drive(3));
+  auto log = std::make_shared<OdometryLog>();
+  OdometryReader reader(std::make_unique<DriveReader>(seq, 3, true), StereoOdometryOptions{}, false, log);
+  for (int i = 0; i < 3; ++i) {
+    const std::optional<Frame> f = reader.Next();
+    ASSERT_TRUE(f && f->world_from_cam);
+    EXPECT_TRUE(f->world_from_cam->isApprox(seq.world_from_cam2(i)));
+  }
+  EXPECT_EQ(log->Records().size(), 3u);
+}
+
+// A frame where tracking fails is not handed on with a guessed pose: Next() throws saying why, the trajectory
+// keeps the guess, and the next frame is read and tracked.
+TEST(OdometryReader, AFailedFrameThrowsAndTheNextIsTracked) {
+  const sim::SyntheticSequence seq(Drive(5));
+  auto log = std::make_shared<OdometryLog>();
+  OdometryReader reader(std::make_unique<DriveReader>(seq, 5, false, 2), StereoOdometryOptions{}, true, log);
+  ASSERT_TRUE(reader.Next());
+  ASSERT_TRUE(reader.Next());
+  try {
+    reader.Next();
+    FAIL() << "a blank frame was handed on";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 2: visual odometry lost track"), std::string::npos) << e.what();
+  }
+  const std::optional<Frame> next = reader.Next();
+  ASSERT_TRUE(next && next->world_from_cam);
+  EXPECT_EQ(log->Records().back().result.status, OdometryStatus::kTracked);
+  EXPECT_EQ(log->failures(), 1);
+  EXPECT_EQ(log->Records().size(), 4u);
+}
+
+TEST(OdometryPlan, FollowsInputPoses) {
+  Config c;
+  EXPECT_TRUE(PlanOdometry(c, false, false, "seq").replace_poses);
+  EXPECT_FALSE(PlanOdometry(c, true, false, "seq").run);
+  c.pose_input.compare_odometry = true;
+  const OdometryPlan beside = PlanOdometry(c, true, true, "seq");
+  EXPECT_TRUE(beside.run);
+  EXPECT_FALSE(beside.replace_poses);
+  c.pose_input.poses = PoseSource::kOdometry;
+  EXPECT_TRUE(PlanOdometry(c, true, false, "seq").replace_poses);
+  c.pose_input.poses = PoseSource::kFile;
+  EXPECT_FALSE(PlanOdometry(c, true, false, "seq").replace_poses);
+  EXPECT_THROW(PlanOdometry(c, true, true, "seq"), ConfigError);   // a raw drive has OXTS, not a pose file
+  EXPECT_THROW(PlanOdometry(c, false, false, "seq"), ConfigError);
+  c.pose_input.poses = PoseSource::kOxts;
+  EXPECT_NO_THROW(PlanOdometry(c, true, true, "seq"));
+  try {
+    PlanOdometry(c, false, true, "seq");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("input.poses: oxts"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace semap::app

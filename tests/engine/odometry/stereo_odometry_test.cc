@@ -1,0 +1,251 @@
+#include "engine/odometry/stereo_odometry.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "engine/core/check.h"
+#include "engine/sim/camera_renderer.h"
+#include "engine/sim/synthetic_sequence.h"
+
+namespace semap {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kFramePeriodS = 0.1;
+
+// The tolerances follow from the pixel noise. A feature is located to about kLocationNoisePx (rendered
+// noise, blur and KLT together, generously), so a stereo point at depth z has a depth error of about
+// z^2 * noise / (f * b); the motion averages at least kMinPoints such points. At the generated street's
+// typical depth the frame-to-frame translation error is then below kTypicalDepthM^2 * noise / (f b sqrt(N)),
+// and the rotation error below noise / (f sqrt(N)) times kRotationCoupling: a yaw and a sideways step shift
+// distant points alike, so the estimate shares its rotation error with the translation (about twice the
+// uncoupled figure over a street's depths). Tests allow kSigmas of that.
+constexpr double kLocationNoisePx = 0.5;
+constexpr double kRotationCoupling = 2.0;
+constexpr double kTypicalDepthM = 15.0;
+constexpr double kMinPoints = 100.0;
+constexpr double kSigmas = 3.0;
+
+double TranslationTolerancePerFrameM(const StereoCalibration& c) {
+  return kSigmas * kTypicalDepthM * kTypicalDepthM * kLocationNoisePx / (c.fx_px * c.baseline_m * std::sqrt(kMinPoints));
+}
+double RotationTolerancePerFrameRad(const StereoCalibration& c) {
+  return kSigmas * kRotationCoupling * kLocationNoisePx / (c.fx_px * std::sqrt(kMinPoints));
+}
+
+double AngleRad(const Pose3d& p) { return Eigen::AngleAxisd(p.linear()).angle(); }
+
+sim::SynthOptions Street(int frames) {
+  sim::SynthOptions o;
+  o.num_frames = frames;
+  o.seed = 3;
+  return o;
+}
+
+// Renders the stereo pair of a left camera at `scene_from_cam` (right camera at +baseline along x).
+struct Pair {
+  cv::Mat left, right;
+};
+Pair Render(const sim::SyntheticSequence& seq, const sim::CameraRenderer& renderer, const Pose3d& scene_from_cam,
+            std::uint64_t seed) {
+  const StereoCalibration& c = seq.rig().calibration;
+  Pose3d scene_from_right = scene_from_cam;
+  scene_from_right.translation() += scene_from_cam.linear() * Eigen::Vector3d(c.baseline_m, 0.0, 0.0);
+  return {renderer.Render(c, scene_from_cam, {1.0, 2 * seed + 1}).color,
+          renderer.Render(c, scene_from_right, {1.0, 2 * seed + 2}).color};
+}
+
+// Along the generated drive, each frame-to-frame motion matches the truth within the noise-derived tolerance.
+TEST(StereoOdometry, RecoversTheMotionOfARigDrivingThroughATexturedStreet) {
+  constexpr int kFrames = 12;
+  const sim::SyntheticSequence seq(Street(kFrames));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometry odometry(StereoOdometryOptions{}, c);
+  odometry.SetFirstPose(seq.world_from_cam2(0));
+  Pose3d previous = seq.world_from_cam2(0);
+  for (int i = 0; i < kFrames; ++i) {
+    const Pair pair = Render(seq, renderer, seq.scene_from_cam2(i), i);
+    const OdometryResult r = odometry.Track(pair.left, pair.right, i * kFramePeriodS);
+    if (i == 0) {
+      EXPECT_EQ(r.status, OdometryStatus::kFirst);
+      EXPECT_TRUE(r.world_from_cam.isApprox(seq.world_from_cam2(0)));
+      EXPECT_GE(r.stereo_features, kMinPoints);
+    } else {
+      ASSERT_EQ(r.status, OdometryStatus::kTracked) << "frame " << i << ": " << r.problem;
+      EXPECT_GE(r.inliers, kMinPoints);
+      const Pose3d truth = seq.world_from_cam2(i - 1).inverse() * seq.world_from_cam2(i);
+      const Pose3d estimate = previous.inverse() * r.world_from_cam;
+      const Pose3d error = truth.inverse() * estimate;
+      EXPECT_LT(error.translation().norm(), TranslationTolerancePerFrameM(c)) << "frame " << i;
+      EXPECT_LT(AngleRad(error), RotationTolerancePerFrameRad(c)) << "frame " << i;
+      EXPECT_GT(truth.translation().norm(), 0.5);  // the rig does move
+    }
+    EXPECT_GT(r.cpu_ms, 0.0);
+    previous = r.world_from_cam;
+  }
+  EXPECT_EQ(odometry.frames_tracked(), kFrames - 1);
+  EXPECT_EQ(odometry.frames_bridged(), 0);
+}
+
+// A rig standing still (new image noise every frame) stays where it started.
+TEST(StereoOdometry, StandingStillStaysPut) {
+  const sim::SyntheticSequence seq(Street(1));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometry odometry(StereoOdometryOptions{}, c);
+  constexpr int kFrames = 8;
+  OdometryResult r;
+  for (int i = 0; i < kFrames; ++i) {
+    const Pair pair = Render(seq, renderer, seq.scene_from_cam2(0), i);
+    r = odometry.Track(pair.left, pair.right, i * kFramePeriodS);
+    if (i > 0) ASSERT_EQ(r.status, OdometryStatus::kTracked) << r.problem;
+  }
+  // Frame-to-frame errors add up like a random walk.
+  const double steps = std::sqrt(static_cast<double>(kFrames - 1));
+  EXPECT_LT(r.world_from_cam.translation().norm(), steps * TranslationTolerancePerFrameM(c));
+  EXPECT_LT(AngleRad(r.world_from_cam), steps * RotationTolerancePerFrameRad(c));
+}
+
+// A rig turning on the spot (about its vertical axis, no translation): the rotation is recovered and the
+// position does not move.
+TEST(StereoOdometry, PureRotation) {
+  const sim::SyntheticSequence seq(Street(1));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometry odometry(StereoOdometryOptions{}, c);
+  constexpr int kFrames = 8;
+  constexpr double kStepRad = 2.0 * kPi / 180.0;  // 2° per frame: 20°/s at 10 Hz, a car turning a corner
+  const Pose3d scene_from_cam0 = seq.scene_from_cam2(0);
+  OdometryResult r;
+  for (int i = 0; i < kFrames; ++i) {
+    Pose3d turn = Pose3d::Identity();
+    turn.linear() = Eigen::AngleAxisd(i * kStepRad, Eigen::Vector3d::UnitY()).toRotationMatrix();  // camera y: down
+    const Pair pair = Render(seq, renderer, scene_from_cam0 * turn, i);
+    r = odometry.Track(pair.left, pair.right, i * kFramePeriodS);
+    if (i > 0) ASSERT_EQ(r.status, OdometryStatus::kTracked) << "frame " << i << ": " << r.problem;
+  }
+  const double steps = std::sqrt(static_cast<double>(kFrames - 1));
+  EXPECT_LT(r.world_from_cam.translation().norm(), steps * TranslationTolerancePerFrameM(c));
+  const Eigen::AngleAxisd aa(r.world_from_cam.linear());
+  EXPECT_NEAR(aa.angle(), (kFrames - 1) * kStepRad, steps * RotationTolerancePerFrameRad(c));
+  EXPECT_GT(std::abs(aa.axis().y()), 0.99);
+}
+
+// A blank frame (a covered lens, a dropped exposure) is bridged with the constant-velocity guess and never
+// becomes the reference: the next frame is tracked from the last good one and lands on the truth again.
+TEST(StereoOdometry, BlankFrameIsBridgedAndTrackingResumes) {
+  constexpr int kFrames = 7;
+  constexpr int kBlank = 4;
+  const sim::SyntheticSequence seq(Street(kFrames));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometry odometry(StereoOdometryOptions{}, c);
+  odometry.SetFirstPose(seq.world_from_cam2(0));
+  for (int i = 0; i < kFrames; ++i) {
+    Pair pair = Render(seq, renderer, seq.scene_from_cam2(i), i);
+    if (i == kBlank) {
+      pair.left.setTo(0);
+      pair.right.setTo(0);
+    }
+    const OdometryResult r = odometry.Track(pair.left, pair.right, i * kFramePeriodS);
+    if (i == kBlank) {
+      EXPECT_EQ(r.status, OdometryStatus::kBridged);
+      EXPECT_FALSE(r.problem.empty());
+      // The guess: the drive goes on at its speed (a straight stretch), within a few tolerances.
+      EXPECT_LT((r.world_from_cam.translation() - seq.world_from_cam2(i).translation()).norm(), 0.2);
+    } else if (i > 0) {
+      ASSERT_EQ(r.status, OdometryStatus::kTracked) << "frame " << i << ": " << r.problem;
+      const double steps = std::sqrt(static_cast<double>(i));
+      EXPECT_LT((r.world_from_cam.translation() - seq.world_from_cam2(i).translation()).norm(),
+                steps * TranslationTolerancePerFrameM(c))
+          << "frame " << i;
+    }
+  }
+  EXPECT_EQ(odometry.frames_bridged(), 1);
+  EXPECT_EQ(odometry.restarts(), 0);
+}
+
+// More failed frames in a row than max_bridged_frames: tracking restarts on the next frame that has features,
+// and that frame says so.
+TEST(StereoOdometry, RestartsAfterTooManyFailedFrames) {
+  const sim::SyntheticSequence seq(Street(1));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometryOptions o;
+  o.max_bridged_frames = 1;
+  StereoOdometry odometry(o, c);
+  const Pair good = Render(seq, renderer, seq.scene_from_cam2(0), 0);
+  const cv::Mat blank = cv::Mat::zeros(good.left.size(), good.left.type());
+  EXPECT_EQ(odometry.Track(good.left, good.right, 0.0).status, OdometryStatus::kFirst);
+  EXPECT_EQ(odometry.Track(blank, blank, 0.1).status, OdometryStatus::kBridged);
+  // The second failure in a row exceeds max_bridged_frames, but a blank frame cannot be a reference.
+  EXPECT_EQ(odometry.Track(blank, blank, 0.2).status, OdometryStatus::kBridged);
+  // Far off (another place): nothing tracks; tracking restarts here.
+  Pose3d elsewhere = seq.scene_from_cam2(0);
+  elsewhere.translation() += elsewhere.linear() * Eigen::Vector3d(0.0, 0.0, 30.0);
+  const Pair far = Render(seq, renderer, elsewhere, 3);
+  const OdometryResult r = odometry.Track(far.left, far.right, 0.3);
+  EXPECT_EQ(r.status, OdometryStatus::kRestarted) << r.problem;
+  EXPECT_EQ(odometry.restarts(), 1);
+  // And the next frame tracks from it.
+  const Pair again = Render(seq, renderer, elsewhere, 4);
+  EXPECT_EQ(odometry.Track(again.left, again.right, 0.4).status, OdometryStatus::kTracked);
+}
+
+TEST(StereoOdometry, FirstBlankFrameThenTexture) {
+  const sim::SyntheticSequence seq(Street(2));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometry odometry(StereoOdometryOptions{}, c);
+  const Pair good = Render(seq, renderer, seq.scene_from_cam2(1), 1);
+  const cv::Mat blank = cv::Mat::zeros(good.left.size(), good.left.type());
+  const OdometryResult first = odometry.Track(blank, blank, 0.0);
+  EXPECT_EQ(first.status, OdometryStatus::kFirst);
+  EXPECT_EQ(first.stereo_features, 0);
+  // No reference to track from: this frame becomes one (a restart), its pose the identity guess.
+  const OdometryResult r = odometry.Track(good.left, good.right, 0.1);
+  EXPECT_EQ(r.status, OdometryStatus::kRestarted);
+  EXPECT_TRUE(r.world_from_cam.isApprox(Pose3d::Identity()));
+}
+
+TEST(StereoOdometry, ImagesThatDoNotFitTheCalibrationThrow) {
+  const sim::SyntheticSequence seq(Street(1));
+  StereoOdometry odometry(StereoOdometryOptions{}, seq.rig().calibration);
+  const cv::Mat small = cv::Mat::zeros(10, 10, CV_8UC1);
+  EXPECT_THROW(odometry.Track(small, small, 0.0), std::invalid_argument);
+  EXPECT_THROW(odometry.Track(cv::Mat(), cv::Mat(), 0.0), std::invalid_argument);
+}
+
+TEST(StereoOdometryOptions, CheckNamesTheField) {
+  StereoOdometryOptions o;
+  EXPECT_NO_THROW(o.Check());
+  o.klt_window_px = 10;
+  try {
+    o.Check();
+    FAIL() << "even window accepted";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.field(), "klt_window_px");
+  }
+  o = {};
+  o.min_inliers = 2;
+  EXPECT_THROW(o.Check(), InvalidOption);
+  o = {};
+  o.max_speed_mps = -1.0;
+  EXPECT_THROW(o.Check(), InvalidOption);
+  EXPECT_THROW(StereoOdometry(StereoOdometryOptions{}, StereoCalibration{}), InvalidOption);
+}
+
+TEST(OdometryStatus, Names) {
+  EXPECT_STREQ(OdometryStatusName(OdometryStatus::kFirst), "first");
+  EXPECT_STREQ(OdometryStatusName(OdometryStatus::kTracked), "tracked");
+  EXPECT_STREQ(OdometryStatusName(OdometryStatus::kBridged), "bridged");
+  EXPECT_STREQ(OdometryStatusName(OdometryStatus::kRestarted), "restarted");
+}
+
+}  // namespace
+}  // namespace semap

@@ -1,0 +1,89 @@
+#include "engine/odometry/internal/stereo_pose_refiner.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Geometry>
+
+namespace semap::odometry_internal {
+namespace {
+
+StereoCalibration Kitti() {
+  StereoCalibration c;
+  c.fx_px = c.fy_px = 718.856;
+  c.cx_px = 607.19;
+  c.cy_px = 185.22;
+  c.baseline_m = 0.537;
+  c.width_px = 1241;
+  c.height_px = 376;
+  return c;
+}
+
+Pose3d Motion() {
+  Pose3d m = Pose3d::Identity();
+  m.linear() = (Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  m.translation() = Eigen::Vector3d(0.05, -0.02, -1.2);  // cur_from_ref: the camera drove ~1.2 m forward
+  return m;
+}
+
+// Matches of random points in front of both cameras, observed with Gaussian pixel noise `noise_px`.
+std::vector<StereoMatch> Matches(const StereoCalibration& c, const Pose3d& cur_from_ref, int n, double noise_px,
+                                 std::mt19937* rng) {
+  std::uniform_real_distribution<double> x(-15.0, 15.0), y(-3.0, 2.0), z(4.0, 40.0);
+  std::normal_distribution<double> noise(0.0, noise_px);
+  std::vector<StereoMatch> out;
+  while (static_cast<int>(out.size()) < n) {
+    const Eigen::Vector3d p_ref(x(*rng), y(*rng), z(*rng));
+    const Eigen::Vector3d p_cur = cur_from_ref * p_ref;
+    if (p_cur.z() < 2.0) continue;
+    StereoMatch m;
+    m.ref_left_px = c.Project(p_ref) + Eigen::Vector2d(noise(*rng), noise(*rng));
+    m.ref_right_u_px = c.Project(p_ref - Eigen::Vector3d(c.baseline_m, 0, 0)).x() + noise(*rng);
+    m.cur_left_px = c.Project(p_cur) + Eigen::Vector2d(noise(*rng), noise(*rng));
+    m.cur_right_u_px = c.Project(p_cur - Eigen::Vector3d(c.baseline_m, 0, 0)).x() + noise(*rng);
+    m.has_current_right = true;
+    out.push_back(m);
+  }
+  return out;
+}
+
+TEST(StereoPoseRefiner, ExactMatchesGiveTheExactMotionFromARoughStart) {
+  const StereoCalibration c = Kitti();
+  std::mt19937 rng(1);
+  const std::vector<StereoMatch> matches = Matches(c, Motion(), 200, 0.0, &rng);
+  Pose3d start = Motion();
+  start.translation() += Eigen::Vector3d(0.1, 0.05, 0.2);
+  start.linear() = start.linear() * Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const RefinedMotion r = RefineStereoMotion(c, matches, start, std::vector<bool>(matches.size(), true), {});
+  EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
+  EXPECT_LT((r.cur_from_ref.linear() - Motion().linear()).norm(), 1e-8);
+  EXPECT_EQ(r.num_inliers, 200);
+  EXPECT_LT(r.rms_px, 1e-4);
+}
+
+TEST(StereoPoseRefiner, OutliersAreFoundAndDoNotPullTheMotion) {
+  const StereoCalibration c = Kitti();
+  std::mt19937 rng(2);
+  constexpr double kNoisePx = 0.3;
+  std::vector<StereoMatch> matches = Matches(c, Motion(), 300, kNoisePx, &rng);
+  // Every fifth match is wrong by 20 px in the current image (a mistracked feature).
+  for (size_t i = 0; i < matches.size(); i += 5) matches[i].cur_left_px.x() += 20.0;
+  const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), {});
+  for (size_t i = 0; i < matches.size(); i += 5) EXPECT_FALSE(r.inliers[i]) << i;
+  EXPECT_GT(r.num_inliers, 200);
+  // 240 good matches at 0.3 px: a few centimetres and a few hundredths of a degree.
+  EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 0.03);
+  EXPECT_LT(Eigen::AngleAxisd(r.cur_from_ref.linear() * Motion().linear().transpose()).angle(), 5e-4);
+  EXPECT_LT(r.rms_px, 2 * kNoisePx);
+}
+
+TEST(StereoPoseRefiner, WithoutMatchesTheStartIsKept) {
+  const RefinedMotion r = RefineStereoMotion(Kitti(), {}, Motion(), {}, {});
+  EXPECT_TRUE(r.cur_from_ref.isApprox(Motion()));
+  EXPECT_EQ(r.num_inliers, 0);
+}
+
+}  // namespace
+}  // namespace semap::odometry_internal
