@@ -10,10 +10,14 @@
 // over the frames between keyframes only:
 //   - accuracy: share of points whose label is the exact label at their pixel (sequences with label images);
 //   - role accuracy: the same for the simplifier's role (ground / wall / keep);
-//   - agreement: share of points labelled as with the same source on every frame (N = 1).
+//   - agreement: share of points labelled as with the same source on every frame (N = 1); for ENet, the
+//     reference is ENet on every frame at --reference-input (default: semantics' default input), so that a
+//     smaller --enet-input is measured against the default network input;
+//   - agreement per class: for each class of the reference, the share of its points given that class (the
+//     ENet rows; all frames).
 //
 // Usage: semap_enet_keyframe_eval SEQUENCE [--frames N] [--every 1,2,4,8] [--model FILE]
-//        [--enet-input 1024x512] [--write-labels DIR]
+//        [--enet-input 1024x512] [--reference-input 1024x512] [--write-labels DIR]
 // --write-labels writes each frame's ENet label image (NNNNNN.png for KITTI odometry, NNNNNNNNNN.png for
 // raw / generated sequences), usable as input.labels_dir ("a run with label files" in bench/enet_rate.sh).
 #include <CLI/CLI.hpp>
@@ -62,7 +66,7 @@ int main(int argc, char** argv) {
   int max_frames = 0;
   std::vector<int> every = {1, 2, 3, 4, 6, 8};
   std::string model = std::string(SEMAP_SHARED_DIR) + "/models/enet-cityscapes/enet-model.net";
-  std::string enet_input;
+  std::string enet_input, reference_input;
   std::string write_labels;
   app.add_option("SEQUENCE", sequence, "dataset folder (KITTI raw, odometry, or generated)")->required();
   app.add_option("--frames", max_frames, "frames to evaluate (0 = all)");
@@ -70,6 +74,8 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--model", model, "ENet model");
   app.add_option("--enet-input", enet_input, "ENet input size WxH (default: semantics' default)");
+  app.add_option("--reference-input", reference_input,
+                 "ENet input size WxH of the agreement reference, ENet on every frame (default: semantics' default)");
   app.add_option("--write-labels", write_labels, "write each frame's ENet label image into this folder");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -78,11 +84,21 @@ int main(int argc, char** argv) {
     semantics.source = semap::LabelSource::kEnet;
     semantics.enet_model_path = model;
     semantics.drop_sky = false;  // the same points in every configuration
+    semap::SemanticsOptions reference_semantics = semantics;
     if (!enet_input.empty() &&
         std::sscanf(enet_input.c_str(), "%dx%d", &semantics.enet_input_width_px, &semantics.enet_input_height_px) != 2) {
       throw std::runtime_error("--enet-input: expected WxH, got " + enet_input);
     }
+    if (!reference_input.empty() &&
+        std::sscanf(reference_input.c_str(), "%dx%d", &reference_semantics.enet_input_width_px,
+                    &reference_semantics.enet_input_height_px) != 2) {
+      throw std::runtime_error("--reference-input: expected WxH, got " + reference_input);
+    }
     semantics.Check();
+    reference_semantics.Check();
+    const bool separate_reference =
+        reference_semantics.enet_input_width_px != semantics.enet_input_width_px ||
+        reference_semantics.enet_input_height_px != semantics.enet_input_height_px;
     semap::io::FrameSourceOptions input;
     input.load_velodyne = false;
     input.max_frames = max_frames;
@@ -115,6 +131,13 @@ int main(int argc, char** argv) {
       }
     }
 
+    // The reference's ENet labels when its input differs (untimed).
+    std::vector<cv::Mat> reference_labels;
+    if (separate_reference) {
+      auto reference_segmenter = semap::MakeSegmenter(reference_semantics);
+      for (const auto& f : frames) reference_labels.push_back(reference_segmenter->Segment(f.left));
+    }
+
     // N = 1 first: it is the agreement reference of the others.
     std::sort(every.begin(), every.end());
     every.erase(std::unique(every.begin(), every.end()), every.end());
@@ -124,6 +147,19 @@ int main(int argc, char** argv) {
     if (exact) sources.push_back("exact");
     // The per-frame labels of each source (N = 1), per frame and point: the agreement reference.
     std::map<std::string, std::vector<std::vector<Label>>> reference;
+    // ENet configurations' agreement per reference class: name → class → {points, agreeing}.
+    std::vector<std::pair<std::string, std::map<Label, std::pair<std::size_t, std::size_t>>>> per_class;
+    if (separate_reference) {
+      // The reference: the depth stage's points labelled by the reference's ENet on every frame.
+      semap::StereoLabelStage stage(depth, semantics, classes, /*labels_from_keyframes=*/true);
+      semap::KeyframeLabels keyframe;
+      for (std::size_t k = 0; k < frames.size(); ++k) {
+        keyframe.frame_id = frames[k].id;
+        keyframe.world_from_cam = frames[k].world_from_cam;
+        keyframe.labels = reference_labels[k];
+        reference["enet"].push_back(stage.Process(frames[k], &keyframe).labels);
+      }
+    }
     std::printf("| labels | every N | propagation | keyframes | accuracy, all frames | between keyframes | "
                 "role accuracy, all | agreement with N = 1, all | between keyframes |\n");
     std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|\n");
@@ -138,6 +174,15 @@ int main(int argc, char** argv) {
           semap::KeyframeLabels keyframe;
           Result r;
           std::vector<std::vector<Label>>& ref = reference[label_source];
+          const bool fill_reference = n == 1 && !(label_source == "enet" && separate_reference);
+          std::map<Label, std::pair<std::size_t, std::size_t>>* classes_agree = nullptr;
+          if (label_source == "enet") {
+            char name[64];
+            std::snprintf(name, sizeof(name), "N = %d%s", n,
+                          n == 1 ? "" : (propagation == semap::LabelPropagation::kReproject ? ", reproject" : ", reuse"));
+            per_class.emplace_back(name, std::map<Label, std::pair<std::size_t, std::size_t>>{});
+            classes_agree = &per_class.back().second;
+          }
           for (std::size_t k = 0; k < frames.size(); ++k) {
             const semap::Frame& f = frames[k];
             const bool has_pose = f.world_from_cam.has_value();
@@ -150,7 +195,7 @@ int main(int argc, char** argv) {
               ++r.keyframes;
             }
             const semap::LabelledCloud cloud = stage.Process(f, &keyframe);
-            if (n == 1) ref.push_back(cloud.labels);
+            if (fill_reference) ref.push_back(cloud.labels);
             const std::vector<Label>& per_frame = ref.at(k);
             if (per_frame.size() != cloud.size()) throw std::runtime_error("point sets differ between runs");
             for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -163,6 +208,11 @@ int main(int argc, char** argv) {
                                                        std::clamp(u, 0, f.labels.cols - 1));
                 correct = label == truth;
                 role = classes.Role(label) == classes.Role(truth);
+              }
+              if (classes_agree != nullptr) {
+                auto& c = (*classes_agree)[per_frame[i]];
+                ++c.first;
+                c.second += label == per_frame[i];
               }
               for (Tally* t : {&r.all, is_keyframe ? nullptr : &r.between}) {
                 if (t == nullptr) continue;
@@ -180,6 +230,27 @@ int main(int argc, char** argv) {
                       Cell(r.between, r.between.agree, true).c_str());
           std::fflush(stdout);
         }
+      }
+    }
+    // Agreement per class of the reference (ENet on every frame at the reference input), all frames.
+    std::printf("\nAgreement per class with ENet on every frame at %dx%d (share of the points of each reference "
+                "class given that class; ENet at %dx%d):\n\n| class | points |",
+                reference_semantics.enet_input_width_px, reference_semantics.enet_input_height_px,
+                semantics.enet_input_width_px, semantics.enet_input_height_px);
+    for (const auto& [name, counts] : per_class) std::printf(" %s |", name.c_str());
+    std::printf("\n|---|---:|");
+    for (std::size_t k = 0; k < per_class.size(); ++k) std::printf("---:|");
+    std::printf("\n");
+    if (!per_class.empty()) {
+      for (const auto& [label, first] : per_class.front().second) {
+        const std::string name = classes.Contains(label) ? classes.Get(label).name : std::to_string(label);
+        std::printf("| %s | %zu |", name.c_str(), first.first);
+        for (const auto& [name, counts] : per_class) {
+          const auto it = counts.find(label);
+          const auto c = it == counts.end() ? std::pair<std::size_t, std::size_t>{0, 0} : it->second;
+          std::printf(" %.1f %% |", c.first ? 100.0 * double(c.second) / double(c.first) : 0.0);
+        }
+        std::printf("\n");
       }
     }
     std::printf("\n%s: %zu frames, ENet input %dx%d: %.0f ms CPU, %.0f ms wall per frame\n", sequence.c_str(),

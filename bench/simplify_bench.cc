@@ -1,5 +1,7 @@
 // Points/s of every simplification method on a 300k-point labelled frame-like cloud, on one core
-// (TBB limited to one thread), and per-frame time of the WindowedSimplifier on a stream of such frames.
+// (TBB limited to one thread), and per-frame time of the WindowedSimplifier on a stream of such frames:
+// whole frames, and frames cut to a point budget the way the depth stage does (depth.max_points_per_frame,
+// default 10,000: uniform decimation), which is what `semap run` gives the simplifier.
 //   ./build/bench/simplify_bench [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -8,6 +10,7 @@
 #include <limits>
 #include <random>
 
+#include "engine/depth/stereo_depth.h"
 #include "engine/simplify/simplify.h"
 #include "engine/simplify/windowed_simplifier.h"
 
@@ -83,6 +86,16 @@ LabelledCloud StreetFrame(double camera_x, std::uint64_t seed) {
   return c;
 }
 
+// The frame cut to `budget` points as the depth stage does (keep point floor(j·n/k), j < k); 0 = all.
+LabelledCloud BudgetFrame(double camera_x, std::uint64_t seed, std::size_t budget) {
+  LabelledCloud c = StreetFrame(camera_x, seed);
+  if (budget == 0 || c.size() <= budget) return c;
+  std::vector<std::uint32_t> keep;
+  keep.reserve(budget);
+  for (std::size_t j = 0; j < budget; ++j) keep.push_back(static_cast<std::uint32_t>(j * c.size() / budget));
+  return c.Subset(keep);
+}
+
 const LabelledCloud& Frame() {
   static const LabelledCloud frame = StreetFrame(0.0, 1);
   return frame;
@@ -106,19 +119,21 @@ void BM_Simplify(benchmark::State& state, SimplifyMethod method) {
 }
 
 // One WindowedSimplifier (window of range(0) frames) over a drive at 1 m per frame, one core: the time per
-// frame after a warm-up of one window, and the kept share of the target classes.
+// frame after a warm-up of one window, and the kept share of the target classes. range(1): the point budget
+// per frame (0 = the whole 300k-point frame).
 void BM_Windowed(benchmark::State& state, SimplifyMethod method) {
   tbb::global_control one_core(tbb::global_control::max_allowed_parallelism, 1);
   SimplifyOptions o;
   o.method = method;
   o.window_frames = static_cast<int>(state.range(0));
   WindowedSimplifier ws(o, ClassMap::Cityscapes());
+  const auto budget = static_cast<std::size_t>(state.range(1));
   int n = 0;
-  for (; n < o.window_frames; ++n) ws.Process(StreetFrame(n, n + 1));
+  for (; n < o.window_frames; ++n) ws.Process(BudgetFrame(n, n + 1, budget));
   std::uint64_t in = 0, kept = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    const LabelledCloud frame = StreetFrame(n, n + 1);
+    const LabelledCloud frame = BudgetFrame(n, n + 1, budget);
     ++n;
     state.ResumeTiming();
     const auto out = ws.Process(frame);
@@ -138,6 +153,8 @@ void BM_Windowed(benchmark::State& state, SimplifyMethod method) {
 
 int main(int argc, char** argv) {
   using namespace semap;
+  // depth.max_points_per_frame's default: what the simplifier gets per frame in `semap run`.
+  const int default_point_budget = DepthOptions{}.max_points_per_frame;
   for (auto m : AllSimplifyMethods()) {
     benchmark::RegisterBenchmark((std::string("Simplify/") + SimplifyMethodName(m)).c_str(), BM_Simplify, m)
         ->Unit(benchmark::kMillisecond)
@@ -145,10 +162,11 @@ int main(int argc, char** argv) {
   }
   for (auto m : {SimplifyMethod::kLinearRadius, SimplifyMethod::kProbabilistic}) {
     benchmark::RegisterBenchmark((std::string("Windowed/") + SimplifyMethodName(m)).c_str(), BM_Windowed, m)
-        ->Arg(5)
-        ->Arg(30)
+        ->Args({5, 0})
+        ->Args({30, 0})
+        ->Args({5, default_point_budget})
         ->Unit(benchmark::kMillisecond)
-        ->Iterations(5);
+        ->Iterations(10);
   }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();

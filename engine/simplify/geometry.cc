@@ -23,6 +23,8 @@ struct VectorAdaptor {
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, VectorAdaptor>,
                                                  VectorAdaptor, 3, std::uint32_t>;
 constexpr size_t kLeafSize = 16;
+// RANSAC counts a hypothesis's inliers this many points at a time between its early-drop checks.
+constexpr size_t kRansacChunk = 256;
 }  // namespace
 
 struct PointIndex::Impl {
@@ -58,6 +60,81 @@ void PointIndex::Knn(const Eigen::Vector3d& query, int k, std::vector<std::uint3
   out->resize(found);
 }
 
+namespace {
+// Cell coordinates are packed 21 bits per axis (wrapping): cells 2²¹ apart share a key, which only adds points
+// that the distance test then drops.
+constexpr int kCellBits = 21;
+constexpr std::uint64_t kCellMask = (std::uint64_t{1} << kCellBits) - 1;
+// Keys use 63 bits: this one is never a cell's.
+constexpr std::uint64_t kEmptyKey = ~std::uint64_t{0};
+// Fibonacci hashing of a key to a slot (the top slot_bits_ bits of key · 2⁶⁴/φ).
+constexpr std::uint64_t kHashMultiplier = 0x9E3779B97F4A7C15ULL;
+}  // namespace
+
+RadiusGrid::RadiusGrid(const std::vector<Eigen::Vector3d>& points, double radius_m)
+    : points_(&points), radius_m_(radius_m) {
+  SEMAP_ASSERT(radius_m > 0.0, "radius " << radius_m);
+  const std::size_t n = points.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = points[i];
+    keyed[i] = {Key(CellOf(p.x()), CellOf(p.y()), CellOf(p.z())), static_cast<std::uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  order_.resize(n);
+  std::size_t cells = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    order_[i] = keyed[i].second;
+    cells += (i == 0 || keyed[i].first != keyed[i - 1].first) ? 1 : 0;
+  }
+  slot_bits_ = 1;
+  while ((std::size_t{1} << slot_bits_) < 2 * cells) ++slot_bits_;
+  slots_.assign(std::size_t{1} << slot_bits_, Slot{kEmptyKey, 0, 0});
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t i = 0; i < n;) {
+    std::size_t j = i + 1;
+    while (j < n && keyed[j].first == keyed[i].first) ++j;
+    std::size_t s = Home(keyed[i].first);
+    while (slots_[s].key != kEmptyKey) s = (s + 1) & mask;
+    slots_[s] = Slot{keyed[i].first, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)};
+    i = j;
+  }
+}
+
+std::int64_t RadiusGrid::CellOf(double coordinate) const {
+  return static_cast<std::int64_t>(std::floor(coordinate / radius_m_));
+}
+
+std::uint64_t RadiusGrid::Key(std::int64_t x, std::int64_t y, std::int64_t z) const {
+  return ((static_cast<std::uint64_t>(x) & kCellMask) << (2 * kCellBits)) |
+         ((static_cast<std::uint64_t>(y) & kCellMask) << kCellBits) | (static_cast<std::uint64_t>(z) & kCellMask);
+}
+
+std::size_t RadiusGrid::Home(std::uint64_t key) const {
+  return static_cast<std::size_t>((key * kHashMultiplier) >> (64 - slot_bits_));
+}
+
+void RadiusGrid::Radius(const Eigen::Vector3d& query, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  const double r2 = radius_m_ * radius_m_;
+  const std::size_t mask = slots_.size() - 1;
+  const std::int64_t cx = CellOf(query.x()), cy = CellOf(query.y()), cz = CellOf(query.z());
+  for (std::int64_t dx = -1; dx <= 1; ++dx) {
+    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      for (std::int64_t dz = -1; dz <= 1; ++dz) {
+        const std::uint64_t key = Key(cx + dx, cy + dy, cz + dz);
+        std::size_t s = Home(key);
+        while (slots_[s].key != kEmptyKey && slots_[s].key != key) s = (s + 1) & mask;
+        if (slots_[s].key != key) continue;
+        for (std::uint32_t k = slots_[s].begin; k < slots_[s].end; ++k) {
+          const std::uint32_t i = order_[k];
+          if (((*points_)[i] - query).squaredNorm() <= r2) out->push_back(i);
+        }
+      }
+    }
+  }
+}
+
 Plane Plane::FromPointNormal(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
   Plane p;
   p.normal = normal.normalized();
@@ -91,9 +168,17 @@ PcaResult Pca(const std::vector<Eigen::Vector3d>& points, const std::vector<std:
   return r;
 }
 
+int RansacIterationsNeeded(double inlier_share, double confidence, int max_iterations) {
+  if (confidence >= 1.0 || !(inlier_share > 0.0)) return max_iterations;
+  const double all_inliers = std::pow(std::min(inlier_share, 1.0), 3);
+  if (all_inliers >= 1.0) return std::min(1, max_iterations);
+  const double needed = std::ceil(std::log(1.0 - confidence) / std::log(1.0 - all_inliers));
+  return static_cast<int>(std::clamp(needed, 1.0, static_cast<double>(max_iterations)));
+}
+
 std::optional<Plane> FitPlaneRansac(const std::vector<Eigen::Vector3d>& points,
                                     const std::vector<std::uint32_t>& indices, double threshold_m,
-                                    int iterations, int max_points, std::mt19937_64& rng) {
+                                    int iterations, int max_points, double confidence, std::mt19937_64& rng) {
   if (indices.size() < 3) return std::nullopt;
   // The evaluation sample: every member, or max_points of them drawn without replacement.
   std::vector<std::uint32_t> sample = indices;
@@ -107,32 +192,50 @@ std::optional<Plane> FitPlaneRansac(const std::vector<Eigen::Vector3d>& points,
   std::uniform_int_distribution<size_t> pick(0, sample.size() - 1);
   std::optional<Plane> best;
   size_t best_inliers = 0;
-  for (int it = 0; it < iterations; ++it) {
+  int needed = iterations;  // lowered as better hypotheses are found (adaptive stop)
+  for (int it = 0; it < needed; ++it) {
     const Eigen::Vector3d& a = points[sample[pick(rng)]];
     const Eigen::Vector3d& b = points[sample[pick(rng)]];
     const Eigen::Vector3d& c = points[sample[pick(rng)]];
     const Eigen::Vector3d n = (b - a).cross(c - a);
     if (n.norm() < 1e-12) continue;
     const Plane h = Plane::FromPointNormal(a, n);
+    // Counted in chunks; a hypothesis that can no longer beat the best (inliers + points left ≤ best) is
+    // dropped early: the same choice as counting every point.
     size_t inliers = 0;
-    for (auto i : sample) inliers += std::abs(h.SignedDistance(points[i])) <= threshold_m ? 1 : 0;
+    for (size_t begin = 0; begin < sample.size(); begin += kRansacChunk) {
+      const size_t end = std::min(sample.size(), begin + kRansacChunk);
+      for (size_t k = begin; k < end; ++k) {
+        inliers += std::abs(h.SignedDistance(points[sample[k]])) <= threshold_m ? 1 : 0;
+      }
+      if (inliers + (sample.size() - end) <= best_inliers) break;
+    }
     if (inliers > best_inliers) {
       best_inliers = inliers;
       best = h;
+      needed = RansacIterationsNeeded(static_cast<double>(inliers) / static_cast<double>(sample.size()),
+                                      confidence, iterations);
     }
   }
   if (!best) return std::nullopt;
-  // Least-squares refit (PCA) on the inliers of the best hypothesis.
+  // Least-squares refits (PCA) on the inliers among all the points: first of the best hypothesis, then of
+  // that refit (so that any of the near-equal hypotheses an early stop may keep ends on the same plane).
+  constexpr int kRefits = 2;
+  Plane plane = *best;
   std::vector<std::uint32_t> inliers;
-  for (auto i : sample) {
-    if (std::abs(best->SignedDistance(points[i])) <= threshold_m) inliers.push_back(i);
+  for (int refit = 0; refit < kRefits; ++refit) {
+    inliers.clear();
+    for (auto i : indices) {
+      if (std::abs(plane.SignedDistance(points[i])) <= threshold_m) inliers.push_back(i);
+    }
+    const PcaResult pca = Pca(points, inliers);
+    if (!pca.valid) break;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (auto i : inliers) centroid += points[i];
+    centroid /= static_cast<double>(inliers.size());
+    plane = Plane::FromPointNormal(centroid, pca.normal);
   }
-  const PcaResult pca = Pca(points, inliers);
-  if (!pca.valid) return best;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (auto i : inliers) centroid += points[i];
-  centroid /= static_cast<double>(inliers.size());
-  return Plane::FromPointNormal(centroid, pca.normal);
+  return plane;
 }
 
 }  // namespace semap::simplify

@@ -13,7 +13,8 @@
 //   P_I = 1 − exp(−|x − μ|² / (2 d̃ σ_I²)), x and μ (the centre) projected on the group's RANSAC plane π_l
 //       (the paper's N(μ, Σ), Σ = diag(d̃σ², d̃σ²), normalised to peak 1 so that P_I ∈ [0, 1)).
 //   P_B = exp(−d² / (2 σ_B²)), d = distance on π_l to the line separating "label of the centre" from
-//       "other labels", a linear soft-margin SVM (cv::ml::SVM, C_SVC, LINEAR) on the projected region.
+//       "other labels", a linear soft-margin SVM (libsvm's C_SVC problem with a linear kernel, solved by
+//       TrainLinearSvm, internal/linear_svm.h) on the projected region.
 //       If the SVM cannot be trained or degenerates (|w| = 0), P_I is used for that region.
 // - D̄ is estimated from at most density_samples regions per group (a uniform sample of the centres).
 // - The SVM is trained on at most ps_svm_max_samples points of the region (evenly strided): near the camera
@@ -32,12 +33,11 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
-#include <opencv2/core.hpp>
-#include <opencv2/ml.hpp>
 #include <optional>
 
 #include "engine/core/check.h"
 #include "engine/simplify/conservation.h"
+#include "engine/simplify/internal/linear_svm.h"
 #include "engine/simplify/internal/methods.h"
 
 namespace semap::simplify {
@@ -51,46 +51,18 @@ struct Boundary {
 
 // Fits the class boundary on the plane: `xy` in metres relative to the region centre, `positive` = label of
 // the centre. Coordinates are scaled by 1/scale_m before training (unit-size problem for the solver).
-std::optional<Boundary> FitBoundary(const std::vector<Eigen::Vector2d>& xy, const std::vector<int>& positive,
+std::optional<Boundary> FitBoundary(std::vector<Eigen::Vector2d>& xy, const std::vector<int>& positive,
                                     double scale_m, double svm_c) {
-  const int n = static_cast<int>(xy.size());
-  if (n < 2) return std::nullopt;
-  cv::Mat samples(n, 2, CV_32F);
-  cv::Mat responses(n, 1, CV_32S);
-  int n_pos = 0;
-  for (int i = 0; i < n; ++i) {
-    samples.at<float>(i, 0) = static_cast<float>(xy[i].x() / scale_m);
-    samples.at<float>(i, 1) = static_cast<float>(xy[i].y() / scale_m);
-    responses.at<int>(i, 0) = positive[i] ? 1 : -1;
-    n_pos += positive[i] ? 1 : 0;
-  }
-  if (n_pos == 0 || n_pos == n) return std::nullopt;
+  // As cv::ml::SVM was set up here before: C_SVC, LINEAR, ε 1e-5, at most 2000 iterations.
   constexpr int kMaxIterations = 2000;
   constexpr double kEpsilon = 1e-5;
-  auto svm = cv::ml::SVM::create();
-  svm->setType(cv::ml::SVM::C_SVC);
-  svm->setKernel(cv::ml::SVM::LINEAR);
-  svm->setC(svm_c);
-  svm->setTermCriteria(
-      cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, kMaxIterations, kEpsilon));
-  try {
-    if (!svm->train(samples, cv::ml::ROW_SAMPLE, responses)) return std::nullopt;
-  } catch (const cv::Exception&) {
-    return std::nullopt;
-  }
-  const cv::Mat sv = svm->getSupportVectors();
-  cv::Mat alpha, sv_index;
-  const double rho = svm->getDecisionFunction(0, alpha, sv_index);
-  alpha.convertTo(alpha, CV_64F);
-  Eigen::Vector2d w = Eigen::Vector2d::Zero();
-  for (int j = 0; j < sv_index.cols * sv_index.rows; ++j) {
-    const int s = sv_index.at<int>(j);
-    w += alpha.at<double>(j) * Eigen::Vector2d(sv.at<float>(s, 0), sv.at<float>(s, 1));
-  }
-  const double norm = w.norm();
+  for (auto& x : xy) x /= scale_m;
+  const auto svm = TrainLinearSvm(xy, positive, LinearSvmOptions{svm_c, kEpsilon, kMaxIterations});
+  if (!svm) return std::nullopt;
+  const double norm = svm->w.norm();
   if (!(norm > 0.0) || !std::isfinite(norm)) return std::nullopt;
   // decision(x') = w·x' − rho with x' = x / scale  ⇒  line (w/|w|)·x − rho·scale/|w| = 0 in metres.
-  return Boundary{w / norm, -rho * scale_m / norm};
+  return Boundary{svm->w / norm, -svm->rho * scale_m / norm};
 }
 
 }  // namespace
@@ -121,36 +93,28 @@ MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const Si
   if (centres.empty()) return out;
   std::shuffle(centres.begin(), centres.end(), rng);
 
-  const PointIndex index(pts);
+  // Every region once (in parallel), on a grid of cells of the region radius: pass 1 takes the densities of
+  // a sample of them, pass 2 decides their points.
+  const RadiusGrid grid(pts, o.region_radius_m);
+  std::vector<std::vector<std::uint32_t>> regions(centres.size());
+  ParallelBlocks(centres.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) grid.Radius(pts[centres[k]], &regions[k]);
+  });
   const double area = std::numbers::pi * o.region_radius_m * o.region_radius_m;
 
   // D̄ per group: mean candidate density over the regions of at most density_samples of the centres (the
-  // first ones of the shuffled list, i.e. a uniform sample), computed in parallel.
-  std::vector<std::uint32_t> sample_centres;
+  // first ones of the shuffled list, i.e. a uniform sample).
   {
     std::array<std::size_t, kNumGroups> taken{};
-    for (auto c : centres) {
-      const GroupId g = in.groups[c];
-      if (o.density_samples == 0 || taken[g] < static_cast<std::size_t>(o.density_samples)) {
-        sample_centres.push_back(c);
-        ++taken[g];
-      }
-    }
-  }
-  std::vector<double> sample_density(sample_centres.size());
-  ParallelBlocks(sample_centres.size(), [&](std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> region;
-    for (std::size_t k = begin; k < end; ++k) {
-      index.Radius(pts[sample_centres[k]], o.region_radius_m, &region);
+    for (std::size_t k = 0; k < centres.size(); ++k) {
+      const GroupId g = in.groups[centres[k]];
+      if (o.density_samples != 0 && taken[g] >= static_cast<std::size_t>(o.density_samples)) continue;
+      ++taken[g];
       std::size_t candidates = 0;
-      for (auto j : region) candidates += in.IsCandidate(j) ? 1 : 0;
-      sample_density[k] = static_cast<double>(candidates) / area;
+      for (auto j : regions[k]) candidates += in.IsCandidate(j) ? 1 : 0;
+      out.batch_densities.sum[g] += static_cast<double>(candidates) / area;
+      out.batch_densities.count[g] += 1;
     }
-  });
-  for (std::size_t k = 0; k < sample_centres.size(); ++k) {
-    const GroupId g = in.groups[sample_centres[k]];
-    out.batch_densities.sum[g] += sample_density[k];
-    out.batch_densities.count[g] += 1;
   }
   DensitySums all = in.prior_densities;
   all.Add(out.batch_densities);
@@ -158,7 +122,6 @@ MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const Si
   // Pass 2 (sequential, in the shuffled order): each undecided candidate of the region's group is decided.
   std::vector<std::uint8_t> decided(in.size(), 0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::vector<std::uint32_t> region;
   std::vector<Eigen::Vector2d> xy;
   std::vector<int> positive;
   for (std::size_t k = 0; k < centres.size(); ++k) {
@@ -167,7 +130,7 @@ MethodOutput RunProbabilistic(const MethodInput& in, bool use_boundary, const Si
     const Plane& plane = planes.plane[g];
     const double mean = all.Mean(g);
     if (mean <= 0.0) continue;
-    index.Radius(pts[c], o.region_radius_m, &region);
+    const std::vector<std::uint32_t>& region = regions[k];
     std::size_t other = 0;
     for (auto j : region) other += in.labels[j] != in.labels[c] ? 1 : 0;
     const double other_share = static_cast<double>(other) / static_cast<double>(region.size());

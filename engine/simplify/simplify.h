@@ -74,7 +74,8 @@ struct SimplifyOptions {
   // Class planes (RANSAC per target group).
   double ransac_threshold_m = 0.05;
   int ransac_iterations = 200;
-  int ransac_max_points = 20000;
+  int ransac_max_points = 2000;
+  double ransac_confidence = 0.999;
 
   // Baselines.
   double gb_flatness_threshold = 0.01;
@@ -124,9 +125,13 @@ struct SimplifyOptions {
     v.Field("ps_svm_max_samples", &ps_svm_max_samples,
             "PS: training points per SVM at most (evenly strided over the region)");
     v.Field("ransac_threshold_m", &ransac_threshold_m, "class planes: RANSAC inlier distance to the plane");
-    v.Field("ransac_iterations", &ransac_iterations, "class planes: RANSAC hypotheses per class group");
+    v.Field("ransac_iterations", &ransac_iterations, "class planes: RANSAC hypotheses per class group, at most");
     v.Field("ransac_max_points", &ransac_max_points,
-            "class planes: inliers counted on at most this many random points of the group");
+            "class planes: hypotheses scored on at most this many random points of the group (the best is "
+            "then refitted to its inliers among all the group's points)");
+    v.Field("ransac_confidence", &ransac_confidence,
+            "class planes: RANSAC stops once an all-inlier draw was this likely given the best inlier share "
+            "so far (1 = always ransac_iterations)");
     v.Field("gb_flatness_threshold", &gb_flatness_threshold,
             "GB: surface variation λ0/(λ0+λ1+λ2) below this is flat");
     v.Field("gb_flat_keep_probability", &gb_flat_keep_probability,

@@ -39,6 +39,30 @@ TEST(PointIndex, RadiusAndKnnMatchBruteForce) {
   EXPECT_EQ(got, order);
 }
 
+TEST(RadiusGrid, RadiusMatchesBruteForce) {
+  // Negative and positive coordinates, queries inside and outside the cloud, on and off cell corners.
+  const auto pts = RandomPoints(3000, 2);
+  const RadiusGrid grid(pts, 0.25);
+  const std::vector<Eigen::Vector3d> queries = {
+      {0.1, -0.2, 0.3}, {0.0, 0.0, 0.0}, {-0.75, 0.5, -0.25}, {0.99, 0.99, 0.99}, {3.0, 3.0, 3.0}, pts[17]};
+  for (const auto& q : queries) {
+    std::vector<std::uint32_t> got, again;
+    grid.Radius(q, &got);
+    grid.Radius(q, &again);
+    EXPECT_EQ(got, again);  // the same order every time
+    std::sort(got.begin(), got.end());
+    std::vector<std::uint32_t> want;
+    for (std::uint32_t i = 0; i < pts.size(); ++i) {
+      if ((pts[i] - q).norm() <= 0.25) want.push_back(i);
+    }
+    EXPECT_EQ(got, want) << q.transpose();
+  }
+  std::vector<std::uint32_t> none;
+  const std::vector<Eigen::Vector3d> empty;
+  RadiusGrid(empty, 0.25).Radius({0, 0, 0}, &none);
+  EXPECT_TRUE(none.empty());
+}
+
 TEST(Geometry, PcaOfAPlaneAndALine) {
   std::vector<Eigen::Vector3d> pts;
   for (int i = 0; i < 5; ++i) {
@@ -72,7 +96,7 @@ TEST(Geometry, RansacFindsThePlaneDespiteOutliers) {
   std::vector<std::uint32_t> all(pts.size());
   for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
   std::mt19937_64 ransac_rng(9);
-  const auto plane = FitPlaneRansac(pts, all, 0.03, 200, 2000, ransac_rng);
+  const auto plane = FitPlaneRansac(pts, all, 0.03, 200, 2000, /*confidence=*/1.0, ransac_rng);
   ASSERT_TRUE(plane.has_value());
   EXPECT_GT(std::abs(plane->normal.dot(n)), 0.9999);
   EXPECT_NEAR(std::abs(plane->SignedDistance({0, 0, 1.5})), 0.0, 0.01);
@@ -81,7 +105,26 @@ TEST(Geometry, RansacFindsThePlaneDespiteOutliers) {
   EXPECT_NEAR(plane->u.dot(plane->normal), 0.0, 1e-12);
   EXPECT_NEAR(plane->u.norm(), 1.0, 1e-12);
   std::vector<std::uint32_t> two = {0, 1};
-  EXPECT_FALSE(FitPlaneRansac(pts, two, 0.03, 10, 10, ransac_rng).has_value());
+  EXPECT_FALSE(FitPlaneRansac(pts, two, 0.03, 10, 10, 1.0, ransac_rng).has_value());
+
+  // The adaptive stop (confidence < 1) against the exhaustive search as reference: the same plane.
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    std::mt19937_64 adaptive_rng(seed);
+    const auto adaptive = FitPlaneRansac(pts, all, 0.03, 200, 2000, 0.999, adaptive_rng);
+    ASSERT_TRUE(adaptive.has_value());
+    EXPECT_GT(std::abs(adaptive->normal.dot(plane->normal)), 0.9999) << "seed " << seed;
+    EXPECT_NEAR(std::abs(adaptive->SignedDistance({0, 0, 1.5})), 0.0, 0.01) << "seed " << seed;
+  }
+}
+
+TEST(Geometry, RansacIterationsNeededMatchesHandValues) {
+  // ceil(log(1 - p) / log(1 - w³)).
+  EXPECT_EQ(RansacIterationsNeeded(0.5, 0.99, 200), 35);    // log 0.01 / log 0.875 = 34.49
+  EXPECT_EQ(RansacIterationsNeeded(0.8, 0.999, 200), 10);   // log 0.001 / log 0.488 = 9.64
+  EXPECT_EQ(RansacIterationsNeeded(0.1, 0.999, 200), 200);  // 6905, clamped
+  EXPECT_EQ(RansacIterationsNeeded(1.0, 0.999, 200), 1);
+  EXPECT_EQ(RansacIterationsNeeded(0.0, 0.999, 200), 200);
+  EXPECT_EQ(RansacIterationsNeeded(0.5, 1.0, 200), 200);  // confidence 1: exhaustive
 }
 
 TEST(Geometry, OrientTowardsFacesTheViewpoint) {

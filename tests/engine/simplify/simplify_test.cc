@@ -213,18 +213,25 @@ TEST(Simplify, RankingRemovesTiltedPointsFirst) {
       rough[i] = 1;
     }
   }
-  const auto r = Simplify(cloud, ClassMap::Cityscapes(), WithMethod(SimplifyMethod::kLinearRadius));
-  std::vector<std::uint8_t> kept(cloud.size(), 0);
-  for (auto i : r.kept_indices) kept[i] = 1;
+  // The kept shares over six seeds: with 320 ridge points one seed's share varies from 2 % to 24 % (which
+  // points the random draws take), far more than any change of the rule would move it.
+  constexpr std::uint64_t kSeeds = 6;
   double rough_in = 0, rough_kept = 0, flat_in = 0, flat_kept = 0;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const auto& p = cloud.positions_world[i];
-    if (rough[i]) {
-      ++rough_in;
-      rough_kept += kept[i];
-    } else if (std::abs(p.x()) < 3.0 && std::abs(p.y()) < 3.0 && std::abs(p.x() - 1.1) > 0.5) {
-      ++flat_in;
-      flat_kept += kept[i];
+  for (std::uint64_t seed = 1; seed <= kSeeds; ++seed) {
+    SimplifyOptions o = WithMethod(SimplifyMethod::kLinearRadius);
+    o.seed = seed;
+    const auto r = Simplify(cloud, ClassMap::Cityscapes(), o);
+    std::vector<std::uint8_t> kept(cloud.size(), 0);
+    for (auto i : r.kept_indices) kept[i] = 1;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const auto& p = cloud.positions_world[i];
+      if (rough[i]) {
+        ++rough_in;
+        rough_kept += kept[i];
+      } else if (std::abs(p.x()) < 3.0 && std::abs(p.y()) < 3.0 && std::abs(p.x() - 1.1) > 0.5) {
+        ++flat_in;
+        flat_kept += kept[i];
+      }
     }
   }
   EXPECT_LT(rough_kept / rough_in, 0.5 * flat_kept / flat_in)
