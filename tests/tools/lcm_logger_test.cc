@@ -91,9 +91,10 @@ class LcmLogger : public ::testing::Test {
         exe + " run " + at("seq") + " --out " + at("out") + " --lcm-url '" + url +
         "' --progress-interval 0.01 --set depth.max_points_per_frame=1500 --set pipeline.depth_workers=1"
         " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set map.finalise_every_frames=2"
-        // Every far point inserted at once: the mesh these checks were set on (over 1,000 triangles, several
-        // LCM blocks); with far points waiting for confirmation this small street has ~600.
-        " --set map.confirm_beyond_m=0 --mode realtime"
+        // Every far point inserted at once, each vertex where its first sighting put it: the mesh these checks
+        // were set on (over 1,000 triangles, several LCM blocks); with far points waiting for confirmation
+        // this small street has ~600, and fused sightings make it smaller too.
+        " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --mode realtime"
         " >" + at("run.txt") + " 2>&1 & run=\\$!; "
         "until grep -qE '^frame (" + half_or_later + ")/' " + at("run.txt") +
         "; do kill -0 \\$run; sleep 0.02; done; " +

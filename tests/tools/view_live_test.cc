@@ -53,9 +53,10 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
       at("out") + " --lcm-url '" + url +
       "' --set depth.max_points_per_frame=1500 --set pipeline.depth_workers=1"
       " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set map.finalise_every_frames=2"
-      // Every far point inserted at once: the mesh the checks below were set on (over 1,000 triangles); with
-      // far points waiting for confirmation this small street has ~600.
-      " --set map.confirm_beyond_m=0 --mode realtime > " +
+      // Every far point inserted at once, each vertex where its first sighting put it: the mesh the checks
+      // below were set on (over 1,000 triangles); with far points waiting for confirmation this small street
+      // has ~600, and fused sightings make it smaller too.
+      " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --mode realtime > " +
       at("run.txt") +
       " 2>&1\n"
       "status=0; wait $p || status=$?; p=\n"

@@ -28,11 +28,13 @@ class View : public ::testing::Test {
     const auto synth = test::RunSemap("synth --preset urban --frames 12 --seed 3 --out " + At("seq") + small);
     ASSERT_EQ(synth.exit_code, 0) << synth.output;
     // The surface no view saw is kept (map.drop_unseen_surface=false) and every far point is inserted at once
-    // (map.confirm_beyond_m=0): this tests the page, and a closed street gives it the mesh the checks below
-    // were set on (over 1,000 triangles, ~8 % of the view drawn).
+    // (map.confirm_beyond_m=0), each vertex where its first sighting put it (map.fuse_gate_sigmas=0: fused
+    // sightings make a smaller mesh of these 12 frames, 953 triangles): this tests the page, and a closed
+    // street gives it the mesh the checks below were set on (over 1,000 triangles, ~8 % of the view drawn).
     const auto run = test::RunSemap("run " + At("seq") + " --out " + At("out") +
                                     " --set depth.max_points_per_frame=1500 --set pipeline.depth_workers=1"
-                                    " --set map.drop_unseen_surface=false --set map.confirm_beyond_m=0");
+                                    " --set map.drop_unseen_surface=false --set map.confirm_beyond_m=0"
+                                    " --set map.fuse_gate_sigmas=0");
     ASSERT_EQ(run.exit_code, 0) << run.output;
   }
   static void TearDownTestSuite() { delete dir_; }
