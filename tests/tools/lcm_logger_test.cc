@@ -93,8 +93,9 @@ class LcmLogger : public ::testing::Test {
         " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set map.finalise_every_frames=2"
         // Every far point inserted at once, each vertex where its first sighting put it: the mesh these checks
         // were set on (over 1,000 triangles, several LCM blocks); with far points waiting for confirmation
-        // this small street has ~600, and fused sightings make it smaller too.
-        " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --mode realtime"
+        // this small street has ~600; fused sightings and the votes by each point's σ make it smaller too (475
+        // triangles), so it keeps every surface triangle, seen or not.
+        " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --set map.drop_unseen_surface=false --mode realtime"
         " >" + at("run.txt") + " 2>&1 & run=\\$!; "
         "until grep -qE '^frame (" + half_or_later + ")/' " + at("run.txt") +
         "; do kill -0 \\$run; sleep 0.02; done; " +

@@ -55,8 +55,9 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
       " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set map.finalise_every_frames=2"
       // Every far point inserted at once, each vertex where its first sighting put it: the mesh the checks
       // below were set on (over 1,000 triangles); with far points waiting for confirmation this small street
-      // has ~600, and fused sightings make it smaller too.
-      " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --mode realtime > " +
+      // has ~600; fused sightings and the votes by each point's σ make it smaller too (434 triangles), so it
+      // keeps every surface triangle, seen or not (1,140 triangles).
+      " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --set map.drop_unseen_surface=false --mode realtime > " +
       at("run.txt") +
       " 2>&1\n"
       "status=0; wait $p || status=$?; p=\n"
