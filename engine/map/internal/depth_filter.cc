@@ -16,6 +16,7 @@ void DepthFilter::AddInlier(const Eigen::Vector3d& x_world, double sigma_m) {
   const double w = 1.0 / (sigma_m * sigma_m);
   weight += w;
   weighted_sum += w * x_world;
+  ++inliers;
 }
 
 Sighting ObserveVertex(const Eigen::Vector3d& vertex_world, const VotingView& view, double disparity_sigma_px,
@@ -37,8 +38,7 @@ Sighting ObserveVertex(const Eigen::Vector3d& vertex_world, const VotingView& vi
   }
   if (with_depth == 0) return Sighting::kNone;
   const auto gate_m = [&](double depth_m) {
-    const double seen_sigma_m = depth_m * depth_m * disparity_sigma_px / view.focal_baseline_m_px;
-    return gate_sigmas * std::hypot(seen_sigma_m, vertex_sigma_m);
+    return gate_sigmas * std::hypot(view.DepthSigma(depth_m, disparity_sigma_px), vertex_sigma_m);
   };
   // Seen through: every pixel around saw beyond the gate (or sky).
   if (nearest_m == kFreeToFarRange || nearest_m - p.z() > gate_m(nearest_m)) {
@@ -49,11 +49,10 @@ Sighting ObserveVertex(const Eigen::Vector3d& vertex_world, const VotingView& vi
     const double seen_m = quad.InterpolatedDepth();
     if (std::abs(seen_m - p.z()) > gate_m(seen_m)) return Sighting::kNone;  // occluded
     const Eigen::Vector3d camera = v.world_from_cam.translation();
-    ++filter->inliers;
     // The sighting's σ is taken at the vertex's depth, not at the seen one: weights that depend on the
     // sighting's own noise (σ ∝ D²) would favour the nearer draws and bias the estimate towards the camera.
     filter->AddInlier(camera + (vertex_world - camera) * (seen_m / p.z()),
-                      AlongRaySigma(p, disparity_sigma_px, view.focal_baseline_m_px));
+                      AlongRaySigma(view, p, disparity_sigma_px));
     return Sighting::kInlier;
   }
   // A depth edge or missing pixels: a sighting within the gate at one of the pixels counts, without moving.

@@ -40,7 +40,7 @@ struct DepthFilter {
   bool started() const { return weight > 0.0; }
   // The first sighting, at `x_world` with σ `sigma_m` along its ray.
   void Start(const Eigen::Vector3d& x_world, double sigma_m);
-  // One more sighting of the vertex at `x_world`, σ `sigma_m`.
+  // One more sighting of the vertex at `x_world`, σ `sigma_m` (counted in `inliers`).
   void AddInlier(const Eigen::Vector3d& x_world, double sigma_m);
   Eigen::Vector3d Estimate() const { return weighted_sum / weight; }
   double Sigma() const { return 1.0 / std::sqrt(weight); }
@@ -55,10 +55,10 @@ enum class Sighting {
   kOutlier,  // the view saw through the vertex
 };
 
-// The along-ray σ of a point at camera-frame position `p_cam` (depth p_cam.z()) seen with disparity noise
-// `disparity_sigma_px` by a rig of focal length × baseline `focal_baseline_m_px` (full-resolution px).
-inline double AlongRaySigma(const Eigen::Vector3d& p_cam, double disparity_sigma_px, double focal_baseline_m_px) {
-  return p_cam.z() * p_cam.z() * disparity_sigma_px / focal_baseline_m_px * (p_cam.norm() / p_cam.z());
+// The along-ray σ of a point at camera-frame position `p_cam` of `view` (depth p_cam.z()) seen with disparity
+// noise `disparity_sigma_px`.
+inline double AlongRaySigma(const VotingView& view, const Eigen::Vector3d& p_cam, double disparity_sigma_px) {
+  return view.DepthSigma(p_cam.z(), disparity_sigma_px) * (p_cam.norm() / p_cam.z());
 }
 
 // Adds the sighting of the vertex at `vertex_world` by `view` to `filter` (which must be started), as the

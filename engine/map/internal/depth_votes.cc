@@ -142,7 +142,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     // probability that the true surface lies beyond it, Φ(d/σ), matter otherwise, out to the extension plus
     // matter_behind_sigmas σ behind the point.
     const double sigma_m = std::hypot(
-        depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px * range / x.z(),
+        view.DepthSigma(depth_m, geometry.disparity_sigma_px) * range / x.z(),
         geometry.ray.sigma_free_m);
     if (d > kFreeSaturationSigmas * sigma_m) {
       free += 1.0;  // 1 − Φ is below a quarter of a fixed-point unit
@@ -194,7 +194,7 @@ std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, st
     const double radius_m = std::sqrt(
         std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm()}));
     const Eigen::Vector3d seen_point = centroid * (depth_m / centroid.z());
-    const double noise_m = depth_m * depth_m * geometry.disparity_sigma_px / view.focal_baseline_m_px;
+    const double noise_m = view.DepthSigma(depth_m, geometry.disparity_sigma_px);
     const double tolerance_m = geometry.ray.extension_m + geometry.seen_noise_sigmas * noise_m;
     if (std::abs(unit_normal.dot(seen_point - a)) <= tolerance_m &&
         (seen_point - centroid).norm() <= radius_m + tolerance_m) {

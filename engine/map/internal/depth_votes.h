@@ -74,6 +74,11 @@ struct VotingView {
   std::shared_ptr<const DepthView> view;
   Eigen::Matrix3d cam_from_world_rotation;
   Eigen::Vector3d cam_from_world_translation;
+  // The depth σ of a point this view's stereo saw at camera-frame depth `depth_m` with disparity noise
+  // `disparity_sigma_px` (full-resolution px): σ_z = z²·σ_d/(f·B).
+  double DepthSigma(double depth_m, double disparity_sigma_px) const {
+    return depth_m * depth_m * disparity_sigma_px / focal_baseline_m_px;
+  }
   double image_area_px = 0.0;  // width · height of the view's depth map
   double focal_baseline_m_px = 0.0;  // f·B at full resolution: depth z has disparity f·B / z
 };

@@ -236,10 +236,10 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
     // Fusing, a point within the gate of the vertex it lands on is one more sighting of it, whatever
     // merge_depth_fraction says (at 10 m on KITTI 3 % is 1.2 σ_z: most sightings would become new vertices,
     // each as noisy as one frame).
+    const VotingView& view = integrator_.views()[first_view + camera];
     const double merge_tolerance_m =
         std::max(options_.merge_depth_fraction * depth,
-                 fuse && in_view ? options_.fuse_gate_sigmas * depth * depth * options_.disparity_sigma_px /
-                                       integrator_.views()[first_view + camera].focal_baseline_m_px
+                 fuse && in_view ? options_.fuse_gate_sigmas * view.DepthSigma(depth, options_.disparity_sigma_px)
                                  : 0.0);
     std::uint32_t target = in_view ? grid.Match(gu, gv, depth, merge_tolerance_m) : kNoId;
     if (target != kNoId) {
@@ -266,11 +266,8 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
         record.sighting_depth_m = depth;
         record.support = 2;
         if (fuse) {
-          const double focal_baseline_m_px = integrator_.views()[first_view + camera].focal_baseline_m_px;
-          record.filter.Start(first.position,
-                              first.depth_m * first.depth_m * options_.disparity_sigma_px / focal_baseline_m_px);
-          record.filter.AddInlier(p, depth * depth * options_.disparity_sigma_px / focal_baseline_m_px);
-          ++record.filter.inliers;
+          record.filter.Start(first.position, view.DepthSigma(first.depth_m, options_.disparity_sigma_px));
+          record.filter.AddInlier(p, view.DepthSigma(depth, options_.disparity_sigma_px));
         }
         pending->back().position = record.position;
         pending->back().attributes = first.attributes;
@@ -284,10 +281,7 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
       record.sighting_depth_m = in_view ? depth : range;
       if (in_view) {
         grid.Offer(gu, gv, depth, target);
-        const VotingView& view = integrator_.views()[first_view + camera];
-        if (fuse) {
-          record.filter.Start(p, AlongRaySigma(view.ToCamera(p), options_.disparity_sigma_px, view.focal_baseline_m_px));
-        }
+        if (fuse) record.filter.Start(p, AlongRaySigma(view, view.ToCamera(p), options_.disparity_sigma_px));
       }
     }
     result->point_ids[i] = target;
