@@ -44,7 +44,7 @@ struct MapOptions {
   double disparity_sigma_px = 0.5;
   double matter_behind_sigmas = 3.0;
   double fuse_gate_sigmas = 3.0;
-  double fuse_move_sigmas = 1.0;
+  double fuse_move_sigmas = 3.0;
   int outlier_sightings = 3;
   double refine_depth_ratio = 0.0;
   double refine_noise_sigmas = 6.0;
@@ -104,7 +104,8 @@ struct MapOptions {
             "combined) of the vertex's depth is a sighting of it, fused into its position by inverse variance; "
             "0 = vertices stay where their first sighting placed them");
     // Each move re-triangulates the vertex's star and re-votes its cells: a smaller threshold follows the
-    // estimate more closely at a higher cost.
+    // estimate more closely at a higher cost. On KITTI 04 (2026-11-27) 1σ moved 35,000 vertices in 51 frames
+    // (the map's thread +110 ms a frame) for a median 0.008 m lower; 3σ moves 7,600, for +35 ms.
     v.Field("fuse_move_sigmas", &fuse_move_sigmas,
             "depth: a vertex moves to its fused estimate once that lies farther than this many of the "
             "estimate's σ from it (>= 0)");
