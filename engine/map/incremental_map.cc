@@ -26,6 +26,7 @@ MapUpdateResult IncrementalMap::Update(const LabelledCloud& frame_points,
                                        const std::vector<Observation>& extra) {
   return impl_->Update(frame_points, extra);
 }
+MapUpdateResult IncrementalMap::InsertHeldPoints() { return impl_->InsertHeld(); }
 Mesh IncrementalMap::ExtractMesh() const { return impl_->ExtractMesh().mesh; }
 IdentifiedMesh IncrementalMap::ExtractIdentifiedMesh() const { return impl_->ExtractMesh(); }
 IdentifiedMesh IncrementalMap::TakeFinalisedMesh() { return impl_->TakeFinalisedMesh(); }

@@ -44,6 +44,8 @@ struct MapUpdateResult {
   // held points of earlier frames that this frame confirmed (each became a vertex).
   std::size_t points_held = 0;
   std::size_t points_confirmed = 0;
+  // InsertHeldPoints: the held points that became vertices unconfirmed.
+  std::size_t points_held_inserted = 0;
   // Wall time of the update's steps.
   double locate_ms = 0.0;    // merging, conflict regions and the rays through them
   double insert_ms = 0.0;    // vertex insertion into the triangulation
@@ -75,6 +77,11 @@ class IncrementalMap {
   // merge_distance_m of an existing point (or of an earlier point of the frame) is merged: its ray goes to
   // that point. Throws std::invalid_argument for an unknown point id in `extra`.
   MapUpdateResult Update(const LabelledCloud& frame_points, const std::vector<Observation>& extra = {});
+  // At the end of a stream (map.visibility: depth, map.confirm_beyond_m > 0): the far points still held for a
+  // second sighting become vertices as their one sighting placed them, since no later frame will come to
+  // confirm them; their cells are voted from the stored views. Without it they would be dropped: a one-frame
+  // map would have no far surface at all. Leaves the map as it was when nothing is held.
+  MapUpdateResult InsertHeldPoints();
 
   // The current live surface (Steiner triangles dropped if the options say so).
   Mesh ExtractMesh() const;

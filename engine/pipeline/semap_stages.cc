@@ -121,7 +121,10 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   return u;
 }
 
-MapUpdate IncrementalMapStage::Finish() { return Report(/*with_mesh=*/true); }
+MapUpdate IncrementalMapStage::Finish() {
+  map_.InsertHeldPoints();  // the stream ended: no later frame will confirm the far points still held
+  return Report(/*with_mesh=*/true);
+}
 
 MapUpdate IncrementalMapStage::Report(bool with_mesh) {
   MapUpdate u;

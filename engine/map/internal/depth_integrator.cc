@@ -196,7 +196,7 @@ std::size_t DepthIntegrator::Integrate(const std::vector<CellHandle>& created, c
   }
   const std::size_t first_old = cells.size();
   const VotingView& newest = views_.back();
-  CollectOldCellsInView(newest, &cells);
+  if (marks.newest_view) CollectOldCellsInView(newest, &cells);
   // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
   // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
   // newest view sees that no view saw yet, in that view.

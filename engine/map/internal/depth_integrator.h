@@ -42,6 +42,9 @@ class DepthIntegrator {
     std::uint32_t created = 0;
     std::uint32_t touch = 0;
     std::uint32_t visit = 0;
+    // Whether the newest view votes the old cells it sees (false when the update adds vertices but no frame:
+    // IncrementalMap::InsertHeldPoints; its views voted those cells already).
+    bool newest_view = true;
   };
   // Adds the votes of the newest view to the old cells it sees (the live unsealed cells not created now that
   // a walk from the camera's cell finds in its frustum, or every one when the camera lies outside the

@@ -114,33 +114,71 @@ MapUpdateResult IncrementalState::UpdateFromDepth(const LabelledCloud& frame) {
   ClassifyByProjection(frame, &result, &pending);
   created_mark_ = NewMark();  // the cells a refinement's removal or an insertion creates
   RemoveRefined(&result);
-  for (const PendingVertex& p : pending) lattice_.Use(p.position, frame_, &nodes);
-  for (LatticeKey node : nodes) pending.push_back({lattice_.Position(node), kNoId, node, {}});
-  SpatialSort(&pending);
+  InsertAndVote(&pending, &nodes, /*newest_view_votes=*/true, &result, &lap);
+  return result;
+}
+
+MapUpdateResult IncrementalState::InsertHeld() {
+  MapUpdateResult result;
+  if (options_.visibility != Visibility::kDepth || unconfirmed_.empty() || integrator_.views().empty()) {
+    return result;
+  }
+  auto lap = std::chrono::steady_clock::now();
+  // Each held point becomes a vertex where its one sighting put it: its depth filter starts from that
+  // sighting (σ at its depth, as a confirmed pair's first sighting), and its age counts from now, so that the
+  // arrival queue stays in frame order.
+  const VotingView& view = integrator_.views().back();
+  std::vector<PendingVertex> pending;
+  std::vector<LatticeKey> nodes;
+  for (const Unconfirmed& u : unconfirmed_) {
+    const std::uint32_t id = next_point_id_++;
+    PointRecord& record = points_[id];
+    record.position = u.position;
+    record.last_seen = frame_;
+    record.sighting_depth_m = u.depth_m;
+    if (Fusing()) record.filter.Start(u.position, view.DepthSigma(u.depth_m, options_.disparity_sigma_px));
+    pending.push_back({u.position, id, 0, u.attributes});
+  }
+  result.points_held_inserted = unconfirmed_.size();
+  unconfirmed_.clear();
+  refined_.clear();
+  refined_link_.clear();
+  created_mark_ = NewMark();
+  // Their rays voted with their frames' depth maps already: only the cells the insertions create are voted,
+  // from the views of the window.
+  InsertAndVote(&pending, &nodes, /*newest_view_votes=*/false, &result, &lap);
+  return result;
+}
+
+void IncrementalState::InsertAndVote(std::vector<PendingVertex>* pending, std::vector<LatticeKey>* nodes,
+                                     bool newest_view_votes, MapUpdateResult* result,
+                                     std::chrono::steady_clock::time_point* lap) {
+  for (const PendingVertex& p : *pending) lattice_.Use(p.position, frame_, nodes);
+  for (LatticeKey node : *nodes) pending->push_back({lattice_.Position(node), kNoId, node, {}});
+  SpatialSort(pending);
 
   destroyed_.clear();
   std::vector<char> conflicts_pinned;
-  CollectConflicts(pending, &conflicts_pinned);
+  CollectConflicts(*pending, &conflicts_pinned);
   AddToBoundary(refined_link_);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> no_rays;
-  result.points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, &pending, &no_rays, &result);
-  result.cells_destroyed = destroyed_.size();
-  result.locate_ms = Lap(&lap);
+  result->points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, pending, &no_rays, result);
+  result->cells_destroyed = destroyed_.size();
+  result->locate_ms = Lap(lap);
 
-  InsertVerticesInheriting(&pending, &result);
+  InsertVerticesInheriting(pending, result);
   CollectCreatedCells();
-  result.insert_ms = Lap(&lap);
+  result->insert_ms = Lap(lap);
 
   touched_.clear();
   newly_seen_.clear();
   touch_mark_ = NewMark();
   const std::uint32_t visit_mark = NewMark();
-  result.cells_voted = integrator_.Integrate(created_cells_, {created_mark_, touch_mark_, visit_mark},
-                                             &touched_, &newly_seen_);
-  counters_.cells_visited += result.cells_voted;
-  result.trace_ms = Lap(&lap);
-  CarveAndFinalise(&result, &lap);
-  return result;
+  result->cells_voted = integrator_.Integrate(
+      created_cells_, {created_mark_, touch_mark_, visit_mark, newest_view_votes}, &touched_, &newly_seen_);
+  counters_.cells_visited += result->cells_voted;
+  result->trace_ms = Lap(lap);
+  CarveAndFinalise(result, lap);
 }
 
 void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result,

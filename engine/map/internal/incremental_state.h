@@ -43,6 +43,8 @@ class IncrementalState {
   explicit IncrementalState(const MapOptions& options);
 
   MapUpdateResult Update(const LabelledCloud& frame, const std::vector<Observation>& extra);
+  // IncrementalMap::InsertHeldPoints.
+  MapUpdateResult InsertHeld();
   IdentifiedMesh ExtractMesh() const { return mesher_.ExtractLive(); }
   IdentifiedMesh TakeFinalisedMesh() { return mesher_.TakeFinalised(); }
   std::vector<CellVotes> CellVotesSnapshot() const { return CollectCellVotes(dt_); }
@@ -55,6 +57,11 @@ class IncrementalState {
   // into their view) or inserted; the cells in its view voted from its depth map, the cells the insertion
   // created from the window of stored views; the manifold carved where a cell's free/matter state changed.
   MapUpdateResult UpdateFromDepth(const LabelledCloud& frame);
+  // The steps after the merging: the Steiner nodes around `pending`, their conflict regions, the insertions,
+  // the votes of the cells they create (and, with `newest_view_votes`, of the old cells the newest view sees),
+  // the carving and the finalisation. `nodes`: the lattice nodes already in use by this update.
+  void InsertAndVote(std::vector<PendingVertex>* pending, std::vector<LatticeKey>* nodes, bool newest_view_votes,
+                     MapUpdateResult* result, std::chrono::steady_clock::time_point* lap);
   // The frame's points that no live vertex explains (see MapOptions::merge_radius_px) go to `pending`; the
   // others add to the support of the vertex they land on.
   void ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result, std::vector<PendingVertex>* pending);

@@ -684,6 +684,46 @@ TEST(IncrementalMap, DepthVotesConfirmFarPointsBeforeInsertingThem) {
   EXPECT_LT(error.mean_m, plain_error.mean_m);
 }
 
+// The end of a stream: the far points still held become vertices where their one sighting put them
+// (IncrementalMap::InsertHeldPoints). A one-frame map of the exact street gets its far surface; the mesh stays a
+// 2-manifold on the street, and a second call has nothing left to insert.
+TEST(IncrementalMap, HeldFarPointsJoinTheMapAtTheEndOfTheStream) {
+  const test::StreetScene scene;
+  constexpr double kConfirmBeyondM = 10.0;
+  MapOptions options;
+  options.visibility = Visibility::kDepth;
+  options.confirm_beyond_m = kConfirmBeyondM;
+  IncrementalMap map(options);
+  const LabelledCloud frame = test::StreetDepthFrame(scene, 0.0, 2);
+  const Eigen::Vector3d camera = frame.camera_centers_world[0];
+  const MapUpdateResult first = map.Update(frame);
+  ASSERT_GT(first.points_held, 100u);
+  const auto farthest = [&](const Mesh& mesh) {
+    double farthest_m = 0.0;
+    for (const auto& p : mesh.vertices) farthest_m = std::max(farthest_m, (p - camera).y());
+    return farthest_m;
+  };
+  const Mesh before = map.ExtractMesh();
+  EXPECT_LE(farthest(before), kConfirmBeyondM + 1.0);
+
+  const MapUpdateResult end = map.InsertHeldPoints();
+  EXPECT_EQ(end.points_held_inserted, first.points_held);
+  const Mesh after = map.ExtractMesh();
+  std::cout << first.points_held << " held points inserted: " << before.num_triangles() << " → "
+            << after.num_triangles() << " triangles, farthest vertex " << farthest(before) << " → "
+            << farthest(after) << " m ahead\n";
+  EXPECT_GT(after.num_triangles(), before.num_triangles() + 100);
+  EXPECT_GT(farthest(after), kConfirmBeyondM + 5.0);
+  double worst_m = 0.0;
+  for (const auto& p : after.vertices) worst_m = std::max(worst_m, scene.Distance(p));
+  EXPECT_LT(worst_m, 1e-6) << "a vertex off the street (each is a point of the exact frame)";
+  const auto report = test::CheckManifold(after, /*allow_boundary=*/true);
+  EXPECT_TRUE(report.ok()) << report.Summary();
+
+  EXPECT_EQ(map.InsertHeldPoints().points_held_inserted, 0u);
+  EXPECT_EQ(map.ExtractMesh().num_triangles(), after.num_triangles());
+}
+
 TEST(IncrementalMap, DepthVotesNeedADepthViewPerCamera) {
   MapOptions options;
   options.visibility = Visibility::kDepth;
@@ -821,6 +861,9 @@ TEST(IncrementalMap, FusedSightingsCentreTheMesh) {
   fused.visibility = Visibility::kDepth;
   fused.disparity_sigma_px = kDisparitySigmaPx;  // the map's noise model is the depth maps'
   fused.confirm_beyond_m = 0.0;
+  // Vertices follow their estimates closely (the default, 3σ, moves a fifth as many for the map thread's
+  // time; on this street it gives median 0.068 against 0.074 m and RMSE 0.40 against 0.42 m, bias 0.034 m).
+  fused.fuse_move_sigmas = 1.0;
   MapOptions paper = fused;
   paper.disparity_sigma_px = 0.0;  // exact-point weights, vertices at their first sighting
   IncrementalMap fused_map(fused), paper_map(paper);
