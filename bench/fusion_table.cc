@@ -7,12 +7,14 @@
 // that a map of what stays is not judged by objects that left. The class of a pixel is the frame's own:
 // its label image, or with semantics.source: enet the segmenter's labels of the frame (every frame); only
 // without either, the label of the mesh triangle hit (which cannot tell a car that left: the mesh shows
-// the road behind it there).
+// the road behind it there). A third table judges the static scene on the pixels both depth maps cover, so that
+// neither is judged on pixels the other leaves out (the mesh covers more, and harder, pixels).
 //
 // Usage: semap_fusion_table SEQUENCE --mesh MESH.ply [--frames N] [--config FILE] [--set key=value ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -93,6 +95,19 @@ cv::Mat StaticOnly(const cv::Mat& reference, const cv::Mat& classes, const std::
   return out;
 }
 
+// `reference` with only the pixels where both depth maps have a depth (> 0 and finite): the input and the
+// mesh judged on the same pixels, whatever each covers.
+cv::Mat WhereBothCover(const cv::Mat& reference, const cv::Mat& input, const cv::Mat& mesh) {
+  cv::Mat out = reference.clone();
+  const auto covers = [](float z) { return std::isfinite(z) && z > 0.0f; };
+  for (int v = 0; v < out.rows; ++v) {
+    for (int u = 0; u < out.cols; ++u) {
+      if (!covers(input.at<float>(v, u)) || !covers(mesh.at<float>(v, u))) out.at<float>(v, u) = 0.0f;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -124,7 +139,8 @@ int main(int argc, char** argv) {
     std::unique_ptr<semap::Segmenter> segmenter;
     if (config.semantics.source == semap::LabelSource::kEnet) segmenter = semap::MakeSegmenter(config.semantics);
     const DepthAccuracyOptions strict = config.eval;
-    Table lidar_all(strict), lidar_static(strict), exact_all(strict), exact_static(strict);
+    Table lidar_all(strict), lidar_static(strict), lidar_common(strict), exact_all(strict), exact_static(strict),
+        exact_common(strict);
     int with_lidar = 0, with_exact = 0;
     while (auto frame = source->Next()) {
       if (!frame->world_from_cam) continue;
@@ -139,13 +155,17 @@ int main(int argc, char** argv) {
       if (frame->velodyne) {
         const cv::Mat lidar = semap::LidarDepthImage(*frame->velodyne, frame->calibration, strict);
         lidar_all.Add(lidar, stereo, rendered.depth);
-        lidar_static.Add(StaticOnly(lidar, classes, movable), stereo, rendered.depth);
+        const cv::Mat lidar_static_px = StaticOnly(lidar, classes, movable);
+        lidar_static.Add(lidar_static_px, stereo, rendered.depth);
+        lidar_common.Add(WhereBothCover(lidar_static_px, stereo, rendered.depth), stereo, rendered.depth);
         ++with_lidar;
       }
       if (exact_path) {
         const cv::Mat exact = semap::io::ReadDepthPngMm(*exact_path);
         exact_all.Add(exact, stereo, rendered.depth);
-        exact_static.Add(StaticOnly(exact, classes, movable), stereo, rendered.depth);
+        const cv::Mat exact_static_px = StaticOnly(exact, classes, movable);
+        exact_static.Add(exact_static_px, stereo, rendered.depth);
+        exact_common.Add(WhereBothCover(exact_static_px, stereo, rendered.depth), stereo, rendered.depth);
         ++with_exact;
       }
     }
@@ -154,10 +174,12 @@ int main(int argc, char** argv) {
     if (with_lidar > 0) {
       Print("Velodyne, every pixel (" + std::to_string(with_lidar) + " frames)", lidar_all);
       Print("Velodyne, static scene (pixels of movable classes left out)", lidar_static);
+      Print("Velodyne, static scene, only the pixels both the SGBM depth and the mesh cover", lidar_common);
     }
     if (with_exact > 0) {
       Print("Exact depth, every pixel (" + std::to_string(with_exact) + " frames)", exact_all);
       Print("Exact depth, static scene (pixels of movable classes left out)", exact_static);
+      Print("Exact depth, static scene, only the pixels both the SGBM depth and the mesh cover", exact_common);
     }
     if (with_lidar == 0 && with_exact == 0) {
       std::fprintf(stderr, "semap_fusion_table: %s has no frame with a pose and a reference depth\n", sequence.c_str());
