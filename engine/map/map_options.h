@@ -105,7 +105,7 @@ struct MapOptions {
             "0 = vertices stay where their first sighting placed them");
     // Each move re-triangulates the vertex's star and re-votes its cells: a smaller threshold follows the
     // estimate more closely at a higher cost. On KITTI 04 (2026-11-27) 1σ moved 35,000 vertices in 51 frames
-    // (the map's thread +110 ms a frame) for a median 0.008 m lower; 3σ moves 7,600, for +35 ms.
+    // (the map's thread +110 ms a frame) for a median 0.008 m lower; 3σ moves 7,600 (its locate step +35 ms).
     v.Field("fuse_move_sigmas", &fuse_move_sigmas,
             "depth: a vertex moves to its fused estimate once that lies farther than this many of the "
             "estimate's σ from it (>= 0)");
