@@ -108,6 +108,23 @@ cv::Mat WhereBothCover(const cv::Mat& reference, const cv::Mat& input, const cv:
   return out;
 }
 
+// The three tables of one reference: every pixel, the static scene, and the static scene where both depth
+// maps cover.
+struct ReferenceTables {
+  explicit ReferenceTables(const DepthAccuracyOptions& strict) : all(strict), static_scene(strict), common(strict) {}
+  void Add(const cv::Mat& reference, const cv::Mat& static_reference, const cv::Mat& input, const cv::Mat& mesh) {
+    all.Add(reference, input, mesh);
+    static_scene.Add(static_reference, input, mesh);
+    common.Add(WhereBothCover(static_reference, input, mesh), input, mesh);
+  }
+  void Print(const std::string& reference, int frames) const {
+    ::Print(reference + ", every pixel (" + std::to_string(frames) + " frames)", all);
+    ::Print(reference + ", static scene (pixels of movable classes left out)", static_scene);
+    ::Print(reference + ", static scene, only the pixels both the SGBM depth and the mesh cover", common);
+  }
+  Table all, static_scene, common;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -139,8 +156,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<semap::Segmenter> segmenter;
     if (config.semantics.source == semap::LabelSource::kEnet) segmenter = semap::MakeSegmenter(config.semantics);
     const DepthAccuracyOptions strict = config.eval;
-    Table lidar_all(strict), lidar_static(strict), lidar_common(strict), exact_all(strict), exact_static(strict),
-        exact_common(strict);
+    ReferenceTables lidar_tables(strict), exact_tables(strict);
     int with_lidar = 0, with_exact = 0;
     while (auto frame = source->Next()) {
       if (!frame->world_from_cam) continue;
@@ -154,33 +170,19 @@ int main(int argc, char** argv) {
       const cv::Mat classes = semap::PixelClasses(frame->labels, rendered.triangle, triangle_labels);
       if (frame->velodyne) {
         const cv::Mat lidar = semap::LidarDepthImage(*frame->velodyne, frame->calibration, strict);
-        lidar_all.Add(lidar, stereo, rendered.depth);
-        const cv::Mat lidar_static_px = StaticOnly(lidar, classes, movable);
-        lidar_static.Add(lidar_static_px, stereo, rendered.depth);
-        lidar_common.Add(WhereBothCover(lidar_static_px, stereo, rendered.depth), stereo, rendered.depth);
+        lidar_tables.Add(lidar, StaticOnly(lidar, classes, movable), stereo, rendered.depth);
         ++with_lidar;
       }
       if (exact_path) {
         const cv::Mat exact = semap::io::ReadDepthPngMm(*exact_path);
-        exact_all.Add(exact, stereo, rendered.depth);
-        const cv::Mat exact_static_px = StaticOnly(exact, classes, movable);
-        exact_static.Add(exact_static_px, stereo, rendered.depth);
-        exact_common.Add(WhereBothCover(exact_static_px, stereo, rendered.depth), stereo, rendered.depth);
+        exact_tables.Add(exact, StaticOnly(exact, classes, movable), stereo, rendered.depth);
         ++with_exact;
       }
     }
     std::printf("Fusion: per-frame SGBM depth (the map's input) against the mesh %s, %s, strict protocol (%s)\n",
                 mesh_path.c_str(), sequence.c_str(), semap::ProtocolFilters(strict).c_str());
-    if (with_lidar > 0) {
-      Print("Velodyne, every pixel (" + std::to_string(with_lidar) + " frames)", lidar_all);
-      Print("Velodyne, static scene (pixels of movable classes left out)", lidar_static);
-      Print("Velodyne, static scene, only the pixels both the SGBM depth and the mesh cover", lidar_common);
-    }
-    if (with_exact > 0) {
-      Print("Exact depth, every pixel (" + std::to_string(with_exact) + " frames)", exact_all);
-      Print("Exact depth, static scene (pixels of movable classes left out)", exact_static);
-      Print("Exact depth, static scene, only the pixels both the SGBM depth and the mesh cover", exact_common);
-    }
+    if (with_lidar > 0) lidar_tables.Print("Velodyne", with_lidar);
+    if (with_exact > 0) exact_tables.Print("Exact depth", with_exact);
     if (with_lidar == 0 && with_exact == 0) {
       std::fprintf(stderr, "semap_fusion_table: %s has no frame with a pose and a reference depth\n", sequence.c_str());
       return 1;
