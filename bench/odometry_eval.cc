@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> overrides;
   int frames = 0;
   int report_every = 0;
+  bool print_offsets = false;
   cli.add_option("dataset", dataset, "sequence folder");
   cli.add_option("--synth", synth, "render this preset's generated drive (urban, vegetated, mixed) instead");
   cli.add_option("--config", config_file, "YAML config");
@@ -86,6 +87,8 @@ int main(int argc, char** argv) {
   cli.add_option("--poses-out", poses_out, "write the estimate here (KITTI pose format)");
   cli.add_option("--report-every", report_every,
                  "every this many frames, print the figures so far to stderr (long drives; 0 = only at the end)");
+  cli.add_flag("--offsets", print_offsets,
+               "print each frame's disparity offset estimate (with odometry.estimate_disparity_offset)");
   CLI11_PARSE(cli, argc, argv);
 
   cv::setNumThreads(1);
@@ -114,6 +117,7 @@ int main(int argc, char** argv) {
   std::vector<double> cpu_ms;
   double features = 0, inliers = 0;
   int failed = 0;
+  double estimate_offset_at_end = 0.0;
   while (auto frame = source->Next()) {
     if (!frame->world_from_cam) {
       std::fprintf(stderr, "frame %lld has no pose: nothing to score against\n", static_cast<long long>(frame->id));
@@ -127,6 +131,7 @@ int main(int argc, char** argv) {
     truth.push_back(*frame->world_from_cam);
     estimate.push_back(r.world_from_cam);
     cpu_ms.push_back(r.cpu_ms);
+    if (r.status == semap::OdometryStatus::kTracked) estimate_offset_at_end = r.disparity_offset_px;
     features += r.features;
     inliers += r.inliers;
     if (report_every > 0 && truth.size() % static_cast<size_t>(report_every) == 0) {
@@ -135,6 +140,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%zu frames: KITTI %.3f %% %.5f deg/m (%d segments); 10-frame %.3f %% %.5f deg/m\n",
                    truth.size(), k.overall.translation_percent, k.overall.rotation_deg_per_m, k.overall.segments,
                    rel.drift.translation_percent, rel.drift.rotation_deg_per_m);
+    }
+    if (print_offsets && r.frame_offset_sigma_px > 0.0) {
+      std::printf("frame %lld: disparity offset %+.3f ± %.3f px, in use %+.3f px\n",
+                  static_cast<long long>(frame->id), r.frame_offset_px, r.frame_offset_sigma_px,
+                  r.disparity_offset_px);
     }
     if (r.status == semap::OdometryStatus::kBridged || r.status == semap::OdometryStatus::kRestarted) {
       ++failed;
@@ -182,6 +192,9 @@ int main(int argc, char** argv) {
   }
   std::printf("ATE after alignment: RMSE %.3f m, max %.3f m; end point %.3f m (%.2f %% of the path), %.3f deg\n",
               ate.rmse_m, ate.max_m, ate.end_point_m, ate.end_point_percent, ate.end_rotation_deg);
+  if (odometry && config.odometry.estimate_disparity_offset) {
+    std::printf("disparity offset at the end: %+.3f px\n", estimate_offset_at_end);
+  }
   std::printf("odometry CPU per frame (1 thread): mean %.2f ms, p50 %.2f, p95 %.2f, max %.2f; features %.0f, "
               "inliers %.0f\n",
               cpu_sum / n, sorted[n / 2], sorted[std::min(n - 1, n * 95 / 100)], sorted.back(), features / n,

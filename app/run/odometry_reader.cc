@@ -22,7 +22,8 @@ std::vector<io::FrameFigure> OdometryLog::Figures(std::int64_t frame_id) const {
             {"odometry_features", static_cast<double>(r.features)},
             {"odometry_inliers", static_cast<double>(r.inliers)},
             {"odometry_cpu_ms", r.cpu_ms},
-            {"odometry_ms", it->wall_ms}};
+            {"odometry_ms", it->wall_ms},
+            {"odometry_disparity_offset_px", r.disparity_offset_px}};
   }
   return {};
 }

@@ -38,6 +38,16 @@ constexpr double kMovingSpeedMps = 0.5;
 constexpr double kSameGuess = 1e-3;
 // A time step below this is taken as this when turning a motion into a speed (duplicated timestamps), s.
 constexpr double kMinTimeStepS = 1e-3;
+// A disparity offset beyond this is not a rectification error but a wrong calibration, px.
+constexpr double kMaxDisparityOffsetPx = 5.0;
+// A frame's offset estimate with a standard deviation below this counts as this (one frame must not
+// dominate the running mean), px.
+constexpr double kMinOffsetSigmaPx = 0.02;
+// A frame whose estimate is less sure than this cannot tell the offset (standing still, turning on the
+// spot: the depths do not change with the motion) and does not vote, px.
+constexpr double kMaxOffsetSigmaPx = 0.25;
+// Gauss-Newton steps of a frame's offset estimate: it starts from the refined motion, so a few suffice.
+constexpr int kOffsetIterations = 4;
 
 double ThreadCpuMs() {
   timespec ts{};
@@ -95,6 +105,8 @@ void StereoOdometryOptions::Check() const {
   SEMAP_CHECK_OPTION(std::isfinite(max_rotation_rate_deg_s) && max_rotation_rate_deg_s > 0.0,
                      "max_rotation_rate_deg_s", max_rotation_rate_deg_s, "must be finite and > 0");
   SEMAP_CHECK_OPTION(max_bridged_frames >= 0, "max_bridged_frames", max_bridged_frames, "must be >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) <= kMaxDisparityOffsetPx,
+                     "disparity_offset_px", disparity_offset_px, "must be finite and within ±5 px");
 }
 
 const char* OdometryStatusName(OdometryStatus status) {
@@ -124,11 +136,16 @@ struct StereoOdometry::State {
   Pose3d moving_motion = Pose3d::Identity();
   double moving_dt_s = 0.0;
   int failed_in_a_row = 0;
+  // The disparity offset: in use, and the inverse-variance sums of the frames' estimates.
+  double offset_px = 0.0;
+  double offset_weight = 0.0;
+  double offset_weighted_sum_px = 0.0;
 };
 
 StereoOdometry::StereoOdometry(const StereoOdometryOptions& options, const StereoCalibration& calibration)
     : options_(options), calibration_(calibration), state_(std::make_unique<State>()) {
   options_.Check();
+  state_->offset_px = options_.disparity_offset_px;
   if (!calibration_.IsValid()) throw InvalidOption("calibration", "is not a valid stereo calibration");
 }
 
@@ -241,8 +258,9 @@ class Matcher {
   const StereoCalibration& c_;
 };
 
-Eigen::Vector3d Triangulate(const StereoCalibration& c, const cv::Point2f& l, const cv::Point2f& r) {
-  return c.Unproject(l.x, l.y, c.DepthFromDisparity(l.x - r.x));
+Eigen::Vector3d Triangulate(const StereoCalibration& c, const cv::Point2f& l, const cv::Point2f& r,
+                            double disparity_offset_px) {
+  return c.Unproject(l.x, l.y, c.DepthFromDisparity(l.x - r.x + disparity_offset_px));
 }
 
 }  // namespace
@@ -261,6 +279,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
   const Matcher matcher(options_, calibration_);
   const FrameImages frame = matcher.Prepare(left, right);
   OdometryResult result;
+  result.disparity_offset_px = s.offset_px;
 
   // Makes this frame the reference: `kept` features (left, right) plus new corners with a stereo match.
   auto make_reference = [&](std::vector<cv::Point2f> kept_left, std::vector<cv::Point2f> kept_right,
@@ -314,7 +333,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     // Track the reference features into the left image, from where the guessed motion puts them.
     std::vector<cv::Point2f> cur_left(s.ref_left_px.size());
     for (size_t i = 0; i < s.ref_left_px.size(); ++i) {
-      const Eigen::Vector3d p = guess * Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i]);
+      const Eigen::Vector3d p = guess * Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset_px);
       cur_left[i] = s.ref_left_px[i];
       if (p.z() > 0.0) {
         const Eigen::Vector2d uv = calibration_.Project(p);
@@ -351,7 +370,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
       m.cur_left_px = {tracked_left[k].x, tracked_left[k].y};
       m.has_current_right = stereo_ok[k];
       m.cur_right_u_px = tracked_right[k].x;
-      const Eigen::Vector3d x = Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i]);
+      const Eigen::Vector3d x = Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset_px);
       object_points.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()));
       image_points.push_back(tracked_left[k]);
     }
@@ -382,6 +401,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
         RefinerOptions ro;
         ro.inlier_threshold_px = options_.inlier_threshold_px;
         ro.min_disparity_px = options_.min_disparity_px;
+        ro.disparity_offset_px = s.offset_px;
         const RefinedMotion refined = RefineStereoMotion(calibration_, matches, start, start_inliers, ro);
         result.inliers = refined.num_inliers;
         const double step_s = std::max(std::abs(dt_s), kMinTimeStepS);
@@ -399,6 +419,26 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
           // Tracked: the frame becomes the reference, its inlier tracks kept with their stereo matches.
           result.status = OdometryStatus::kTracked;
           result.world_from_cam = s.world_from_ref * refined.cur_from_ref.inverse();
+          if (options_.estimate_disparity_offset) {
+            // The frame's own estimate (the offset a seventh unknown, from the refined motion and inliers)
+            // joins the inverse-variance mean that the next frames use. The motion keeps the offset it was
+            // refined with: one frame's estimate is too noisy to move it.
+            RefinerOptions eo = ro;
+            eo.estimate_disparity_offset = true;
+            eo.rounds = 1;
+            eo.iterations = kOffsetIterations;
+            const RefinedMotion e = RefineStereoMotion(calibration_, matches, refined.cur_from_ref, refined.inliers, eo);
+            if (e.disparity_offset_sigma_px <= kMaxOffsetSigmaPx &&
+                std::abs(e.disparity_offset_px) <= kMaxDisparityOffsetPx) {
+              const double sigma = std::max(e.disparity_offset_sigma_px, kMinOffsetSigmaPx);
+              const double w = 1.0 / (sigma * sigma);
+              s.offset_weight += w;
+              s.offset_weighted_sum_px += w * e.disparity_offset_px;
+              s.offset_px = s.offset_weighted_sum_px / s.offset_weight;
+              result.frame_offset_px = e.disparity_offset_px;
+              result.frame_offset_sigma_px = e.disparity_offset_sigma_px;
+            }
+          }
           if (dt_s > 0.0) {
             s.velocity_motion = refined.cur_from_ref;
             s.velocity_dt_s = dt_s;

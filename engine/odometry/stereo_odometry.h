@@ -34,6 +34,8 @@ struct StereoOdometryOptions {
   double max_speed_mps = 50.0;
   double max_rotation_rate_deg_s = 120.0;
   int max_bridged_frames = 3;
+  double disparity_offset_px = 0.0;
+  bool estimate_disparity_offset = true;
 
   // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
   // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
@@ -66,6 +68,12 @@ struct StereoOdometryOptions {
     v.Field("max_bridged_frames", &max_bridged_frames,
             "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
             "frame");
+    v.Field("disparity_offset_px", &disparity_offset_px,
+            "added to every measured disparity (true = measured + offset): a rectification off by a fraction of a "
+            "pixel scales every step; the start of the estimate when estimate_disparity_offset, px");
+    v.Field("estimate_disparity_offset", &estimate_disparity_offset,
+            "estimate that offset from the stream: each tracked frame's depths against its motion, averaged by "
+            "their variances over the frames so far");
   }
 
   void Check() const;
@@ -88,6 +96,11 @@ struct OdometryResult {
   int inliers = 0;         // of those, consistent with the estimated motion
   int stereo_features = 0;  // features of this frame with a stereo match (the next frame's reference)
   double cpu_ms = 0.0;     // CPU time of this Track() call (the calling thread's)
+  double disparity_offset_px = 0.0;  // the disparity offset used for this frame, px
+  // This frame's own estimate of the offset and its standard deviation (estimate_disparity_offset, tracked
+  // frames; else both 0), px.
+  double frame_offset_px = 0.0;
+  double frame_offset_sigma_px = 0.0;
   std::string problem;     // why tracking failed (kBridged, kRestarted); empty otherwise
 };
 

@@ -26,6 +26,12 @@ struct RefinerOptions {
   double huber_px = 1.0;         // Huber kernel width of each residual, px
   double inlier_threshold_px = 1.5;  // largest residual of an inlier, px
   double min_disparity_px = 1.0;     // a side below this disparity is not triangulated
+  // Added to every measured disparity before triangulation: true = measured + offset (a stereo rig whose
+  // rectification is off by a fraction of a pixel), px.
+  double disparity_offset_px = 0.0;
+  // Also estimate that offset (a seventh unknown, starting from disparity_offset_px) from how the depths of
+  // the two frames agree with the motion.
+  bool estimate_disparity_offset = false;
 };
 
 struct RefinedMotion {
@@ -33,6 +39,9 @@ struct RefinedMotion {
   std::vector<bool> inliers;  // per match
   int num_inliers = 0;
   double rms_px = 0.0;  // of the inliers' residuals
+  double disparity_offset_px = 0.0;        // the offset used (estimated when asked), px
+  // Its standard deviation when estimated (else 0; infinite when the motion cannot tell it), px.
+  double disparity_offset_sigma_px = 0.0;
 };
 
 // Refines `cur_from_ref` (the P3P estimate) by minimising, over the matches, the reprojection of the

@@ -79,6 +79,75 @@ TEST(StereoPoseRefiner, OutliersAreFoundAndDoNotPullTheMotion) {
   EXPECT_LT(r.rms_px, 2 * kNoisePx);
 }
 
+// The right image of a rig whose rectification is off: every right u lands `offset_px` to the right, so every
+// measured disparity is that much short of the true one.
+std::vector<StereoMatch> WithRightOffset(std::vector<StereoMatch> matches, double offset_px) {
+  for (auto& m : matches) {
+    m.ref_right_u_px += offset_px;
+    m.cur_right_u_px += offset_px;
+  }
+  return matches;
+}
+
+TEST(StereoPoseRefiner, ExactMatchesGiveTheDisparityOffsetAndTheMotion) {
+  const StereoCalibration c = Kitti();
+  std::mt19937 rng(3);
+  constexpr double kOffsetPx = 0.4;
+  const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 200, 0.0, &rng), kOffsetPx);
+  RefinerOptions o;
+  o.estimate_disparity_offset = true;
+  const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+  EXPECT_NEAR(r.disparity_offset_px, kOffsetPx, 1e-6);
+  EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
+  EXPECT_LT((r.cur_from_ref.linear() - Motion().linear()).norm(), 1e-8);
+  EXPECT_EQ(r.num_inliers, 200);
+  // Given the offset instead, the same.
+  o.estimate_disparity_offset = false;
+  o.disparity_offset_px = kOffsetPx;
+  const RefinedMotion given = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+  EXPECT_LT((given.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
+  EXPECT_EQ(given.disparity_offset_px, kOffsetPx);
+  EXPECT_EQ(given.disparity_offset_sigma_px, 0.0);
+}
+
+// With pixel noise, the estimate lands within a few of its own standard deviations of the truth, the
+// standard deviation is what the noise implies, and ignoring the offset stretches the step.
+TEST(StereoPoseRefiner, NoisyMatchesGiveTheOffsetWithinItsStandardDeviation) {
+  const StereoCalibration c = Kitti();
+  constexpr double kNoisePx = 0.3;
+  constexpr double kOffsetPx = 0.5;
+  constexpr double kSigmas = 4.0;
+  for (const unsigned seed : {4u, 5u, 6u}) {
+    std::mt19937 rng(seed);
+    const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 300, kNoisePx, &rng), kOffsetPx);
+    RefinerOptions o;
+    o.estimate_disparity_offset = true;
+    const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+    EXPECT_GT(r.disparity_offset_sigma_px, 0.0);
+    EXPECT_LT(r.disparity_offset_sigma_px, kNoisePx);  // 300 matches tell it far better than one pixel's noise
+    EXPECT_NEAR(r.disparity_offset_px, kOffsetPx, kSigmas * r.disparity_offset_sigma_px) << "seed " << seed;
+    const RefinedMotion ignored =
+        RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), RefinerOptions{});
+    const double step_m = Motion().translation().norm();
+    EXPECT_LT(std::abs(r.cur_from_ref.translation().norm() - step_m),
+              std::abs(ignored.cur_from_ref.translation().norm() - step_m))
+        << "seed " << seed;
+  }
+}
+
+// Without motion the depths cannot tell the offset: its standard deviation says so.
+TEST(StereoPoseRefiner, StandingStillCannotTellTheOffset) {
+  const StereoCalibration c = Kitti();
+  std::mt19937 rng(7);
+  const std::vector<StereoMatch> matches = Matches(c, Pose3d::Identity(), 300, 0.3, &rng);
+  RefinerOptions o;
+  o.estimate_disparity_offset = true;
+  const RefinedMotion r = RefineStereoMotion(c, matches, Pose3d::Identity(), std::vector<bool>(matches.size(), true), o);
+  const std::vector<StereoMatch> moving = Matches(c, Motion(), 300, 0.3, &rng);
+  const RefinedMotion m = RefineStereoMotion(c, moving, Motion(), std::vector<bool>(moving.size(), true), o);
+  EXPECT_GT(r.disparity_offset_sigma_px, 10.0 * m.disparity_offset_sigma_px);
+}
+
 TEST(StereoPoseRefiner, WithoutMatchesTheStartIsKept) {
   const RefinedMotion r = RefineStereoMotion(Kitti(), {}, Motion(), {}, {});
   EXPECT_TRUE(r.cur_from_ref.isApprox(Motion()));
