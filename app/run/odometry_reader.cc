@@ -63,6 +63,9 @@ std::optional<Frame> OdometryReader::Next() {
   record.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   const OdometryResult result = record.result;
   log_->Add(std::move(record));
+  // The rig's rectification offset as the odometry knows it: the frame's depth uses it too, so that the map's
+  // points and the odometry's poses share one scale.
+  frame->disparity_offset_px = result.disparity_offset_px;
   if (!replace_poses_) return frame;
   if (result.status == OdometryStatus::kBridged || result.status == OdometryStatus::kRestarted) {
     throw std::runtime_error("frame " + std::to_string(frame->id) + ": visual odometry lost track (" +

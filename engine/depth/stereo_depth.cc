@@ -216,8 +216,10 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   const StereoCalibration& calib = frame.calibration;
   const Pose3d world_from_cam = frame.world_from_cam.value_or(Pose3d::Identity());
   // Depth range → disparity range: z in [min, max] ⇔ d in [fB / max, fB / min].
+  // (Disparities corrected by the frame's offset.)
   const double min_disparity = calib.DisparityFromDepth(o.max_depth_m);
   const double max_disparity = calib.DisparityFromDepth(o.min_depth_m);
+  const float offset_px = static_cast<float>(frame.disparity_offset_px);
 
   LabelledCloud cloud;
   cloud.camera_centers_world.push_back(world_from_cam.translation());
@@ -229,8 +231,9 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
     const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(v);
     const std::uint8_t* img_row = image.ptr<std::uint8_t>(v);
     for (int u = 0; u < disparity_px.cols; u += stride) {
-      const float d = d_row[u];
-      if (!std::isfinite(d) || d <= 0.0f || d < min_disparity || d > max_disparity) continue;
+      if (!std::isfinite(d_row[u]) || d_row[u] <= 0.0f) continue;  // no disparity measured
+      const float d = d_row[u] + offset_px;
+      if (d <= 0.0f || d < min_disparity || d > max_disparity) continue;
       const float c = c_row ? c_row[u] : 1.0f;
       if (!(c >= o.min_point_confidence)) continue;
       const double z = calib.DepthFromDisparity(d);
@@ -290,8 +293,9 @@ DepthView StereoDepth::ToDepthView(const Frame& frame, const cv::Mat& disparity_
     const float* d_row = disparity_px.ptr<float>(j * s);
     const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(j * s);
     for (int i = 0; i < view.depth_m.cols; ++i) {
-      const float d = d_row[i * s];
-      if (!std::isfinite(d) || d <= 0.0f) continue;
+      if (!std::isfinite(d_row[i * s]) || d_row[i * s] <= 0.0f) continue;  // no disparity measured
+      const float d = d_row[i * s] + static_cast<float>(frame.disparity_offset_px);
+      if (d <= 0.0f) continue;
       if (c_row && !(c_row[i * s] >= o.min_point_confidence)) continue;
       const double z = calib.DepthFromDisparity(d);
       if (z >= o.min_depth_m && z <= o.max_depth_m) out[i] = float(z);

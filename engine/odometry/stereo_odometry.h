@@ -35,7 +35,7 @@ struct StereoOdometryOptions {
   double max_rotation_rate_deg_s = 120.0;
   int max_bridged_frames = 3;
   double disparity_offset_px = 0.0;
-  bool estimate_disparity_offset = true;
+  bool estimate_disparity_offset = false;
 
   // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
   // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
@@ -69,11 +69,14 @@ struct StereoOdometryOptions {
             "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
             "frame");
     v.Field("disparity_offset_px", &disparity_offset_px,
-            "added to every measured disparity (true = measured + offset): a rectification off by a fraction of a "
-            "pixel scales every step; the start of the estimate when estimate_disparity_offset, px");
+            "added to every measured disparity (true = measured + offset), in the odometry and in the depth of "
+            "the frames it reads: a rectification off by a fraction of a pixel scales every step; the start of "
+            "the estimate when estimate_disparity_offset, px");
     v.Field("estimate_disparity_offset", &estimate_disparity_offset,
-            "estimate that offset from the stream: each tracked frame's depths against its motion, averaged by "
-            "their variances over the frames so far");
+            "estimate that offset from the stream (each tracked frame's depths against its motion, averaged by "
+            "their variances) and use it from the next frame on; off by default: on KITTI it shortens the steps "
+            "to the poses' but turns the heading more, and the map from the odometry's own poses is the worse "
+            "for it (docs/odometry.md)");
   }
 
   void Check() const;

@@ -197,6 +197,26 @@ TEST(StereoDepth, InvalidDisparitiesNeverGiveAPoint) {
   EXPECT_EQ(cloud.pixels_px[0], Eigen::Vector2f(6, 5));
 }
 
+// The frame's rectification offset is added to every measured disparity: fB / (d + offset), in the cloud and
+// in the view the map votes from; a pixel without a measured disparity stays without a point.
+TEST(StereoDepth, TheFramesDisparityOffsetCorrectsEveryDepth) {
+  Frame f = PlaneFrame();
+  f.disparity_offset_px = 0.5;
+  cv::Mat disparity(f.left.size(), CV_32F, cv::Scalar(0.0f));
+  disparity.at<float>(5, 6) = 19.5f;  // fB = 200 px·m: (19.5 + 0.5) px → 10 m
+  disparity.at<float>(7, 8) = 9.5f;   // → 20 m
+  const StereoDepth depth(SmallOptions());
+  const LabelledCloud cloud = depth.ToCloud(f, disparity);
+  ASSERT_EQ(cloud.size(), 2u);
+  EXPECT_NEAR(cloud.positions_world[0].z(), 10.0, 1e-5);
+  EXPECT_NEAR(cloud.positions_world[1].z(), 20.0, 1e-5);
+  const DepthView view = depth.ToDepthView(f, disparity);
+  EXPECT_NEAR(view.depth_m.at<float>(5, 6), 10.0f, 1e-5);
+  EXPECT_NEAR(view.depth_m.at<float>(7, 8), 20.0f, 1e-5);
+  EXPECT_EQ(view.depth_m.at<float>(0, 0), 0.0f);  // no disparity measured: no depth, whatever the offset
+  EXPECT_EQ(cv::countNonZero(view.depth_m), 2);
+}
+
 TEST(StereoDepth, DepthRangeIsEnforced) {
   const Frame f = PlaneFrame();
   DepthOptions o = SmallOptions();

@@ -104,9 +104,10 @@ TEST(StereoOdometry, FindsARectificationOffsetAndKeepsTheScale) {
   const sim::SyntheticSequence seq(Street(kFrames));
   const sim::CameraRenderer renderer(seq.scene(), seq.options());
   const StereoCalibration& c = seq.rig().calibration;
-  StereoOdometryOptions ignore;
+  StereoOdometryOptions estimate, ignore;
+  estimate.estimate_disparity_offset = true;
   ignore.estimate_disparity_offset = false;
-  StereoOdometry estimating(StereoOdometryOptions{}, c), ignoring(ignore, c);
+  StereoOdometry estimating(estimate, c), ignoring(ignore, c);
   double truth_m = 0.0, estimating_m = 0.0, ignoring_m = 0.0;
   Pose3d previous_estimating = Pose3d::Identity(), previous_ignoring = Pose3d::Identity();
   OdometryResult last;
