@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
   std::vector<double> cpu_ms;
   double features = 0, inliers = 0;
   int failed = 0;
-  double estimate_offset_at_end = 0.0;
+  semap::DisparityOffset estimate_offset_at_end;
   while (auto frame = source->Next()) {
     if (!frame->world_from_cam) {
       std::fprintf(stderr, "frame %lld has no pose: nothing to score against\n", static_cast<long long>(frame->id));
@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
     truth.push_back(*frame->world_from_cam);
     estimate.push_back(r.world_from_cam);
     cpu_ms.push_back(r.cpu_ms);
-    if (r.status == semap::OdometryStatus::kTracked) estimate_offset_at_end = r.disparity_offset_px;
+    if (r.status == semap::OdometryStatus::kTracked) estimate_offset_at_end = r.disparity_offset;
     features += r.features;
     inliers += r.inliers;
     if (report_every > 0 && truth.size() % static_cast<size_t>(report_every) == 0) {
@@ -142,9 +142,9 @@ int main(int argc, char** argv) {
                    rel.drift.translation_percent, rel.drift.rotation_deg_per_m);
     }
     if (print_offsets && r.frame_offset_sigma_px > 0.0) {
-      std::printf("frame %lld: disparity offset %+.3f ± %.3f px, in use %+.3f px\n",
-                  static_cast<long long>(frame->id), r.frame_offset_px, r.frame_offset_sigma_px,
-                  r.disparity_offset_px);
+      std::printf("frame %lld: disparity offset %+.3f ± %.3f px, per row %+.3f px; in use %+.3f px, %+.3f px\n",
+                  static_cast<long long>(frame->id), r.frame_offset.constant_px, r.frame_offset_sigma_px,
+                  r.frame_offset.per_row_px, r.disparity_offset.constant_px, r.disparity_offset.per_row_px);
     }
     if (r.status == semap::OdometryStatus::kBridged || r.status == semap::OdometryStatus::kRestarted) {
       ++failed;
@@ -192,8 +192,9 @@ int main(int argc, char** argv) {
   }
   std::printf("ATE after alignment: RMSE %.3f m, max %.3f m; end point %.3f m (%.2f %% of the path), %.3f deg\n",
               ate.rmse_m, ate.max_m, ate.end_point_m, ate.end_point_percent, ate.end_rotation_deg);
-  if (odometry && config.odometry.estimate_disparity_offset) {
-    std::printf("disparity offset at the end: %+.3f px\n", estimate_offset_at_end);
+  if (odometry && config.odometry.estimate_disparity_offset != semap::OffsetEstimate::kOff) {
+    std::printf("disparity offset at the end: %+.3f px, per row %+.3f px\n", estimate_offset_at_end.constant_px,
+                estimate_offset_at_end.per_row_px);
   }
   std::printf("odometry CPU per frame (1 thread): mean %.2f ms, p50 %.2f, p95 %.2f, max %.2f; features %.0f, "
               "inliers %.0f\n",

@@ -23,7 +23,8 @@ std::vector<io::FrameFigure> OdometryLog::Figures(std::int64_t frame_id) const {
             {"odometry_inliers", static_cast<double>(r.inliers)},
             {"odometry_cpu_ms", r.cpu_ms},
             {"odometry_ms", it->wall_ms},
-            {"odometry_disparity_offset_px", r.disparity_offset_px}};
+            {"odometry_disparity_offset_px", r.disparity_offset.constant_px},
+            {"odometry_disparity_offset_per_row_px", r.disparity_offset.per_row_px}};
   }
   return {};
 }
@@ -65,7 +66,7 @@ std::optional<Frame> OdometryReader::Next() {
   log_->Add(std::move(record));
   // The rig's rectification offset as the odometry knows it: the frame's depth uses it too, so that the map's
   // points and the odometry's poses share one scale.
-  frame->disparity_offset_px = result.disparity_offset_px;
+  frame->disparity_offset = result.disparity_offset;
   if (!replace_poses_) return frame;
   if (result.status == OdometryStatus::kBridged || result.status == OdometryStatus::kRestarted) {
     throw std::runtime_error("frame " + std::to_string(frame->id) + ": visual odometry lost track (" +

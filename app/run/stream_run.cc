@@ -58,9 +58,10 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
     double cpu_ms = 0.0;
     for (const auto& r : records) cpu_ms += r.result.cpu_ms;
     spdlog::info("odometry: {} frames, {} bridged or restarted (tracking failed: not mapped, pose guessed), "
-                 "mean {:.1f} ms CPU a frame, disparity offset {:+.2f} px at the last frame",
+                 "mean {:.1f} ms CPU a frame, disparity offset {:+.2f} px {:+.2f} px per row unit at the last frame",
                  records.size(), odometry.log->failures(), records.empty() ? 0.0 : cpu_ms / records.size(),
-                 records.empty() ? 0.0 : records.back().result.disparity_offset_px);
+                 records.empty() ? 0.0 : records.back().result.disparity_offset.constant_px,
+                 records.empty() ? 0.0 : records.back().result.disparity_offset.per_row_px);
     try {
       for (const auto& f : WriteOdometryTrajectory(*odometry.log, config.output.dir)) spdlog::info("wrote {}", f.string());
     } catch (const io::FileError& e) {

@@ -41,4 +41,15 @@ struct StereoCalibration {
   }
 };
 
+// What a stereo rig's rectification adds to every disparity measured on its pairs (true = measured + At(v)):
+// a constant (the right camera's principal point, or a yaw between the cameras, off by a fraction of a pixel)
+// and a term that grows with the image row (a roll between the cameras, or a matching bias that differs
+// between the road low in the image and the rest), zero at the principal point's row.
+struct DisparityOffset {
+  double constant_px = 0.0;
+  double per_row_px = 0.0;  // the offset's change per unit of (v − cy) / fy, px
+  double At(double v_px, const StereoCalibration& c) const { return constant_px + per_row_px * (v_px - c.cy_px) / c.fy_px; }
+  bool IsZero() const { return constant_px == 0.0 && per_row_px == 0.0; }
+};
+
 }  // namespace semap

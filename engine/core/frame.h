@@ -27,9 +27,9 @@ struct Frame {
   std::optional<Pose3d> world_from_cam;  // left camera pose, when the sequence has poses
   std::optional<VelodyneScan> velodyne;
   cv::Mat labels;               // CV_8UC1 label ids of the left image (ClassMap scheme); empty = none
-  // Added to every disparity measured on the pair before it becomes depth (true = measured + offset): the
-  // rig's rectification offset as known when the frame was read (the visual odometry's estimate), px.
-  double disparity_offset_px = 0.0;
+  // Added to every disparity measured on the pair before it becomes depth (true = measured + offset at the
+  // pixel's row): the rig's rectification offset as known when the frame was read (the visual odometry's).
+  DisparityOffset disparity_offset;
 };
 
 }  // namespace semap

@@ -219,7 +219,6 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   // (Disparities corrected by the frame's offset.)
   const double min_disparity = calib.DisparityFromDepth(o.max_depth_m);
   const double max_disparity = calib.DisparityFromDepth(o.min_depth_m);
-  const float offset_px = static_cast<float>(frame.disparity_offset_px);
 
   LabelledCloud cloud;
   cloud.camera_centers_world.push_back(world_from_cam.translation());
@@ -227,6 +226,7 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   const bool colour = image.channels() == 3;
   const int stride = o.half_resolution ? 2 * o.pixel_stride : o.pixel_stride;
   for (int v = 0; v < disparity_px.rows; v += stride) {
+    const float offset_px = static_cast<float>(frame.disparity_offset.At(v, calib));
     const float* d_row = disparity_px.ptr<float>(v);
     const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(v);
     const std::uint8_t* img_row = image.ptr<std::uint8_t>(v);
@@ -289,12 +289,13 @@ DepthView StereoDepth::ToDepthView(const Frame& frame, const cv::Mat& disparity_
   view.intrinsics.width_px = view.depth_m.cols;
   view.intrinsics.height_px = view.depth_m.rows;
   for (int j = 0; j < view.depth_m.rows; ++j) {
+    const float offset_px = static_cast<float>(frame.disparity_offset.At(j * s, calib));
     float* out = view.depth_m.ptr<float>(j);
     const float* d_row = disparity_px.ptr<float>(j * s);
     const float* c_row = confidence.empty() ? nullptr : confidence.ptr<float>(j * s);
     for (int i = 0; i < view.depth_m.cols; ++i) {
       if (!std::isfinite(d_row[i * s]) || d_row[i * s] <= 0.0f) continue;  // no disparity measured
-      const float d = d_row[i * s] + static_cast<float>(frame.disparity_offset_px);
+      const float d = d_row[i * s] + offset_px;
       if (d <= 0.0f) continue;
       if (c_row && !(c_row[i * s] >= o.min_point_confidence)) continue;
       const double z = calib.DepthFromDisparity(d);

@@ -38,7 +38,7 @@ constexpr double kMovingSpeedMps = 0.5;
 constexpr double kSameGuess = 1e-3;
 // A time step below this is taken as this when turning a motion into a speed (duplicated timestamps), s.
 constexpr double kMinTimeStepS = 1e-3;
-// A disparity offset beyond this is not a rectification error but a wrong calibration, px.
+// A disparity offset (either term) beyond this is not a rectification error but a wrong calibration, px.
 constexpr double kMaxDisparityOffsetPx = 5.0;
 // A frame's offset estimate with a standard deviation below this counts as this (one frame must not
 // dominate the running mean), px.
@@ -107,6 +107,9 @@ void StereoOdometryOptions::Check() const {
   SEMAP_CHECK_OPTION(max_bridged_frames >= 0, "max_bridged_frames", max_bridged_frames, "must be >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) <= kMaxDisparityOffsetPx,
                      "disparity_offset_px", disparity_offset_px, "must be finite and within ±5 px");
+  SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_per_row_px) &&
+                         std::abs(disparity_offset_per_row_px) <= kMaxDisparityOffsetPx,
+                     "disparity_offset_per_row_px", disparity_offset_per_row_px, "must be finite and within ±5 px");
 }
 
 const char* OdometryStatusName(OdometryStatus status) {
@@ -136,16 +139,17 @@ struct StereoOdometry::State {
   Pose3d moving_motion = Pose3d::Identity();
   double moving_dt_s = 0.0;
   int failed_in_a_row = 0;
-  // The disparity offset: in use, and the inverse-variance sums of the frames' estimates.
-  double offset_px = 0.0;
-  double offset_weight = 0.0;
-  double offset_weighted_sum_px = 0.0;
+  // The disparity offset: in use, and the information-weighted sums of the frames' estimates (constant,
+  // per row).
+  DisparityOffset offset;
+  Eigen::Matrix2d offset_information = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d offset_weighted_sum = Eigen::Vector2d::Zero();
 };
 
 StereoOdometry::StereoOdometry(const StereoOdometryOptions& options, const StereoCalibration& calibration)
     : options_(options), calibration_(calibration), state_(std::make_unique<State>()) {
   options_.Check();
-  state_->offset_px = options_.disparity_offset_px;
+  state_->offset = {options_.disparity_offset_px, options_.disparity_offset_per_row_px};
   if (!calibration_.IsValid()) throw InvalidOption("calibration", "is not a valid stereo calibration");
 }
 
@@ -259,8 +263,8 @@ class Matcher {
 };
 
 Eigen::Vector3d Triangulate(const StereoCalibration& c, const cv::Point2f& l, const cv::Point2f& r,
-                            double disparity_offset_px) {
-  return c.Unproject(l.x, l.y, c.DepthFromDisparity(l.x - r.x + disparity_offset_px));
+                            const DisparityOffset& offset) {
+  return c.Unproject(l.x, l.y, c.DepthFromDisparity(l.x - r.x + offset.At(l.y, c)));
 }
 
 }  // namespace
@@ -279,7 +283,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
   const Matcher matcher(options_, calibration_);
   const FrameImages frame = matcher.Prepare(left, right);
   OdometryResult result;
-  result.disparity_offset_px = s.offset_px;
+  result.disparity_offset = s.offset;
 
   // Makes this frame the reference: `kept` features (left, right) plus new corners with a stereo match.
   auto make_reference = [&](std::vector<cv::Point2f> kept_left, std::vector<cv::Point2f> kept_right,
@@ -324,6 +328,40 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
   const double dt_s = timestamp_s - s.ref_timestamp_s;
   const Pose3d predicted = s.velocity_dt_s > 0.0 ? ScaleMotion(s.velocity_motion, dt_s / s.velocity_dt_s)
                                                  : Pose3d::Identity();  // cur_from_ref
+  // The frame's own estimate of the offset (its terms unknowns beside the pose, from the refined motion and
+  // inliers) joins the information-weighted mean that the next frames use. The motion keeps the offset it was
+  // refined with: one frame's estimate is too noisy to move it.
+  auto UpdateOffset = [&](const std::vector<StereoMatch>& matches, const RefinedMotion& refined,
+                          const RefinerOptions& ro) {
+    RefinerOptions eo = ro;
+    eo.estimate_offset_terms = options_.estimate_disparity_offset == OffsetEstimate::kPerRow ? 2 : 1;
+    eo.rounds = 1;
+    eo.iterations = kOffsetIterations;
+    const RefinedMotion e = RefineStereoMotion(calibration_, matches, refined.cur_from_ref, refined.inliers, eo);
+    if (!(e.disparity_offset_sigma_px <= kMaxOffsetSigmaPx) ||
+        std::abs(e.disparity_offset.constant_px) > kMaxDisparityOffsetPx ||
+        std::abs(e.disparity_offset.per_row_px) > kMaxDisparityOffsetPx) {
+      return;
+    }
+    // No frame counts for more than a standard deviation of kMinOffsetSigmaPx on the constant.
+    const double sigma = e.disparity_offset_sigma_px;
+    const double scale = sigma < kMinOffsetSigmaPx ? (sigma * sigma) / (kMinOffsetSigmaPx * kMinOffsetSigmaPx) : 1.0;
+    Eigen::Matrix2d info = scale * e.offset_information;
+    if (sigma <= 0.0) info = Eigen::Matrix2d::Zero();
+    if (sigma <= 0.0) info(0, 0) = 1.0 / (kMinOffsetSigmaPx * kMinOffsetSigmaPx);  // exact matches
+    const Eigen::Vector2d x(e.disparity_offset.constant_px, e.disparity_offset.per_row_px);
+    s.offset_information += info;
+    s.offset_weighted_sum += info * x;
+    if (eo.estimate_offset_terms == 2 && s.offset_information(1, 1) > 0.0 &&
+        s.offset_information.determinant() > 0.0) {
+      const Eigen::Vector2d mean = s.offset_information.ldlt().solve(s.offset_weighted_sum);
+      s.offset = {mean(0), mean(1)};
+    } else {
+      s.offset.constant_px = s.offset_weighted_sum(0) / s.offset_information(0, 0);
+    }
+    result.frame_offset = e.disparity_offset;
+    result.frame_offset_sigma_px = sigma;
+  };
   std::string problem;
   const int ref_count = static_cast<int>(s.ref_left_px.size());
   // One try at tracking from the reference with the motion `guess` (cur_from_ref) as KLT's start: true when
@@ -333,7 +371,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     // Track the reference features into the left image, from where the guessed motion puts them.
     std::vector<cv::Point2f> cur_left(s.ref_left_px.size());
     for (size_t i = 0; i < s.ref_left_px.size(); ++i) {
-      const Eigen::Vector3d p = guess * Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset_px);
+      const Eigen::Vector3d p = guess * Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset);
       cur_left[i] = s.ref_left_px[i];
       if (p.z() > 0.0) {
         const Eigen::Vector2d uv = calibration_.Project(p);
@@ -370,7 +408,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
       m.cur_left_px = {tracked_left[k].x, tracked_left[k].y};
       m.has_current_right = stereo_ok[k];
       m.cur_right_u_px = tracked_right[k].x;
-      const Eigen::Vector3d x = Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset_px);
+      const Eigen::Vector3d x = Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset);
       object_points.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()));
       image_points.push_back(tracked_left[k]);
     }
@@ -401,7 +439,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
         RefinerOptions ro;
         ro.inlier_threshold_px = options_.inlier_threshold_px;
         ro.min_disparity_px = options_.min_disparity_px;
-        ro.disparity_offset_px = s.offset_px;
+        ro.disparity_offset = s.offset;
         const RefinedMotion refined = RefineStereoMotion(calibration_, matches, start, start_inliers, ro);
         result.inliers = refined.num_inliers;
         const double step_s = std::max(std::abs(dt_s), kMinTimeStepS);
@@ -419,26 +457,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
           // Tracked: the frame becomes the reference, its inlier tracks kept with their stereo matches.
           result.status = OdometryStatus::kTracked;
           result.world_from_cam = s.world_from_ref * refined.cur_from_ref.inverse();
-          if (options_.estimate_disparity_offset) {
-            // The frame's own estimate (the offset a seventh unknown, from the refined motion and inliers)
-            // joins the inverse-variance mean that the next frames use. The motion keeps the offset it was
-            // refined with: one frame's estimate is too noisy to move it.
-            RefinerOptions eo = ro;
-            eo.estimate_disparity_offset = true;
-            eo.rounds = 1;
-            eo.iterations = kOffsetIterations;
-            const RefinedMotion e = RefineStereoMotion(calibration_, matches, refined.cur_from_ref, refined.inliers, eo);
-            if (e.disparity_offset_sigma_px <= kMaxOffsetSigmaPx &&
-                std::abs(e.disparity_offset_px) <= kMaxDisparityOffsetPx) {
-              const double sigma = std::max(e.disparity_offset_sigma_px, kMinOffsetSigmaPx);
-              const double w = 1.0 / (sigma * sigma);
-              s.offset_weight += w;
-              s.offset_weighted_sum_px += w * e.disparity_offset_px;
-              s.offset_px = s.offset_weighted_sum_px / s.offset_weight;
-              result.frame_offset_px = e.disparity_offset_px;
-              result.frame_offset_sigma_px = e.disparity_offset_sigma_px;
-            }
-          }
+          if (options_.estimate_disparity_offset != OffsetEstimate::kOff) UpdateOffset(matches, refined, ro);
           if (dt_s > 0.0) {
             s.velocity_motion = refined.cur_from_ref;
             s.velocity_dt_s = dt_s;

@@ -14,6 +14,9 @@
 
 namespace semap {
 
+// Which terms of the rig's disparity offset the odometry estimates from the stream (DisparityOffset).
+enum class OffsetEstimate { kOff, kConstant, kPerRow };
+
 struct StereoOdometryOptions {
   // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   int max_features = 500;
@@ -35,7 +38,8 @@ struct StereoOdometryOptions {
   double max_rotation_rate_deg_s = 120.0;
   int max_bridged_frames = 3;
   double disparity_offset_px = 0.0;
-  bool estimate_disparity_offset = false;
+  double disparity_offset_per_row_px = 0.0;
+  OffsetEstimate estimate_disparity_offset = OffsetEstimate::kOff;
 
   // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
   // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
@@ -72,11 +76,16 @@ struct StereoOdometryOptions {
             "added to every measured disparity (true = measured + offset), in the odometry and in the depth of "
             "the frames it reads: a rectification off by a fraction of a pixel scales every step; the start of "
             "the estimate when estimate_disparity_offset, px");
-    v.Field("estimate_disparity_offset", &estimate_disparity_offset,
-            "estimate that offset from the stream (each tracked frame's depths against its motion, averaged by "
-            "their variances) and use it from the next frame on; off by default: on KITTI it shortens the steps "
-            "to the poses' but turns the heading more, and the map from the odometry's own poses is the worse "
-            "for it (docs/odometry.md)");
+    v.Field("disparity_offset_per_row_px", &disparity_offset_per_row_px,
+            "a second term of that offset, growing with the image row: offset = disparity_offset_px + this x "
+            "(v - cy) / fy (a roll between the cameras); the start of its estimate when estimate_disparity_offset "
+            "is per_row, px");
+    v.Enum("estimate_disparity_offset", &estimate_disparity_offset,
+           {{"off", OffsetEstimate::kOff}, {"constant", OffsetEstimate::kConstant},
+            {"per_row", OffsetEstimate::kPerRow}},
+           "estimate the offset from the stream (each tracked frame's depths against its motion, averaged by "
+           "their information) and use it from the next frame on: off, its constant, or its constant and "
+           "per-row term; off by default (docs/odometry.md says when it pays)");
   }
 
   void Check() const;
@@ -99,10 +108,10 @@ struct OdometryResult {
   int inliers = 0;         // of those, consistent with the estimated motion
   int stereo_features = 0;  // features of this frame with a stereo match (the next frame's reference)
   double cpu_ms = 0.0;     // CPU time of this Track() call (the calling thread's)
-  double disparity_offset_px = 0.0;  // the disparity offset used for this frame, px
-  // This frame's own estimate of the offset and its standard deviation (estimate_disparity_offset, tracked
-  // frames; else both 0), px.
-  double frame_offset_px = 0.0;
+  DisparityOffset disparity_offset;  // the disparity offset used for this frame
+  // This frame's own estimate of the offset and the standard deviation of its constant (estimate_disparity_offset,
+  // tracked frames that voted; else zero), px.
+  DisparityOffset frame_offset;
   double frame_offset_sigma_px = 0.0;
   std::string problem;     // why tracking failed (kBridged, kRestarted); empty otherwise
 };

@@ -11,17 +11,18 @@ namespace semap::odometry_internal {
 namespace {
 
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
-using Vector7 = Eigen::Matrix<double, 7, 1>;
-using Matrix7 = Eigen::Matrix<double, 7, 7>;
+using Vector8 = Eigen::Matrix<double, 8, 1>;
+using Matrix8 = Eigen::Matrix<double, 8, 8>;
 
 // A point closer than this to the camera plane is not projected (behind or at the camera), m.
 constexpr double kMinDepthM = 1e-3;
 // A step smaller than this (norm of the 6- or 7-vector, m, rad and px) ends the Gauss-Newton steps.
 constexpr double kConvergedStep = 1e-10;
-// Half-width of the central difference that gives the residuals' derivative by the disparity offset, px.
+// Half-width of the central difference that gives the residuals' derivative by each term of the disparity
+// offset, px.
 constexpr double kOffsetStepPx = 1e-3;
-// The offset's information left after the pose is marginalised, below this share of its own, is none: the
-// offset is not observable (rounding), and its standard deviation infinite.
+// An offset term's information left after the pose (and the other term) is marginalised, below this share of
+// its own, is none: the term is not observable (rounding), and its standard deviation infinite.
 constexpr double kMinOffsetInformationShare = 1e-9;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& p) {
@@ -57,26 +58,30 @@ Eigen::Vector3d Triangulate(const StereoCalibration& c, const Eigen::Vector2d& l
 }
 
 // One match's residual rows (up to 6) and their Jacobians with respect to a left perturbation
-// (v, w) of cur_from_ref: cur_from_ref <- [Exp(w) | v] cur_from_ref, and (column 7, filled by the caller
-// when the offset is estimated) to the disparity offset.
+// (v, w) of cur_from_ref: cur_from_ref <- [Exp(w) | v] cur_from_ref, and (columns 7 and 8, filled by the
+// caller when the offset is estimated) to the offset's terms.
 struct MatchResiduals {
   Eigen::Matrix<double, 6, 1> r = Eigen::Matrix<double, 6, 1>::Zero();
-  Eigen::Matrix<double, 6, 7> j = Eigen::Matrix<double, 6, 7>::Zero();
+  Eigen::Matrix<double, 6, 8> j = Eigen::Matrix<double, 6, 8>::Zero();
   int rows = 0;
   double max_abs_px() const { return rows == 0 ? 0.0 : r.head(rows).cwiseAbs().maxCoeff(); }
 };
 
 // Which sides of a match are triangulated is decided on the measured disparities (min_disparity_px), so
 // that the rows do not change with the offset.
+// A side's offset is taken at its left pixel's row, in the frame that triangulates and in the frame that
+// sees the point.
 MatchResiduals Residuals(const StereoCalibration& c, const StereoMatch& m, const Pose3d& cur_from_ref,
-                         double min_disparity_px, double offset_px) {
+                         double min_disparity_px, const DisparityOffset& offset) {
   MatchResiduals out;
+  const double ref_offset_px = offset.At(m.ref_left_px.y(), c);
+  const double cur_offset_px = offset.At(m.cur_left_px.y(), c);
   // The reference frame's point, seen in the current frame.
   if (m.ref_left_px.x() - m.ref_right_u_px >= min_disparity_px &&
-      m.ref_left_px.x() - m.ref_right_u_px + offset_px > 0.0) {
-    const Eigen::Vector3d p = cur_from_ref * Triangulate(c, m.ref_left_px, m.ref_right_u_px, offset_px);
+      m.ref_left_px.x() - m.ref_right_u_px + ref_offset_px > 0.0) {
+    const Eigen::Vector3d p = cur_from_ref * Triangulate(c, m.ref_left_px, m.ref_right_u_px, ref_offset_px);
     if (p.z() > kMinDepthM) {
-      const Projection proj = Project(c, p, m.cur_left_px, m.cur_right_u_px, offset_px);
+      const Projection proj = Project(c, p, m.cur_left_px, m.cur_right_u_px, cur_offset_px);
       Matrix36 dp;
       dp << Eigen::Matrix3d::Identity(), -Skew(p);
       const int n = m.has_current_right ? 3 : 2;
@@ -87,12 +92,12 @@ MatchResiduals Residuals(const StereoCalibration& c, const StereoMatch& m, const
   }
   // The current frame's point, seen in the reference frame.
   if (m.has_current_right && m.cur_left_px.x() - m.cur_right_u_px >= min_disparity_px &&
-      m.cur_left_px.x() - m.cur_right_u_px + offset_px > 0.0) {
-    const Eigen::Vector3d x_cur = Triangulate(c, m.cur_left_px, m.cur_right_u_px, offset_px);
+      m.cur_left_px.x() - m.cur_right_u_px + cur_offset_px > 0.0) {
+    const Eigen::Vector3d x_cur = Triangulate(c, m.cur_left_px, m.cur_right_u_px, cur_offset_px);
     const Pose3d ref_from_cur = cur_from_ref.inverse();
     const Eigen::Vector3d q = ref_from_cur * x_cur;
     if (q.z() > kMinDepthM) {
-      const Projection proj = Project(c, q, m.ref_left_px, m.ref_right_u_px, offset_px);
+      const Projection proj = Project(c, q, m.ref_left_px, m.ref_right_u_px, ref_offset_px);
       const Eigen::Matrix3d rt = ref_from_cur.linear();
       Matrix36 dq;
       dq << -rt, rt * Skew(x_cur);
@@ -104,24 +109,48 @@ MatchResiduals Residuals(const StereoCalibration& c, const StereoMatch& m, const
   return out;
 }
 
-// The residuals with their derivative by the offset in column 7 (central difference) when `estimate`.
+// The offset with `delta` added to its term `term` (0 constant, 1 per row).
+DisparityOffset Shifted(DisparityOffset offset, int term, double delta) {
+  (term == 0 ? offset.constant_px : offset.per_row_px) += delta;
+  return offset;
+}
+
+// The residuals with their derivatives by the first `terms` terms of the offset in columns 7 and 8 (central
+// differences).
 MatchResiduals ResidualsWithOffset(const StereoCalibration& c, const StereoMatch& m, const Pose3d& cur_from_ref,
-                                   double min_disparity_px, double offset_px, bool estimate) {
-  MatchResiduals out = Residuals(c, m, cur_from_ref, min_disparity_px, offset_px);
-  if (!estimate || out.rows == 0) return out;
-  const MatchResiduals plus = Residuals(c, m, cur_from_ref, min_disparity_px, offset_px + kOffsetStepPx);
-  const MatchResiduals minus = Residuals(c, m, cur_from_ref, min_disparity_px, offset_px - kOffsetStepPx);
-  if (plus.rows != out.rows || minus.rows != out.rows) return out;  // a side at its limit: no derivative
-  out.j.col(6).head(out.rows) = (plus.r.head(out.rows) - minus.r.head(out.rows)) / (2.0 * kOffsetStepPx);
+                                   double min_disparity_px, const DisparityOffset& offset, int terms) {
+  MatchResiduals out = Residuals(c, m, cur_from_ref, min_disparity_px, offset);
+  if (out.rows == 0) return out;
+  for (int t = 0; t < terms; ++t) {
+    const MatchResiduals plus = Residuals(c, m, cur_from_ref, min_disparity_px, Shifted(offset, t, kOffsetStepPx));
+    const MatchResiduals minus =
+        Residuals(c, m, cur_from_ref, min_disparity_px, Shifted(offset, t, -kOffsetStepPx));
+    if (plus.rows != out.rows || minus.rows != out.rows) continue;  // a side at its limit: no derivative
+    out.j.col(6 + t).head(out.rows) = (plus.r.head(out.rows) - minus.r.head(out.rows)) / (2.0 * kOffsetStepPx);
+  }
   return out;
 }
 
-// The information on the offset (entry 7 of the normal matrix `h`) left once the pose is marginalised: its
-// Schur complement; 0 when that is below kMinOffsetInformationShare of the entry itself or not finite.
-double OffsetInformation(const Matrix7& h) {
-  const double alone = h(6, 6);
-  const double info = alone - h.block<1, 6>(6, 0) * h.topLeftCorner<6, 6>().ldlt().solve(h.block<6, 1>(0, 6));
-  return std::isfinite(info) && info > kMinOffsetInformationShare * alone ? info : 0.0;
+// The information on the first `terms` offset terms (entries 7 and 8 of the normal matrix `h`) left once the
+// pose is marginalised: their Schur complement. A term whose information, with the other term marginalised
+// too, falls below kMinOffsetInformationShare of its own entry (or is not finite) has none: its row and
+// column are zero.
+Eigen::Matrix2d OffsetInformation(const Matrix8& h, int terms) {
+  Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+  if (terms == 0) return info;
+  const Eigen::Matrix<double, 6, 6> hpp = h.topLeftCorner<6, 6>();
+  const Eigen::MatrixXd hpo = h.block(0, 6, 6, terms);
+  const Eigen::MatrixXd schur = h.block(6, 6, terms, terms) - hpo.transpose() * hpp.ldlt().solve(hpo);
+  info.topLeftCorner(terms, terms) = schur;
+  for (int t = 0; t < terms; ++t) {
+    double own = schur(t, t);
+    if (terms == 2 && schur(1 - t, 1 - t) > 0.0) own -= schur(t, 1 - t) * schur(t, 1 - t) / schur(1 - t, 1 - t);
+    if (!std::isfinite(own) || !(own > kMinOffsetInformationShare * h(6 + t, 6 + t))) {
+      info.row(t).setZero();
+      info.col(t).setZero();
+    }
+  }
+  return info;
 }
 
 }  // namespace
@@ -131,43 +160,55 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
                                  const RefinerOptions& options) {
   RefinedMotion out;
   out.cur_from_ref = cur_from_ref;
-  out.disparity_offset_px = options.disparity_offset_px;
-  const bool estimate = options.estimate_disparity_offset;
-  const int unknowns = estimate ? 7 : 6;
-  Matrix7 last_h = Matrix7::Zero();
+  out.disparity_offset = options.disparity_offset;
+  const int terms = std::clamp(options.estimate_offset_terms, 0, 2);
+  Matrix8 last_h = Matrix8::Zero();
   out.inliers = start_inliers;
   out.inliers.resize(matches.size(), false);
   for (int round = 0; round < options.rounds; ++round) {
     for (int it = 0; it < options.iterations; ++it) {
-      Matrix7 h = Matrix7::Zero();
-      Vector7 g = Vector7::Zero();
+      Matrix8 h = Matrix8::Zero();
+      Vector8 g = Vector8::Zero();
       int used = 0;
       for (size_t i = 0; i < matches.size(); ++i) {
         if (!out.inliers[i]) continue;
         const MatchResiduals res = ResidualsWithOffset(calibration, matches[i], out.cur_from_ref,
-                                                       options.min_disparity_px, out.disparity_offset_px, estimate);
+                                                       options.min_disparity_px, out.disparity_offset, terms);
         for (int k = 0; k < res.rows; ++k) {
           const double a = std::abs(res.r(k));
           const double w = a <= options.huber_px ? 1.0 : options.huber_px / a;
-          const Vector7 jk = res.j.row(k).transpose();
+          const Vector8 jk = res.j.row(k).transpose();
           h.noalias() += w * jk * jk.transpose();
           g.noalias() += w * jk * res.r(k);
         }
         used += res.rows > 0;
       }
       if (used < 3) break;  // too few to constrain six unknowns: keep the start
-      // The offset is a seventh unknown only where the matches tell it (see OffsetInformation).
-      const int solved = unknowns == 7 && OffsetInformation(h) > 0.0 ? 7 : 6;
-      Vector7 step = Vector7::Zero();
-      step.head(solved) = -h.topLeftCorner(solved, solved).ldlt().solve(g.head(solved));
-      if (!step.allFinite()) break;
+      // An offset term is an unknown only where the matches tell it (OffsetInformation); the others stay.
+      const Eigen::Matrix2d info = OffsetInformation(h, terms);
+      std::vector<int> index = {0, 1, 2, 3, 4, 5};
+      for (int t = 0; t < terms; ++t) {
+        if (info(t, t) > 0.0) index.push_back(6 + t);
+      }
+      const int n = static_cast<int>(index.size());
+      Eigen::MatrixXd hs(n, n);
+      Eigen::VectorXd gs(n);
+      for (int a = 0; a < n; ++a) {
+        gs(a) = g(index[a]);
+        for (int b = 0; b < n; ++b) hs(a, b) = h(index[a], index[b]);
+      }
+      const Eigen::VectorXd solved = -hs.ldlt().solve(gs);
+      if (!solved.allFinite()) break;
+      Vector8 step = Vector8::Zero();
+      for (int a = 0; a < n; ++a) step(index[a]) = solved(a);
       last_h = h;
       Pose3d delta = Pose3d::Identity();
       const double angle = step.segment<3>(3).norm();
       if (angle > 0.0) delta.linear() = Eigen::AngleAxisd(angle, step.segment<3>(3) / angle).toRotationMatrix();
       delta.translation() = step.head<3>();
       out.cur_from_ref = delta * out.cur_from_ref;
-      out.disparity_offset_px += step(6);
+      out.disparity_offset.constant_px += step(6);
+      out.disparity_offset.per_row_px += step(7);
       if (step.norm() < kConvergedStep) break;
     }
     // Inliers: every match (not only the last round's) whose largest residual is below the threshold.
@@ -176,7 +217,7 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
     int rows = 0;
     for (size_t i = 0; i < matches.size(); ++i) {
       const MatchResiduals res =
-          Residuals(calibration, matches[i], out.cur_from_ref, options.min_disparity_px, out.disparity_offset_px);
+          Residuals(calibration, matches[i], out.cur_from_ref, options.min_disparity_px, out.disparity_offset);
       out.inliers[i] = res.rows > 0 && res.max_abs_px() <= options.inlier_threshold_px;
       if (out.inliers[i]) {
         ++out.num_inliers;
@@ -186,13 +227,17 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
     }
     out.rms_px = rows > 0 ? std::sqrt(sum_sq / rows) : 0.0;
   }
-  if (estimate) {
-    // The offset's variance: the inverse of its information with the pose marginalised (the Schur
-    // complement of the pose block), scaled by the residuals' variance. No information left (no motion, or
-    // only a rotation: the depths do not change with it): infinite.
-    const double info = OffsetInformation(last_h);
-    out.disparity_offset_sigma_px = info > 0.0 && out.num_inliers > 0 ? out.rms_px / std::sqrt(info)
-                                                                      : std::numeric_limits<double>::infinity();
+  if (terms > 0) {
+    // The terms' information with the pose marginalised, in units of the residuals' variance (the Gauss-Newton
+    // normal matrix holds it per unit weight). No information (no motion, or only a rotation: the depths do
+    // not change with it): infinite standard deviation.
+    const double variance = out.rms_px * out.rms_px;
+    const Eigen::Matrix2d info = OffsetInformation(last_h, terms);
+    out.offset_information = out.num_inliers > 0 && variance > 0.0 ? Eigen::Matrix2d(info / variance) : info;
+    double own = info(0, 0);
+    if (terms == 2 && info(1, 1) > 0.0) own -= info(0, 1) * info(0, 1) / info(1, 1);
+    out.disparity_offset_sigma_px =
+        own > 0.0 && out.num_inliers > 0 ? out.rms_px / std::sqrt(own) : std::numeric_limits<double>::infinity();
   }
   return out;
 }

@@ -26,12 +26,12 @@ struct RefinerOptions {
   double huber_px = 1.0;         // Huber kernel width of each residual, px
   double inlier_threshold_px = 1.5;  // largest residual of an inlier, px
   double min_disparity_px = 1.0;     // a side below this disparity is not triangulated
-  // Added to every measured disparity before triangulation: true = measured + offset (a stereo rig whose
-  // rectification is off by a fraction of a pixel), px.
-  double disparity_offset_px = 0.0;
-  // Also estimate that offset (a seventh unknown, starting from disparity_offset_px) from how the depths of
-  // the two frames agree with the motion.
-  bool estimate_disparity_offset = false;
+  // Added to every measured disparity before triangulation: true = measured + offset at the pixel's row (a
+  // stereo rig whose rectification is off by a fraction of a pixel).
+  DisparityOffset disparity_offset;
+  // Also estimate the offset from how the depths of the two frames agree with the motion, starting from
+  // disparity_offset: 0 = no, 1 = its constant (a seventh unknown), 2 = its constant and per-row term.
+  int estimate_offset_terms = 0;
 };
 
 struct RefinedMotion {
@@ -39,8 +39,11 @@ struct RefinedMotion {
   std::vector<bool> inliers;  // per match
   int num_inliers = 0;
   double rms_px = 0.0;  // of the inliers' residuals
-  double disparity_offset_px = 0.0;        // the offset used (estimated when asked), px
-  // Its standard deviation when estimated (else 0; infinite when the motion cannot tell it), px.
+  DisparityOffset disparity_offset;  // the offset used (estimated when asked)
+  // When estimated: the information on the estimated terms (constant, per row) with the pose marginalised,
+  // in 1/px² (unestimated terms: 0); and the constant's standard deviation (infinite when the motion cannot
+  // tell it), px.
+  Eigen::Matrix2d offset_information = Eigen::Matrix2d::Zero();
   double disparity_offset_sigma_px = 0.0;
 };
 

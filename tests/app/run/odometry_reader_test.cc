@@ -60,7 +60,8 @@ TEST(OdometryReader, ReplacesThePosesWithTheEstimate) {
     const OdometryRecord r = log->Records().back();
     EXPECT_TRUE(f->world_from_cam->isApprox(r.result.world_from_cam));
     // The frame's depth uses the rectification offset the odometry's motion used.
-    EXPECT_EQ(f->disparity_offset_px, r.result.disparity_offset_px);
+    EXPECT_EQ(f->disparity_offset.constant_px, r.result.disparity_offset.constant_px);
+    EXPECT_EQ(f->disparity_offset.per_row_px, r.result.disparity_offset.per_row_px);
     // Exact to a few centimetres: the estimate, not a copy of the truth (which it is only at frame 0).
     EXPECT_LT((f->world_from_cam->translation() - seq.world_from_cam2(i).translation()).norm(), 0.05);
   }
@@ -68,9 +69,10 @@ TEST(OdometryReader, ReplacesThePosesWithTheEstimate) {
   EXPECT_EQ(log->Records().size(), 5u);
   EXPECT_EQ(log->failures(), 0);
   const auto figures = log->Figures(3);
-  ASSERT_EQ(figures.size(), 6u);
+  ASSERT_EQ(figures.size(), 7u);
   EXPECT_EQ(figures[0].name, "odometry_status");
   EXPECT_EQ(figures[5].name, "odometry_disparity_offset_px");
+  EXPECT_EQ(figures[6].name, "odometry_disparity_offset_per_row_px");
   EXPECT_EQ(figures[0].value, 1.0);  // tracked
   EXPECT_GT(figures[2].value, 50.0);  // inliers
   EXPECT_TRUE(log->Figures(99).empty());

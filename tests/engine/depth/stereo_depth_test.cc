@@ -201,7 +201,7 @@ TEST(StereoDepth, InvalidDisparitiesNeverGiveAPoint) {
 // in the view the map votes from; a pixel without a measured disparity stays without a point.
 TEST(StereoDepth, TheFramesDisparityOffsetCorrectsEveryDepth) {
   Frame f = PlaneFrame();
-  f.disparity_offset_px = 0.5;
+  f.disparity_offset.constant_px = 0.5;
   cv::Mat disparity(f.left.size(), CV_32F, cv::Scalar(0.0f));
   disparity.at<float>(5, 6) = 19.5f;  // fB = 200 px·m: (19.5 + 0.5) px → 10 m
   disparity.at<float>(7, 8) = 9.5f;   // → 20 m
@@ -215,6 +215,15 @@ TEST(StereoDepth, TheFramesDisparityOffsetCorrectsEveryDepth) {
   EXPECT_NEAR(view.depth_m.at<float>(7, 8), 20.0f, 1e-5);
   EXPECT_EQ(view.depth_m.at<float>(0, 0), 0.0f);  // no disparity measured: no depth, whatever the offset
   EXPECT_EQ(cv::countNonZero(view.depth_m), 2);
+  // A per-row term: the offset at row v is 0.5 + 0.8 (v − cy) / fy; row 0 is cy / fy = 0.2 above centre.
+  f.disparity_offset.per_row_px = 0.8;
+  const double offset_row0_px = 0.5 + 0.8 * (0.0 - f.calibration.cy_px) / f.calibration.fy_px;
+  cv::Mat row0(f.left.size(), CV_32F, cv::Scalar(0.0f));
+  row0.at<float>(0, 3) = static_cast<float>(20.0 - offset_row0_px);  // → 10 m
+  const LabelledCloud tilted = depth.ToCloud(f, row0);
+  ASSERT_EQ(tilted.size(), 1u);
+  EXPECT_NEAR(tilted.positions_world[0].z(), 10.0, 1e-4);
+  EXPECT_NEAR(depth.ToDepthView(f, row0).depth_m.at<float>(0, 3), 10.0f, 1e-4);
 }
 
 TEST(StereoDepth, DepthRangeIsEnforced) {

@@ -105,8 +105,8 @@ TEST(StereoOdometry, FindsARectificationOffsetAndKeepsTheScale) {
   const sim::CameraRenderer renderer(seq.scene(), seq.options());
   const StereoCalibration& c = seq.rig().calibration;
   StereoOdometryOptions estimate, ignore;
-  estimate.estimate_disparity_offset = true;
-  ignore.estimate_disparity_offset = false;
+  estimate.estimate_disparity_offset = OffsetEstimate::kConstant;
+  ignore.estimate_disparity_offset = OffsetEstimate::kOff;
   StereoOdometry estimating(estimate, c), ignoring(ignore, c);
   double truth_m = 0.0, estimating_m = 0.0, ignoring_m = 0.0;
   Pose3d previous_estimating = Pose3d::Identity(), previous_ignoring = Pose3d::Identity();
@@ -129,7 +129,7 @@ TEST(StereoOdometry, FindsARectificationOffsetAndKeepsTheScale) {
   EXPECT_EQ(ignoring.frames_tracked(), kFrames - 1);
   // The mean of 10 frames' estimates (the last frame's is not yet in the offset it used), each good to
   // about 0.1 px on this street.
-  EXPECT_NEAR(last.disparity_offset_px, kOffsetPx, 0.15);
+  EXPECT_NEAR(last.disparity_offset.constant_px, kOffsetPx, 0.15);
   // Ignored, 0.6 px of the ~25 px disparity at the street's typical 15 m stretch every step by ~2 %.
   const double ignoring_error = std::abs(ignoring_m - truth_m) / truth_m;
   const double estimating_error = std::abs(estimating_m - truth_m) / truth_m;

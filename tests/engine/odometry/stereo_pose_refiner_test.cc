@@ -95,19 +95,39 @@ TEST(StereoPoseRefiner, ExactMatchesGiveTheDisparityOffsetAndTheMotion) {
   constexpr double kOffsetPx = 0.4;
   const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 200, 0.0, &rng), kOffsetPx);
   RefinerOptions o;
-  o.estimate_disparity_offset = true;
+  o.estimate_offset_terms = 1;
   const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
-  EXPECT_NEAR(r.disparity_offset_px, kOffsetPx, 1e-6);
+  EXPECT_NEAR(r.disparity_offset.constant_px, kOffsetPx, 1e-6);
+  EXPECT_EQ(r.disparity_offset.per_row_px, 0.0);
   EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
   EXPECT_LT((r.cur_from_ref.linear() - Motion().linear()).norm(), 1e-8);
   EXPECT_EQ(r.num_inliers, 200);
   // Given the offset instead, the same.
-  o.estimate_disparity_offset = false;
-  o.disparity_offset_px = kOffsetPx;
+  o.estimate_offset_terms = 0;
+  o.disparity_offset.constant_px = kOffsetPx;
   const RefinedMotion given = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
   EXPECT_LT((given.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
-  EXPECT_EQ(given.disparity_offset_px, kOffsetPx);
+  EXPECT_EQ(given.disparity_offset.constant_px, kOffsetPx);
   EXPECT_EQ(given.disparity_offset_sigma_px, 0.0);
+}
+
+// A rig whose offset grows with the row (a roll between the cameras): exact matches give both terms.
+TEST(StereoPoseRefiner, ExactMatchesGiveBothTermsOfAPerRowOffset) {
+  const StereoCalibration c = Kitti();
+  std::mt19937 rng(8);
+  const DisparityOffset truth{0.3, 1.5};
+  std::vector<StereoMatch> matches = Matches(c, Motion(), 300, 0.0, &rng);
+  for (auto& m : matches) {
+    m.ref_right_u_px += truth.At(m.ref_left_px.y(), c);
+    m.cur_right_u_px += truth.At(m.cur_left_px.y(), c);
+  }
+  RefinerOptions o;
+  o.estimate_offset_terms = 2;
+  const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+  EXPECT_NEAR(r.disparity_offset.constant_px, truth.constant_px, 1e-6);
+  EXPECT_NEAR(r.disparity_offset.per_row_px, truth.per_row_px, 1e-5);
+  EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
+  EXPECT_EQ(r.num_inliers, 300);
 }
 
 // With pixel noise, the estimate lands within a few of its own standard deviations of the truth, the
@@ -121,11 +141,11 @@ TEST(StereoPoseRefiner, NoisyMatchesGiveTheOffsetWithinItsStandardDeviation) {
     std::mt19937 rng(seed);
     const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 300, kNoisePx, &rng), kOffsetPx);
     RefinerOptions o;
-    o.estimate_disparity_offset = true;
+    o.estimate_offset_terms = 1;
     const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
     EXPECT_GT(r.disparity_offset_sigma_px, 0.0);
     EXPECT_LT(r.disparity_offset_sigma_px, kNoisePx);  // 300 matches tell it far better than one pixel's noise
-    EXPECT_NEAR(r.disparity_offset_px, kOffsetPx, kSigmas * r.disparity_offset_sigma_px) << "seed " << seed;
+    EXPECT_NEAR(r.disparity_offset.constant_px, kOffsetPx, kSigmas * r.disparity_offset_sigma_px) << "seed " << seed;
     const RefinedMotion ignored =
         RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), RefinerOptions{});
     const double step_m = Motion().translation().norm();
@@ -141,7 +161,7 @@ TEST(StereoPoseRefiner, StandingStillCannotTellTheOffset) {
   std::mt19937 rng(7);
   const std::vector<StereoMatch> matches = Matches(c, Pose3d::Identity(), 300, 0.3, &rng);
   RefinerOptions o;
-  o.estimate_disparity_offset = true;
+  o.estimate_offset_terms = 1;
   const RefinedMotion r = RefineStereoMotion(c, matches, Pose3d::Identity(), std::vector<bool>(matches.size(), true), o);
   const std::vector<StereoMatch> moving = Matches(c, Motion(), 300, 0.3, &rng);
   const RefinedMotion m = RefineStereoMotion(c, moving, Motion(), std::vector<bool>(moving.size(), true), o);
