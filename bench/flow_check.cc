@@ -1,0 +1,196 @@
+// semap_flow_check: are the odometry's temporal feature tracks biased? For each pair of consecutive frames of
+// a sequence with poses and a Velodyne, FAST corners of frame k that have a Velodyne return within one pixel
+// are moved with the poses into frame k + 1 (the true flow, from the scanner's depth), and tracked there with
+// the odometry's pyramidal KLT (its window, levels and stop criteria, started where the true flow puts them
+// and, separately, where they were). The difference tracked − predicted is split into its component along the
+// direction away from the focus of expansion (radial: a positive mean lengthens every step of a forward-moving
+// camera) and across it, per depth bin; and by distance from the principal point, along the direction away
+// from it (where a lens distortion left in the rectified images would show).
+//
+// Usage: semap_flow_check SEQUENCE [--frames N] [--config FILE] [--set key=value ...]
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "app/config/config.h"
+#include "engine/depth/depth_metrics.h"
+#include "io/frame_source.h"
+
+namespace {
+
+// KLT's stop criteria, as in engine/odometry.
+constexpr int kKltMaxIterations = 30;
+constexpr double kKltEpsilonPx = 0.01;
+// Depth bins, m, and the farthest Velodyne depth used.
+constexpr double kBinEdgesM[] = {1.0, 10.0, 20.0, 40.0};
+constexpr double kMaxDepthM = 40.0;
+// Bins of the distance from the principal point, px.
+constexpr double kRadiusEdgesPx[] = {0.0, 150.0, 300.0, 450.0, 600.0, 800.0};
+// A tracked point farther than this from its prediction is a mistrack (left out), px.
+constexpr double kMaxErrorPx = 3.0;
+// Corners closer than this to the focus of expansion have no radial direction, px.
+constexpr double kMinRadiusPx = 20.0;
+
+cv::Mat Gray(const cv::Mat& image) {
+  if (image.channels() == 1) return image;
+  cv::Mat gray;
+  cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+struct Stats {
+  std::vector<double> radial, tangential;
+};
+
+double Mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? std::nan("") : s / static_cast<double>(v.size());
+}
+double Median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Bias of the odometry's temporal KLT tracks against the flow the poses and the Velodyne predict"};
+  std::string sequence, config_path;
+  std::vector<std::string> overrides;
+  int frames = 0;
+  app.add_option("sequence", sequence, "sequence with poses and Velodyne (KITTI odometry / raw)")->required();
+  app.add_option("--frames", frames, "frames to use, 0 = all")->check(CLI::NonNegativeNumber);
+  app.add_option("--config", config_path, "YAML config");
+  app.add_option("--set", overrides, "section.key=value overrides");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
+    semap::io::FrameSourceOptions input = config.input;
+    input.load_velodyne = true;
+    if (frames > 0) input.max_frames = frames;
+    auto source = semap::io::OpenFrameSource(sequence, input);
+    const semap::StereoOdometryOptions& o = config.odometry;
+    const cv::Size win(o.klt_window_px, o.klt_window_px);
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx);
+    std::vector<Stats> from_truth(std::size(kBinEdgesM) - 1), from_start(std::size(kBinEdgesM) - 1);
+    std::vector<Stats> radius_truth(std::size(kRadiusEdgesPx) - 1), radius_start(std::size(kRadiusEdgesPx) - 1);
+    std::optional<semap::Frame> previous;
+    cv::Mat previous_gray;
+    while (auto frame = source->Next()) {
+      const cv::Mat gray = Gray(frame->left);
+      if (previous && previous->velodyne && previous->world_from_cam && frame->world_from_cam) {
+        const semap::StereoCalibration& c = frame->calibration;
+        const cv::Mat lidar = semap::LidarDepthImage(*previous->velodyne, c, kMaxDepthM);
+        const semap::Pose3d b_from_a = frame->world_from_cam->inverse() * *previous->world_from_cam;
+        // The focus of expansion: the image of the motion's direction in frame k + 1, from frame k's camera
+        // centre (b_from_a's translation, in b's coordinates) to b's.
+        const Eigen::Vector3d direction_b = -b_from_a.translation();
+        if (direction_b.z() <= 0.0) {
+          previous = std::move(*frame);
+          previous_gray = gray;
+          continue;
+        }
+        const Eigen::Vector2d foe = c.Project(direction_b);
+        std::vector<cv::KeyPoint> corners;
+        cv::FAST(previous_gray, corners, o.fast_threshold, true);
+        std::vector<cv::Point2f> start, predicted;
+        std::vector<double> depth_m;
+        for (const auto& k : corners) {
+          const int u = static_cast<int>(std::lround(k.pt.x)), v = static_cast<int>(std::lround(k.pt.y));
+          double z = 0.0;  // the nearest Velodyne depth within one pixel
+          for (int dv = -1; dv <= 1 && z == 0.0; ++dv) {
+            for (int du = -1; du <= 1; ++du) {
+              const int uu = u + du, vv = v + dv;
+              if (uu < 0 || vv < 0 || uu >= lidar.cols || vv >= lidar.rows) continue;
+              const float zl = lidar.at<float>(vv, uu);
+              if (zl > 0.0f) {
+                z = zl;
+                break;
+              }
+            }
+          }
+          if (z <= 0.0) continue;
+          const Eigen::Vector3d p = b_from_a * c.Unproject(k.pt.x, k.pt.y, z);
+          if (p.z() <= 0.0) continue;
+          const Eigen::Vector2d uv = c.Project(p);
+          if (!c.InImage(uv)) continue;
+          start.push_back(k.pt);
+          predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+          depth_m.push_back(z);
+        }
+        for (int mode = 0; mode < 2; ++mode) {
+          std::vector<cv::Point2f> tracked = mode == 0 ? predicted : start;
+          std::vector<uchar> status;
+          std::vector<float> err;
+          if (start.empty()) break;
+          cv::calcOpticalFlowPyrLK(previous_gray, gray, start, tracked, status, err, win, o.klt_levels, term,
+                                   cv::OPTFLOW_USE_INITIAL_FLOW);
+          std::vector<Stats>& stats = mode == 0 ? from_truth : from_start;
+          std::vector<Stats>& by_radius = mode == 0 ? radius_truth : radius_start;
+          for (size_t i = 0; i < start.size(); ++i) {
+            if (!status[i]) continue;
+            const Eigen::Vector2d e(tracked[i].x - predicted[i].x, tracked[i].y - predicted[i].y);
+            if (e.norm() > kMaxErrorPx) continue;
+            const Eigen::Vector2d r(predicted[i].x - foe.x(), predicted[i].y - foe.y());
+            if (r.norm() < kMinRadiusPx) continue;
+            const Eigen::Vector2d radial = r.normalized();
+            // By distance from the principal point: the error along that direction (a lens distortion left
+            // in the rectified images would stretch or shrink the flow there).
+            const Eigen::Vector2d from_centre(predicted[i].x - c.cx_px, predicted[i].y - c.cy_px);
+            for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
+              const double rc = from_centre.norm();
+              if (rc < kRadiusEdgesPx[b] || rc >= kRadiusEdgesPx[b + 1] || rc <= 0.0) continue;
+              by_radius[b].radial.push_back(e.dot(from_centre / rc));
+              by_radius[b].tangential.push_back(e.dot(radial));
+            }
+            for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
+              if (depth_m[i] < kBinEdgesM[b] || depth_m[i] >= kBinEdgesM[b + 1]) continue;
+              stats[b].radial.push_back(e.dot(radial));
+              stats[b].tangential.push_back(radial.x() * e.y() - radial.y() * e.x());
+            }
+          }
+        }
+      }
+      previous = std::move(*frame);
+      previous_gray = gray;
+    }
+    std::printf("KLT tracks (window %d px, %d levels) minus the flow of the poses and the Velodyne, %s\n\n",
+                o.klt_window_px, o.klt_levels, sequence.c_str());
+    std::printf("| KLT started at | depth | tracks | radial mean (px) | radial median (px) | across mean (px) |\n");
+    std::printf("|---|---|---|---|---|---|\n");
+    for (int mode = 0; mode < 2; ++mode) {
+      const std::vector<Stats>& stats = mode == 0 ? from_truth : from_start;
+      for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
+        std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f | %+.4f |\n",
+                    mode == 0 ? "the predicted position" : "the previous position", kBinEdgesM[b], kBinEdgesM[b + 1],
+                    stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
+                    Mean(stats[b].tangential));
+      }
+    }
+    std::printf("\n| KLT started at | distance from the principal point | tracks | mean along it (px) | median along it "
+                "(px) | mean away from the focus of expansion (px) |\n|---|---|---|---|---|---|\n");
+    for (int mode = 0; mode < 2; ++mode) {
+      const std::vector<Stats>& stats = mode == 0 ? radius_truth : radius_start;
+      for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
+        std::printf("| %s | %.0f-%.0f px | %zu | %+.4f | %+.4f | %+.4f |\n",
+                    mode == 0 ? "the predicted position" : "the previous position", kRadiusEdgesPx[b],
+                    kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
+                    Mean(stats[b].tangential));
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "semap_flow_check: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
