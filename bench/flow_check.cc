@@ -20,9 +20,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "app/config/config.h"
+#include "bench/sequence_args.h"
 #include "engine/depth/depth_metrics.h"
-#include "io/frame_source.h"
 
 namespace {
 
@@ -65,20 +64,13 @@ double Median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Bias of the odometry's temporal KLT tracks against the flow the poses and the Velodyne predict"};
-  std::string sequence, config_path;
-  std::vector<std::string> overrides;
-  int frames = 0;
-  app.add_option("sequence", sequence, "sequence with poses and Velodyne (KITTI odometry / raw)")->required();
-  app.add_option("--frames", frames, "frames to use, 0 = all")->check(CLI::NonNegativeNumber);
-  app.add_option("--config", config_path, "YAML config");
-  app.add_option("--set", overrides, "section.key=value overrides");
+  semap::bench::SequenceArgs args;
+  args.AddTo(app, "sequence with poses and Velodyne (KITTI odometry / raw)");
   CLI11_PARSE(app, argc, argv);
   try {
-    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
-    semap::io::FrameSourceOptions input = config.input;
-    input.load_velodyne = true;
-    if (frames > 0) input.max_frames = frames;
-    auto source = semap::io::OpenFrameSource(sequence, input);
+    const semap::app::Config config = args.LoadConfig();
+    const std::string& sequence = args.sequence;
+    auto source = semap::io::OpenFrameSource(sequence, args.Input(config, true));
     const semap::StereoOdometryOptions& o = config.odometry;
     const cv::Size win(o.klt_window_px, o.klt_window_px);
     const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx);

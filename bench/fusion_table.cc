@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "app/config/config.h"
 #include "app/eval/mesh_evaluation.h"
+#include "bench/sequence_args.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
@@ -129,20 +129,15 @@ struct ReferenceTables {
 
 int main(int argc, char** argv) {
   CLI::App app{"Per-frame SGBM depth against the fused mesh, per reference-depth bin (Velodyne, exact depth)"};
-  std::string sequence, mesh_path, config_path;
-  std::vector<std::string> overrides;
-  int frames = 0;
-  app.add_option("sequence", sequence, "sequence with Velodyne scans or exact depth (KITTI, generated)")->required();
+  semap::bench::SequenceArgs args;
+  std::string mesh_path;
+  args.AddTo(app, "sequence with Velodyne scans or exact depth (KITTI, generated)");
   app.add_option("--mesh", mesh_path, "the mesh of `semap run` on that sequence (.ply or .off)")->required();
-  app.add_option("--frames", frames, "frames to use, 0 = all")->check(CLI::NonNegativeNumber);
-  app.add_option("--config", config_path, "YAML config (the run's)");
-  app.add_option("--set", overrides, "section.key=value overrides (the run's)");
   CLI11_PARSE(app, argc, argv);
   try {
-    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
-    semap::io::FrameSourceOptions input = config.input;
-    input.load_velodyne = true;
-    if (frames > 0) input.max_frames = frames;
+    const semap::app::Config config = args.LoadConfig();
+    const std::string& sequence = args.sequence;
+    const semap::io::FrameSourceOptions input = args.Input(config, true);
     const semap::io::SequenceInfo info = semap::io::DescribeDataset(sequence, input);
     auto source = semap::io::OpenFrameSource(sequence, input);
     std::vector<int> movable;

@@ -16,10 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "app/config/config.h"
+#include "bench/sequence_args.h"
 #include "engine/depth/depth_metrics.h"
 #include "engine/depth/stereo_depth.h"
-#include "io/frame_source.h"
 
 namespace {
 
@@ -71,20 +70,16 @@ std::vector<double> Residuals(const DepthFrame& a, const DepthFrame& b, double o
 
 int main(int argc, char** argv) {
   CLI::App app{"The depth stage's disparity offset from a sequence's poses (consecutive depth maps)"};
-  std::string sequence, config_path;
-  std::vector<std::string> overrides;
-  int frames = 0, gap = 1, stride_px = 4;
-  app.add_option("sequence", sequence, "sequence with poses (KITTI raw / odometry, generated)")->required();
-  app.add_option("--frames", frames, "frames to use, 0 = all")->check(CLI::NonNegativeNumber);
+  semap::bench::SequenceArgs args;
+  int gap = 1, stride_px = 4;
+  args.AddTo(app, "sequence with poses (KITTI raw / odometry, generated)");
   app.add_option("--gap", gap, "frame b is frame a + gap")->check(CLI::PositiveNumber);
   app.add_option("--stride", stride_px, "one pixel in stride x stride of frame a")->check(CLI::PositiveNumber);
-  app.add_option("--config", config_path, "YAML config");
-  app.add_option("--set", overrides, "section.key=value overrides");
   CLI11_PARSE(app, argc, argv);
   try {
-    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
-    semap::io::FrameSourceOptions input = config.input;
-    if (frames > 0) input.max_frames = frames;
+    const semap::app::Config config = args.LoadConfig();
+    const std::string& sequence = args.sequence;
+    const semap::io::FrameSourceOptions input = args.Input(config, config.input.load_velodyne);
     auto source = semap::io::OpenFrameSource(sequence, input);
     const semap::StereoDepth depth(config.depth);
     std::vector<DepthFrame> all;

@@ -18,8 +18,7 @@
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/error_breakdown.h"
-#include "app/config/config.h"
-#include "io/frame_source.h"
+#include "bench/sequence_args.h"
 
 namespace {
 
@@ -36,20 +35,13 @@ void PrintRow(const std::string& name, const DepthAccuracy& a) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Accuracy of the SGBM depth maps the map is built from, against the Velodyne (both protocols)"};
-  std::string sequence, config_path;
-  std::vector<std::string> overrides;
-  int frames = 0;
-  app.add_option("sequence", sequence, "sequence with Velodyne scans (KITTI raw / odometry, generated)")->required();
-  app.add_option("--frames", frames, "frames to use, 0 = all")->check(CLI::NonNegativeNumber);
-  app.add_option("--config", config_path, "YAML config");
-  app.add_option("--set", overrides, "section.key=value overrides");
+  semap::bench::SequenceArgs args;
+  args.AddTo(app, "sequence with Velodyne scans (KITTI raw / odometry, generated)");
   CLI11_PARSE(app, argc, argv);
   try {
-    const semap::app::Config config = semap::app::LoadConfig(config_path, overrides);
-    semap::io::FrameSourceOptions input = config.input;
-    input.load_velodyne = true;
-    if (frames > 0) input.max_frames = frames;
-    auto source = semap::io::OpenFrameSource(sequence, input);
+    const semap::app::Config config = args.LoadConfig();
+    const std::string& sequence = args.sequence;
+    auto source = semap::io::OpenFrameSource(sequence, args.Input(config, true));
     const semap::StereoDepth depth(config.depth);
     const DepthAccuracyOptions strict = config.eval;
     const DepthAccuracyOptions paper = semap::PaperProtocol(strict);
