@@ -5,7 +5,7 @@
 // and, separately, where they were). The difference tracked − predicted is split into its component along the
 // direction away from the focus of expansion (radial: a positive mean lengthens every step of a forward-moving
 // camera) and across it, per depth bin; and by distance from the principal point, along the direction away
-// from it (where a lens distortion left in the rectified images would show).
+// from it (where a lens distortion left in the rectified images would show); and the two crossed.
 //
 // Usage: semap_flow_check SEQUENCE [--frames N] [--config FILE] [--set key=value ...]
 #include <CLI/CLI.hpp>
@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
     const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx);
     std::vector<Stats> from_truth(std::size(kBinEdgesM) - 1), from_start(std::size(kBinEdgesM) - 1);
     std::vector<Stats> radius_truth(std::size(kRadiusEdgesPx) - 1), radius_start(std::size(kRadiusEdgesPx) - 1);
+    // KLT started at the predicted position: the error away from the focus of expansion per depth bin (rows)
+    // and distance from the principal point (columns), so that depth and image position are told apart.
+    std::vector<std::vector<std::vector<double>>> grid(
+        std::size(kBinEdgesM) - 1, std::vector<std::vector<double>>(std::size(kRadiusEdgesPx) - 1));
     std::optional<semap::Frame> previous;
     cv::Mat previous_gray;
     while (auto frame = source->Next()) {
@@ -144,6 +148,9 @@ int main(int argc, char** argv) {
               if (rc < kRadiusEdgesPx[b] || rc >= kRadiusEdgesPx[b + 1] || rc <= 0.0) continue;
               by_radius[b].radial.push_back(e.dot(from_centre / rc));
               by_radius[b].tangential.push_back(e.dot(radial));
+              for (size_t z = 0; mode == 0 && z + 1 < std::size(kBinEdgesM); ++z) {
+                if (depth_m[i] >= kBinEdgesM[z] && depth_m[i] < kBinEdgesM[z + 1]) grid[z][b].push_back(e.dot(radial));
+              }
             }
             for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
               if (depth_m[i] < kBinEdgesM[b] || depth_m[i] >= kBinEdgesM[b + 1]) continue;
@@ -179,6 +186,19 @@ int main(int argc, char** argv) {
                     kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
                     Mean(stats[b].tangential));
       }
+    }
+    std::printf("\nKLT started at the predicted position: median error away from the focus of expansion (px, "
+                "tracks), by depth and distance from the principal point\n\n| depth |");
+    for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
+      std::printf(" %.0f-%.0f px |", kRadiusEdgesPx[b], kRadiusEdgesPx[b + 1]);
+    }
+    std::printf("\n|---|");
+    for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) std::printf("---|");
+    std::printf("\n");
+    for (size_t z = 0; z + 1 < std::size(kBinEdgesM); ++z) {
+      std::printf("| %.0f-%.0f m |", kBinEdgesM[z], kBinEdgesM[z + 1]);
+      for (const auto& cell : grid[z]) std::printf(" %+.3f (%zu) |", Median(cell), cell.size());
+      std::printf("\n");
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "semap_flow_check: %s\n", e.what());
