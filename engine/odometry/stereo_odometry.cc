@@ -343,12 +343,16 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
         std::abs(e.disparity_offset.per_row_px) > kMaxDisparityOffsetPx) {
       return;
     }
-    // No frame counts for more than a standard deviation of kMinOffsetSigmaPx on the constant.
+    // No frame counts for more than a standard deviation of kMinOffsetSigmaPx on the constant; exact matches
+    // (a standard deviation of 0) count for that much on the constant alone.
     const double sigma = e.disparity_offset_sigma_px;
-    const double scale = sigma < kMinOffsetSigmaPx ? (sigma * sigma) / (kMinOffsetSigmaPx * kMinOffsetSigmaPx) : 1.0;
-    Eigen::Matrix2d info = scale * e.offset_information;
-    if (sigma <= 0.0) info = Eigen::Matrix2d::Zero();
-    if (sigma <= 0.0) info(0, 0) = 1.0 / (kMinOffsetSigmaPx * kMinOffsetSigmaPx);  // exact matches
+    Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+    if (sigma > 0.0) {
+      const double scale = sigma < kMinOffsetSigmaPx ? (sigma * sigma) / (kMinOffsetSigmaPx * kMinOffsetSigmaPx) : 1.0;
+      info = scale * e.offset_information;
+    } else {
+      info(0, 0) = 1.0 / (kMinOffsetSigmaPx * kMinOffsetSigmaPx);
+    }
     const Eigen::Vector2d x(e.disparity_offset.constant_px, e.disparity_offset.per_row_px);
     s.offset_information += info;
     s.offset_weighted_sum += info * x;

@@ -131,6 +131,12 @@ MatchResiduals ResidualsWithOffset(const StereoCalibration& c, const StereoMatch
   return out;
 }
 
+// The information of term `t` of a 2×2 information matrix with the other term marginalised (when it has any).
+double MarginalInformation(const Eigen::Matrix2d& info, int t) {
+  const int other = 1 - t;
+  return info(other, other) > 0.0 ? info(t, t) - info(t, other) * info(t, other) / info(other, other) : info(t, t);
+}
+
 // The information on the first `terms` offset terms (entries 7 and 8 of the normal matrix `h`) left once the
 // pose is marginalised: their Schur complement. A term whose information, with the other term marginalised
 // too, falls below kMinOffsetInformationShare of its own entry (or is not finite) has none: its row and
@@ -142,9 +148,9 @@ Eigen::Matrix2d OffsetInformation(const Matrix8& h, int terms) {
   const Eigen::MatrixXd hpo = h.block(0, 6, 6, terms);
   const Eigen::MatrixXd schur = h.block(6, 6, terms, terms) - hpo.transpose() * hpp.ldlt().solve(hpo);
   info.topLeftCorner(terms, terms) = schur;
+  const Eigen::Matrix2d full = info;
   for (int t = 0; t < terms; ++t) {
-    double own = schur(t, t);
-    if (terms == 2 && schur(1 - t, 1 - t) > 0.0) own -= schur(t, 1 - t) * schur(t, 1 - t) / schur(1 - t, 1 - t);
+    const double own = MarginalInformation(full, t);
     if (!std::isfinite(own) || !(own > kMinOffsetInformationShare * h(6 + t, 6 + t))) {
       info.row(t).setZero();
       info.col(t).setZero();
@@ -234,8 +240,7 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
     const double variance = out.rms_px * out.rms_px;
     const Eigen::Matrix2d info = OffsetInformation(last_h, terms);
     out.offset_information = out.num_inliers > 0 && variance > 0.0 ? Eigen::Matrix2d(info / variance) : info;
-    double own = info(0, 0);
-    if (terms == 2 && info(1, 1) > 0.0) own -= info(0, 1) * info(0, 1) / info(1, 1);
+    const double own = MarginalInformation(info, 0);
     out.disparity_offset_sigma_px =
         own > 0.0 && out.num_inliers > 0 ? out.rms_px / std::sqrt(own) : std::numeric_limits<double>::infinity();
   }
