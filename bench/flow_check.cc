@@ -5,9 +5,11 @@
 // and, separately, where they were). The difference tracked − predicted is split into its component along the
 // direction away from the focus of expansion (radial: a positive mean lengthens every step of a forward-moving
 // camera) and across it, per depth bin; and by distance from the principal point, along the direction away
-// from it (where a lens distortion left in the rectified images would show); and the two crossed.
+// from it (where a lens distortion left in the rectified images would show); and the two crossed. The stereo
+// side too: the same corners matched into frame k's right image with the odometry's stereo KLT, their
+// disparity against fB/z of the Velodyne, per depth bin. --smooth keeps only corners away from depth edges.
 //
-// Usage: semap_flow_check SEQUENCE [--frames N] [--config FILE] [--set key=value ...]
+// Usage: semap_flow_check SEQUENCE [--frames N] [--smooth SHARE] [--config FILE] [--set key=value ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -35,6 +37,12 @@ constexpr double kMaxDepthM = 40.0;
 constexpr double kRadiusEdgesPx[] = {0.0, 150.0, 300.0, 450.0, 600.0, 800.0};
 // A tracked point farther than this from its prediction is a mistrack (left out), px.
 constexpr double kMaxErrorPx = 3.0;
+// The known scalings of frame k's image (a surface at depth Z approached by t: Z / (Z - t)), and every how
+// many frames they are tried.
+constexpr double kScales[] = {1.02, 1.05, 1.10};
+constexpr int kScaleEveryFrames = 5;
+// The second start of the stereo match: this much short of the true disparity, px.
+constexpr double kStereoStartOffPx = 2.0;
 // Corners closer than this to the focus of expansion have no radial direction, px.
 constexpr double kMinRadiusPx = 20.0;
 
@@ -43,6 +51,25 @@ cv::Mat Gray(const cv::Mat& image) {
   cv::Mat gray;
   cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
   return gray;
+}
+
+// True when every Velodyne return within kSmoothRadiusPx of (u, v), and at least kMinSmoothReturns of
+// them, lie within `share` of depth `z_m`.
+constexpr int kSmoothRadiusPx = 3;
+constexpr int kMinSmoothReturns = 3;
+bool SmoothDepth(const cv::Mat& lidar, int u, int v, double z_m, double share) {
+  int returns = 0;
+  for (int dv = -kSmoothRadiusPx; dv <= kSmoothRadiusPx; ++dv) {
+    for (int du = -kSmoothRadiusPx; du <= kSmoothRadiusPx; ++du) {
+      const int uu = u + du, vv = v + dv;
+      if (uu < 0 || vv < 0 || uu >= lidar.cols || vv >= lidar.rows) continue;
+      const float zl = lidar.at<float>(vv, uu);
+      if (zl <= 0.0f) continue;
+      if (std::abs(zl - z_m) > share * z_m) return false;
+      ++returns;
+    }
+  }
+  return returns >= kMinSmoothReturns;
 }
 
 struct Stats {
@@ -66,6 +93,12 @@ int main(int argc, char** argv) {
   CLI::App app{"Bias of the odometry's temporal KLT tracks against the flow the poses and the Velodyne predict"};
   semap::bench::SequenceArgs args;
   args.AddTo(app, "sequence with poses and Velodyne (KITTI odometry / raw)");
+  double smooth_share = 0.0;
+  app.add_option("--smooth", smooth_share,
+                 "keep only corners whose Velodyne returns within 3 px all lie within this share of their depth "
+                 "(e.g. 0.02: no depth edge, where the scanner, mounted apart from the camera, may see another "
+                 "surface than the camera); 0 = every corner")
+      ->check(CLI::Range(0.0, 1.0));
   CLI11_PARSE(app, argc, argv);
   try {
     const semap::app::Config config = args.LoadConfig();
@@ -82,6 +115,13 @@ int main(int argc, char** argv) {
         std::size(kBinEdgesM) - 1, std::vector<std::vector<double>>(std::size(kRadiusEdgesPx) - 1));
     std::optional<semap::Frame> previous;
     cv::Mat previous_gray;
+    // KLT on frame k's own texture scaled by a known factor about the principal point (the looming of a
+    // fronto-parallel surface, exact): the error away from the principal point, per scale.
+    std::vector<std::vector<double>> scaled(std::size(kScales));
+    int frame_index = 0;
+    // The stereo disparity error per start (true disparity, kStereoStartOffPx short) and depth bin.
+    std::vector<std::vector<double>> stereo[2] = {std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1),
+                                                  std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1)};
     while (auto frame = source->Next()) {
       const cv::Mat gray = Gray(frame->left);
       if (previous && previous->velodyne && previous->world_from_cam && frame->world_from_cam) {
@@ -116,6 +156,7 @@ int main(int argc, char** argv) {
             }
           }
           if (z <= 0.0) continue;
+          if (smooth_share > 0.0 && !SmoothDepth(lidar, u, v, z, smooth_share)) continue;
           const Eigen::Vector3d p = b_from_a * c.Unproject(k.pt.x, k.pt.y, z);
           if (p.z() <= 0.0) continue;
           const Eigen::Vector2d uv = c.Project(p);
@@ -123,6 +164,64 @@ int main(int argc, char** argv) {
           start.push_back(k.pt);
           predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
           depth_m.push_back(z);
+        }
+        if (frame_index % kScaleEveryFrames == 1) {
+          for (size_t si = 0; si < std::size(kScales); ++si) {
+            const double sc = kScales[si];
+            const cv::Mat a = (cv::Mat_<double>(2, 3) << sc, 0.0, c.cx_px * (1.0 - sc), 0.0, sc, c.cy_px * (1.0 - sc));
+            cv::Mat warped;
+            cv::warpAffine(previous_gray, warped, a, previous_gray.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+            std::vector<cv::Point2f> from, truth;
+            for (const auto& p : start) {
+              const cv::Point2f q(static_cast<float>(c.cx_px + sc * (p.x - c.cx_px)),
+                                  static_cast<float>(c.cy_px + sc * (p.y - c.cy_px)));
+              const double r = std::hypot(q.x - c.cx_px, q.y - c.cy_px);
+              if (r < kMinRadiusPx || q.x < 0.0f || q.y < 0.0f || q.x >= static_cast<float>(warped.cols) ||
+                  q.y >= static_cast<float>(warped.rows)) {
+                continue;
+              }
+              from.push_back(p);
+              truth.push_back(q);
+            }
+            if (from.empty()) continue;
+            std::vector<cv::Point2f> tracked = from;
+            std::vector<uchar> status;
+            std::vector<float> err;
+            cv::calcOpticalFlowPyrLK(previous_gray, warped, from, tracked, status, err, win, o.klt_levels, term,
+                                     cv::OPTFLOW_USE_INITIAL_FLOW);
+            for (size_t i = 0; i < from.size(); ++i) {
+              const Eigen::Vector2d e(tracked[i].x - truth[i].x, tracked[i].y - truth[i].y);
+              if (!status[i] || e.norm() > kMaxErrorPx) continue;
+              const Eigen::Vector2d r(truth[i].x - c.cx_px, truth[i].y - c.cy_px);
+              scaled[si].push_back(e.dot(r.normalized()));
+            }
+          }
+        }
+        // The stereo side: the corners matched into frame k's right image as the odometry matches them
+        // (pyramidal KLT with its stereo levels), started at the true disparity fB/z and kStereoStartOffPx
+        // short of it; the measured disparity minus the true one, per depth bin.
+        {
+          const cv::Mat right_gray = Gray(previous->right);
+          for (int mode = 0; mode < 2; ++mode) {
+            std::vector<cv::Point2f> right(start.size());
+            for (size_t i = 0; i < start.size(); ++i) {
+              const double d = c.fx_px * c.baseline_m / depth_m[i] - (mode == 0 ? 0.0 : kStereoStartOffPx);
+              right[i] = cv::Point2f(start[i].x - static_cast<float>(d), start[i].y);
+            }
+            std::vector<uchar> status;
+            std::vector<float> err;
+            if (start.empty()) break;
+            cv::calcOpticalFlowPyrLK(previous_gray, right_gray, start, right, status, err, win, o.stereo_levels, term,
+                                     cv::OPTFLOW_USE_INITIAL_FLOW);
+            for (size_t i = 0; i < start.size(); ++i) {
+              if (!status[i] || std::abs(right[i].y - start[i].y) > o.max_epipolar_error_px) continue;
+              const double e = (start[i].x - right[i].x) - c.fx_px * c.baseline_m / depth_m[i];
+              if (std::abs(e) > kMaxErrorPx) continue;
+              for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
+                if (depth_m[i] >= kBinEdgesM[b] && depth_m[i] < kBinEdgesM[b + 1]) stereo[mode][b].push_back(e);
+              }
+            }
+          }
         }
         for (int mode = 0; mode < 2; ++mode) {
           std::vector<cv::Point2f> tracked = mode == 0 ? predicted : start;
@@ -162,6 +261,7 @@ int main(int argc, char** argv) {
       }
       previous = std::move(*frame);
       previous_gray = gray;
+      ++frame_index;
     }
     std::printf("KLT tracks (window %d px, %d levels) minus the flow of the poses and the Velodyne, %s\n\n",
                 o.klt_window_px, o.klt_levels, sequence.c_str());
@@ -186,6 +286,22 @@ int main(int argc, char** argv) {
                     kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
                     Mean(stats[b].tangential));
       }
+    }
+    std::printf("\nStereo: KLT disparity (left to right, %d levels) minus fB/z of the Velodyne\n\n| KLT started at | "
+                "depth | matches | mean (px) | median (px) |\n|---|---|---|---|---|\n", o.stereo_levels);
+    for (int mode = 0; mode < 2; ++mode) {
+      for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
+        std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f |\n",
+                    mode == 0 ? "the true disparity" : "2 px short of it", kBinEdgesM[b], kBinEdgesM[b + 1],
+                    stereo[mode][b].size(), Mean(stereo[mode][b]), Median(stereo[mode][b]));
+      }
+    }
+    std::printf("\nKLT on frame k's own image scaled by a known factor about the principal point (every %d frames, "
+                "started at the corner's old position): error away from the principal point\n\n| scale | tracks | "
+                "mean (px) | median (px) |\n|---|---|---|---|\n", kScaleEveryFrames);
+    for (size_t si = 0; si < std::size(kScales); ++si) {
+      std::printf("| %.2f | %zu | %+.4f | %+.4f |\n", kScales[si], scaled[si].size(), Mean(scaled[si]),
+                  Median(scaled[si]));
     }
     std::printf("\nKLT started at the predicted position: median error away from the focus of expansion (px, "
                 "tracks), by depth and distance from the principal point\n\n| depth |");
