@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
   std::vector<semap::Pose3d> truth, estimate;
   std::vector<double> cpu_ms;
   double features = 0, inliers = 0;
-  int failed = 0;
+  int failed = 0, keyframes = 0;
   semap::DisparityOffset estimate_offset_at_end;
   while (auto frame = source->Next()) {
     if (!frame->world_from_cam) {
@@ -134,6 +134,7 @@ int main(int argc, char** argv) {
     if (r.status == semap::OdometryStatus::kTracked) estimate_offset_at_end = r.disparity_offset;
     features += r.features;
     inliers += r.inliers;
+    keyframes += r.keyframe;
     if (report_every > 0 && truth.size() % static_cast<size_t>(report_every) == 0) {
       const auto k = semap::KittiOdometryMetric(truth, estimate);
       const auto rel = semap::RelativeError(truth, estimate, 10);
@@ -197,8 +198,8 @@ int main(int argc, char** argv) {
                 estimate_offset_at_end.per_row_px);
   }
   std::printf("odometry CPU per frame (1 thread): mean %.2f ms, p50 %.2f, p95 %.2f, max %.2f; features %.0f, "
-              "inliers %.0f\n",
+              "inliers %.0f; %d keyframes\n",
               cpu_sum / n, sorted[n / 2], sorted[std::min(n - 1, n * 95 / 100)], sorted.back(), features / n,
-              inliers / n);
+              inliers / n, keyframes);
   return 0;
 }

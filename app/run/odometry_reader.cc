@@ -24,7 +24,8 @@ std::vector<io::FrameFigure> OdometryLog::Figures(std::int64_t frame_id) const {
             {"odometry_cpu_ms", r.cpu_ms},
             {"odometry_ms", it->wall_ms},
             {"odometry_disparity_offset_px", r.disparity_offset.constant_px},
-            {"odometry_disparity_offset_per_row_px", r.disparity_offset.per_row_px}};
+            {"odometry_disparity_offset_per_row_px", r.disparity_offset.per_row_px},
+            {"odometry_keyframe", r.keyframe ? 1.0 : 0.0}};
   }
   return {};
 }

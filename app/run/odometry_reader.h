@@ -31,7 +31,8 @@ class OdometryLog {
   void Add(OdometryRecord record);
   // frames.csv columns of a frame: odometry_status (0 first, 1 tracked, 2 bridged, 3 restarted),
   // odometry_features, odometry_inliers, odometry_cpu_ms, odometry_ms, odometry_disparity_offset_px and
-  // odometry_disparity_offset_per_row_px (the offset the frame's motion used); empty for a frame it has not seen.
+  // odometry_disparity_offset_per_row_px (the offset the frame's motion used) and odometry_keyframe (1: the
+  // frame became the reference the next frames are tracked from); empty for a frame it has not seen.
   std::vector<io::FrameFigure> Figures(std::int64_t frame_id) const;
   std::vector<OdometryRecord> Records() const;
   // Frames that were bridged or restarted (their poses are guesses).

@@ -105,6 +105,9 @@ void StereoOdometryOptions::Check() const {
   SEMAP_CHECK_OPTION(std::isfinite(max_rotation_rate_deg_s) && max_rotation_rate_deg_s > 0.0,
                      "max_rotation_rate_deg_s", max_rotation_rate_deg_s, "must be finite and > 0");
   SEMAP_CHECK_OPTION(max_bridged_frames >= 0, "max_bridged_frames", max_bridged_frames, "must be >= 0");
+  SEMAP_CHECK_OPTION(keyframe_max_frames >= 1, "keyframe_max_frames", keyframe_max_frames, "must be >= 1");
+  SEMAP_CHECK_OPTION(keyframe_min_inlier_ratio >= 0.0 && keyframe_min_inlier_ratio <= 1.0,
+                     "keyframe_min_inlier_ratio", keyframe_min_inlier_ratio, "must be in [0, 1]");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) <= kMaxDisparityOffsetPx,
                      "disparity_offset_px", disparity_offset_px, "must be finite and within ±5 px");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_per_row_px) &&
@@ -139,6 +142,7 @@ struct StereoOdometry::State {
   Pose3d moving_motion = Pose3d::Identity();
   double moving_dt_s = 0.0;
   int failed_in_a_row = 0;
+  int tracked_from_ref = 0;  // frames tracked from the reference so far
   // The disparity offset: in use, and the information-weighted sums of the frames' estimates (constant,
   // per row).
   DisparityOffset offset;
@@ -310,7 +314,9 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     s.ref_right_px = std::move(kept_right);
     s.world_from_ref = world_from_cam;
     s.ref_timestamp_s = timestamp_s;
+    s.tracked_from_ref = 0;
     result.stereo_features = static_cast<int>(s.ref_left_px.size());
+    result.keyframe = true;
   };
   auto finish = [&]() {
     result.cpu_ms = ThreadCpuMs() - cpu0_ms;
@@ -470,6 +476,18 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
               s.moving_dt_s = dt_s;
             }
           }
+          s.failed_in_a_row = 0;
+          ++frames_tracked_;
+          // The reference stays for up to keyframe_max_frames tracked frames while most of its features
+          // still fit: each frame's pose then comes from one estimate against the keyframe instead of a
+          // chain of frame-to-frame ones, whose errors (a bias of a few thousandths of a degree in each
+          // rotation on exact generated frames) add up.
+          ++s.tracked_from_ref;
+          if (s.tracked_from_ref < options_.keyframe_max_frames &&
+              refined.num_inliers >= options_.keyframe_min_inlier_ratio * ref_count) {
+            result.stereo_features = ref_count;
+            return true;
+          }
           std::vector<cv::Point2f> kept_left, kept_right;
           for (size_t k = 0; k < matches.size(); ++k) {
             if (!refined.inliers[k] || !stereo_ok[k]) continue;
@@ -477,8 +495,6 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
             kept_right.push_back(tracked_right[k]);
           }
           make_reference(std::move(kept_left), std::move(kept_right), result.world_from_cam);
-          s.failed_in_a_row = 0;
-          ++frames_tracked_;
           return true;
         }
       }
@@ -512,6 +528,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     // Restart on this frame when it has enough features; otherwise keep bridging from the old reference.
     const Pose3d old_ref = s.world_from_ref;
     const double old_t = s.ref_timestamp_s;
+    const int old_tracked = s.tracked_from_ref;
     std::vector<cv::Mat> old_pyramid = s.ref_left_pyramid;
     std::vector<cv::Point2f> old_left = s.ref_left_px, old_right = s.ref_right_px;
     make_reference({}, {}, result.world_from_cam);
@@ -527,7 +544,9 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
       s.ref_left_pyramid = std::move(old_pyramid);
       s.ref_left_px = std::move(old_left);
       s.ref_right_px = std::move(old_right);
+      s.tracked_from_ref = old_tracked;
       result.stereo_features = 0;  // this frame did not become the reference
+      result.keyframe = false;
     }
   }
   result.status = OdometryStatus::kBridged;

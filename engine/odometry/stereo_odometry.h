@@ -37,6 +37,8 @@ struct StereoOdometryOptions {
   double max_speed_mps = 50.0;
   double max_rotation_rate_deg_s = 120.0;
   int max_bridged_frames = 3;
+  int keyframe_max_frames = 3;
+  double keyframe_min_inlier_ratio = 0.6;
   double disparity_offset_px = 0.0;
   double disparity_offset_per_row_px = 0.0;
   OffsetEstimate estimate_disparity_offset = OffsetEstimate::kOff;
@@ -72,6 +74,12 @@ struct StereoOdometryOptions {
     v.Field("max_bridged_frames", &max_bridged_frames,
             "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
             "frame");
+    v.Field("keyframe_max_frames", &keyframe_max_frames,
+            "frames tracked from one reference (keyframe) before the last of them becomes the next: fewer "
+            "estimates chained per metre, so less drift (1 = every frame is the next one's reference)");
+    v.Field("keyframe_min_inlier_ratio", &keyframe_min_inlier_ratio,
+            "a tracked frame becomes the reference at once when fewer than this share of the reference's "
+            "features are inliers (the view has moved on)");
     v.Field("disparity_offset_px", &disparity_offset_px,
             "added to every measured disparity (true = measured + offset), in the odometry and in the depth of "
             "the frames it reads: a rectification off by a fraction of a pixel scales every step; the start of "
@@ -106,7 +114,8 @@ struct OdometryResult {
   OdometryStatus status = OdometryStatus::kFirst;
   int features = 0;        // reference features tracked into this frame
   int inliers = 0;         // of those, consistent with the estimated motion
-  int stereo_features = 0;  // features of this frame with a stereo match (the next frame's reference)
+  int stereo_features = 0;  // features with a stereo match that the next frame is tracked from (0: failed)
+  bool keyframe = false;    // this frame became the reference (the first frame, a restart, or see keyframe_*)
   double cpu_ms = 0.0;     // CPU time of this Track() call (the calling thread's)
   DisparityOffset disparity_offset;  // the disparity offset used for this frame
   // This frame's own estimate of the offset and the standard deviation of its constant (estimate_disparity_offset,
@@ -116,10 +125,11 @@ struct OdometryResult {
   std::string problem;     // why tracking failed (kBridged, kRestarted); empty otherwise
 };
 
-// Frame-to-frame stereo odometry. Each frame: the reference frame's features (FAST corners with a stereo
+// Keyframe-to-frame stereo odometry. Each frame: the reference frame's features (FAST corners with a stereo
 // match) are tracked into the left image (pyramidal KLT from a constant-velocity prediction), matched into
 // the right one, the motion comes from P3P RANSAC and a robust Gauss-Newton refinement of the stereo
-// reprojection error in both frames, and the frame becomes the next reference, topped up with new corners.
+// reprojection error in both frames. Every keyframe_max_frames tracked frames (sooner when the reference's
+// features are lost) the frame becomes the next reference, topped up with new corners.
 // A frame whose tracking fails keeps the last tracked frame as reference (the next frame is tracked from it)
 // and gets a constant-velocity pose; after max_bridged_frames such frames tracking restarts.
 // Not thread-safe: one thread calls Track() with the frames in order.

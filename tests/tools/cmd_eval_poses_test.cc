@@ -108,7 +108,7 @@ TEST_F(Odometry, SequenceWithoutPosesIsMappedFromOdometry) {
   EXPECT_EQ(Lines(out_ / "poses_odometry.tum").size(), static_cast<size_t>(kFrames));
   const std::vector<std::string> csv = Lines(out_ / "frames.csv");
   ASSERT_EQ(csv.size(), static_cast<size_t>(kFrames + 1));
-  EXPECT_NE(csv[0].find("odometry_status,odometry_features,odometry_inliers,odometry_cpu_ms,odometry_ms,odometry_disparity_offset_px,odometry_disparity_offset_per_row_px"),
+  EXPECT_NE(csv[0].find("odometry_status,odometry_features,odometry_inliers,odometry_cpu_ms,odometry_ms,odometry_disparity_offset_px,odometry_disparity_offset_per_row_px,odometry_keyframe"),
             std::string::npos);
   EXPECT_GT(fs::file_size(out_ / "mesh.ply"), 1000u);
 

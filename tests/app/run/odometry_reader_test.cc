@@ -69,10 +69,11 @@ TEST(OdometryReader, ReplacesThePosesWithTheEstimate) {
   EXPECT_EQ(log->Records().size(), 5u);
   EXPECT_EQ(log->failures(), 0);
   const auto figures = log->Figures(3);
-  ASSERT_EQ(figures.size(), 7u);
+  ASSERT_EQ(figures.size(), 8u);
   EXPECT_EQ(figures[0].name, "odometry_status");
   EXPECT_EQ(figures[5].name, "odometry_disparity_offset_px");
   EXPECT_EQ(figures[6].name, "odometry_disparity_offset_per_row_px");
+  EXPECT_EQ(figures[7].name, "odometry_keyframe");
   EXPECT_EQ(figures[0].value, 1.0);  // tracked
   EXPECT_GT(figures[2].value, 50.0);  // inliers
   EXPECT_TRUE(log->Figures(99).empty());

@@ -258,6 +258,43 @@ TEST(StereoOdometry, FirstBlankFrameThenTexture) {
   EXPECT_TRUE(r.world_from_cam.isApprox(Pose3d::Identity()));
 }
 
+// With keyframe_max_frames = 3 a frame is tracked from a reference up to three frames back: at most two
+// frames in a row keep the reference, and the poses stay within the chained tolerance of the truth. With 1,
+// every frame is the next one's reference.
+TEST(StereoOdometry, KeyframesKeepTheReferenceForUpToMaxFrames) {
+  constexpr int kFrames = 8;
+  const sim::SyntheticSequence seq(Street(kFrames));
+  const sim::CameraRenderer renderer(seq.scene(), seq.options());
+  const StereoCalibration& c = seq.rig().calibration;
+  StereoOdometryOptions every_third, every_frame;
+  every_third.keyframe_max_frames = 3;
+  every_frame.keyframe_max_frames = 1;
+  StereoOdometry keyframed(every_third, c), chained(every_frame, c);
+  keyframed.SetFirstPose(seq.world_from_cam2(0));
+  int kept_in_a_row = 0, kept = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    const Pair pair = Render(seq, renderer, seq.scene_from_cam2(i), i);
+    const OdometryResult k = keyframed.Track(pair.left, pair.right, i * kFramePeriodS);
+    const OdometryResult f = chained.Track(pair.left, pair.right, i * kFramePeriodS);
+    EXPECT_TRUE(f.keyframe) << "frame " << i;
+    if (i == 0) {
+      EXPECT_TRUE(k.keyframe);
+      continue;
+    }
+    ASSERT_EQ(k.status, OdometryStatus::kTracked) << "frame " << i << ": " << k.problem;
+    EXPECT_GT(k.stereo_features, 0) << "frame " << i;  // the next frame has a reference either way
+    kept_in_a_row = k.keyframe ? 0 : kept_in_a_row + 1;
+    kept += !k.keyframe;
+    EXPECT_LE(kept_in_a_row, every_third.keyframe_max_frames - 1) << "frame " << i;
+    const double steps = std::sqrt(static_cast<double>(i));
+    EXPECT_LT((k.world_from_cam.translation() - seq.world_from_cam2(i).translation()).norm(),
+              steps * TranslationTolerancePerFrameM(c))
+        << "frame " << i;
+  }
+  EXPECT_GT(kept, 0);  // on a steady street the reference is kept
+  EXPECT_EQ(keyframed.frames_tracked(), kFrames - 1);
+}
+
 TEST(StereoOdometry, ImagesThatDoNotFitTheCalibrationThrow) {
   const sim::SyntheticSequence seq(Street(1));
   StereoOdometry odometry(StereoOdometryOptions{}, seq.rig().calibration);
@@ -281,6 +318,12 @@ TEST(StereoOdometryOptions, CheckNamesTheField) {
   EXPECT_THROW(o.Check(), InvalidOption);
   o = {};
   o.max_speed_mps = -1.0;
+  EXPECT_THROW(o.Check(), InvalidOption);
+  o = {};
+  o.keyframe_max_frames = 0;
+  EXPECT_THROW(o.Check(), InvalidOption);
+  o = {};
+  o.keyframe_min_inlier_ratio = 1.5;
   EXPECT_THROW(o.Check(), InvalidOption);
   EXPECT_THROW(StereoOdometry(StereoOdometryOptions{}, StereoCalibration{}), InvalidOption);
 }
