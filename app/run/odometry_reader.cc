@@ -65,9 +65,9 @@ std::optional<Frame> OdometryReader::Next() {
   record.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   const OdometryResult result = record.result;
   log_->Add(std::move(record));
-  // The rig's rectification offset as the odometry knows it: the frame's depth uses it too, so that the map's
-  // points and the odometry's poses share one scale.
-  frame->disparity_offset = result.disparity_offset;
+  // The rig's rectification offset as the odometry knows it, when the frame's depth is to use it too
+  // (offset_in_depth: the map's points and the odometry's poses then share one scale).
+  if (options_.offset_in_depth) frame->disparity_offset = result.disparity_offset;
   if (!replace_poses_) return frame;
   if (result.status == OdometryStatus::kBridged || result.status == OdometryStatus::kRestarted) {
     throw std::runtime_error("frame " + std::to_string(frame->id) + ": visual odometry lost track (" +

@@ -79,6 +79,25 @@ TEST(OdometryReader, ReplacesThePosesWithTheEstimate) {
   EXPECT_TRUE(log->Figures(99).empty());
 }
 
+// The odometry's disparity offset reaches the frames' depth only with offset_in_depth.
+TEST(OdometryReader, OffsetReachesTheDepthOnlyWhenAsked) {
+  constexpr double kOffsetPx = 0.3;
+  const sim::SyntheticSequence seq(Drive(2));
+  for (const bool in_depth : {false, true}) {
+    StereoOdometryOptions o;
+    o.disparity_offset_px = kOffsetPx;
+    o.offset_in_depth = in_depth;
+    auto log = std::make_shared<OdometryLog>();
+    OdometryReader reader(std::make_unique<DriveReader>(seq, 2, true), o, true, log);
+    for (int i = 0; i < 2; ++i) {
+      const std::optional<Frame> f = reader.Next();
+      ASSERT_TRUE(f);
+      EXPECT_EQ(log->Records().back().result.disparity_offset.constant_px, kOffsetPx);
+      EXPECT_EQ(f->disparity_offset.constant_px, in_depth ? kOffsetPx : 0.0) << "in_depth " << in_depth;
+    }
+  }
+}
+
 // Beside the sequence's poses: the frames keep theirs; the odometry still runs and logs.
 TEST(OdometryReader, BesideTheSequencesPosesKeepsThem) {
   const sim::SyntheticSequence seq(Drive(3));
