@@ -75,29 +75,45 @@ RadiusGrid::RadiusGrid(const std::vector<Eigen::Vector3d>& points, double radius
     : points_(&points), radius_m_(radius_m) {
   SEMAP_ASSERT(radius_m > 0.0, "radius " << radius_m);
   const std::size_t n = points.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  // Points bucketed by cell without sorting: a first table (sized for one cell per point) counts the points
+  // of each cell, a prefix sum gives each cell its range of order_, and the points are placed in ascending
+  // index order, so each cell's range is ascending. Then the occupied cells move to a table sized for them.
+  int count_bits = 1;
+  while ((std::size_t{1} << count_bits) < 2 * std::max<std::size_t>(n, 1)) ++count_bits;
+  std::vector<Slot> counting(std::size_t{1} << count_bits, Slot{kEmptyKey, 0, 0});
+  const std::size_t count_mask = counting.size() - 1;
+  std::vector<std::uint32_t> slot_of(n);
+  std::vector<std::uint32_t> occupied;  // the counting table's occupied slots, in the order first seen
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = points[i];
-    keyed[i] = {Key(CellOf(p.x()), CellOf(p.y()), CellOf(p.z())), static_cast<std::uint32_t>(i)};
+    const std::uint64_t key = Key(CellOf(p.x()), CellOf(p.y()), CellOf(p.z()));
+    std::size_t s = static_cast<std::size_t>((key * kHashMultiplier) >> (64 - count_bits));
+    while (counting[s].key != kEmptyKey && counting[s].key != key) s = (s + 1) & count_mask;
+    if (counting[s].key == kEmptyKey) {
+      counting[s].key = key;
+      occupied.push_back(static_cast<std::uint32_t>(s));
+    }
+    ++counting[s].end;  // the cell's count, for now
+    slot_of[i] = static_cast<std::uint32_t>(s);
   }
-  std::sort(keyed.begin(), keyed.end());
+  std::uint32_t next = 0;
+  for (const std::uint32_t s : occupied) {
+    Slot& slot = counting[s];
+    slot.begin = next;
+    next += slot.end;
+    slot.end = slot.begin;  // the cell's write cursor
+  }
   order_.resize(n);
-  std::size_t cells = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    order_[i] = keyed[i].second;
-    cells += (i == 0 || keyed[i].first != keyed[i - 1].first) ? 1 : 0;
-  }
+  for (std::size_t i = 0; i < n; ++i) order_[counting[slot_of[i]].end++] = static_cast<std::uint32_t>(i);
   slot_bits_ = 1;
-  while ((std::size_t{1} << slot_bits_) < 2 * cells) ++slot_bits_;
+  while ((std::size_t{1} << slot_bits_) < 2 * occupied.size()) ++slot_bits_;
   slots_.assign(std::size_t{1} << slot_bits_, Slot{kEmptyKey, 0, 0});
   const std::size_t mask = slots_.size() - 1;
-  for (std::size_t i = 0; i < n;) {
-    std::size_t j = i + 1;
-    while (j < n && keyed[j].first == keyed[i].first) ++j;
-    std::size_t s = Home(keyed[i].first);
+  for (const std::uint32_t c : occupied) {
+    const Slot& slot = counting[c];
+    std::size_t s = Home(slot.key);
     while (slots_[s].key != kEmptyKey) s = (s + 1) & mask;
-    slots_[s] = Slot{keyed[i].first, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)};
-    i = j;
+    slots_[s] = slot;
   }
 }
 
