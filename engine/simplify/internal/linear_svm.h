@@ -3,9 +3,10 @@
 // The same problem as libsvm's / OpenCV's C_SVC with a LINEAR kernel (cv::ml::SVM, which PS used before):
 // min ½|w|² + C Σ ξ_i subject to y_i (w·x_i − ρ) ≥ 1 − ξ_i, solved in the dual by SMO with libsvm's
 // second-order working-set selection, stopping when the maximal KKT violation is below `epsilon` or after
-// `max_iterations` pair updates, and ρ from the free support vectors as libsvm computes it. Written for PS's
-// small problems (at most ps_svm_max_samples points): no kernel cache, no shrinking, every step O(n) on the
-// points themselves, no allocation beyond the per-point arrays. Deterministic; thread-safe (no state).
+// `max_iterations` passes, and ρ from the free support vectors as libsvm computes it. Written for PS's
+// small problems (at most ps_svm_max_samples points): no kernel cache, every step O(n) on the points
+// themselves, no allocation beyond the per-point arrays; libsvm's shrinking (points at a bound that no working
+// set can pick leave the scans; the end is judged on every point). Deterministic; thread-safe (no state).
 #pragma once
 
 #include <Eigen/Core>
