@@ -64,14 +64,17 @@ void Region(std::uint64_t seed, double flip_band, std::vector<Eigen::Vector2d>* 
   }
 }
 
+// Overlapping regions run past n pair updates, so shrinking (every n updates) is exercised too.
 TEST(LinearSvm, SameLineAsOpenCvsCSvc) {
   std::vector<Eigen::Vector2d> x;
   std::vector<int> positive;
+  int shrunk = 0;  // problems that ran long enough to shrink
   for (double band : {0.0, 0.1, 0.3}) {
     for (std::uint64_t seed = 0; seed < 10; ++seed) {
       Region(seed, band, &x, &positive);
       const auto svm = TrainLinearSvm(x, positive, LinearSvmOptions{10.0, 1e-5, 2000});
       ASSERT_TRUE(svm.has_value());
+      shrunk += svm->iterations > static_cast<int>(x.size());
       const Line got = FromDecision(svm->w, svm->rho);
       const Line want = OpenCvReference(x, positive, 10.0);
       // The same line up to the sign of the normal (the class order is the solver's choice).
@@ -80,6 +83,7 @@ TEST(LinearSvm, SameLineAsOpenCvsCSvc) {
       EXPECT_NEAR(sign * got.offset, want.offset, 0.01) << "band " << band << " seed " << seed;
     }
   }
+  EXPECT_GT(shrunk, 0);
 }
 
 TEST(LinearSvm, SeparableMarginIsTheMidLine) {
