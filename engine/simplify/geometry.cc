@@ -206,6 +206,16 @@ std::optional<Plane> FitPlaneRansac(const std::vector<Eigen::Vector3d>& points,
     sample.resize(static_cast<size_t>(max_points));
   }
   std::uniform_int_distribution<size_t> pick(0, sample.size() - 1);
+  // The sample's coordinates, one array per axis: the counting loop below then reads them in order (and the
+  // compiler can vectorise it) instead of gathering the points through their indices. The distance is
+  // computed in the order SignedDistance computes it, n·x + offset.
+  std::vector<double> xs(sample.size()), ys(sample.size()), zs(sample.size());
+  for (size_t k = 0; k < sample.size(); ++k) {
+    const Eigen::Vector3d& p = points[sample[k]];
+    xs[k] = p.x();
+    ys[k] = p.y();
+    zs[k] = p.z();
+  }
   std::optional<Plane> best;
   size_t best_inliers = 0;
   int needed = iterations;  // lowered as better hypotheses are found (adaptive stop)
@@ -221,8 +231,9 @@ std::optional<Plane> FitPlaneRansac(const std::vector<Eigen::Vector3d>& points,
     size_t inliers = 0;
     for (size_t begin = 0; begin < sample.size(); begin += kRansacChunk) {
       const size_t end = std::min(sample.size(), begin + kRansacChunk);
+      const double nx = h.normal.x(), ny = h.normal.y(), nz = h.normal.z(), offset = h.offset;
       for (size_t k = begin; k < end; ++k) {
-        inliers += std::abs(h.SignedDistance(points[sample[k]])) <= threshold_m ? 1 : 0;
+        inliers += std::abs(nx * xs[k] + ny * ys[k] + nz * zs[k] + offset) <= threshold_m ? 1 : 0;
       }
       if (inliers + (sample.size() - end) <= best_inliers) break;
     }
