@@ -23,9 +23,14 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "bench/sequence_args.h"
+#include "bench/stats.h"
 #include "engine/depth/depth_metrics.h"
 
 namespace {
+
+using semap::bench::BinOf;
+using semap::bench::Mean;
+using semap::bench::Median;
 
 // KLT's stop criteria, as in engine/odometry.
 constexpr int kKltMaxIterations = 30;
@@ -75,17 +80,6 @@ bool SmoothDepth(const cv::Mat& lidar, int u, int v, double z_m, double share) {
 struct Stats {
   std::vector<double> radial, tangential;
 };
-
-double Mean(const std::vector<double>& v) {
-  double s = 0.0;
-  for (double x : v) s += x;
-  return v.empty() ? std::nan("") : s / static_cast<double>(v.size());
-}
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 }  // namespace
 
@@ -216,10 +210,8 @@ int main(int argc, char** argv) {
             for (size_t i = 0; i < start.size(); ++i) {
               if (!status[i] || std::abs(right[i].y - start[i].y) > o.max_epipolar_error_px) continue;
               const double e = (start[i].x - right[i].x) - c.fx_px * c.baseline_m / depth_m[i];
-              if (std::abs(e) > kMaxErrorPx) continue;
-              for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
-                if (depth_m[i] >= kBinEdgesM[b] && depth_m[i] < kBinEdgesM[b + 1]) stereo[mode][b].push_back(e);
-              }
+              const int b = BinOf(kBinEdgesM, depth_m[i]);
+              if (std::abs(e) <= kMaxErrorPx && b >= 0) stereo[mode][static_cast<size_t>(b)].push_back(e);
             }
           }
         }
@@ -242,19 +234,17 @@ int main(int argc, char** argv) {
             // By distance from the principal point: the error along that direction (a lens distortion left
             // in the rectified images would stretch or shrink the flow there).
             const Eigen::Vector2d from_centre(predicted[i].x - c.cx_px, predicted[i].y - c.cy_px);
-            for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
-              const double rc = from_centre.norm();
-              if (rc < kRadiusEdgesPx[b] || rc >= kRadiusEdgesPx[b + 1] || rc <= 0.0) continue;
-              by_radius[b].radial.push_back(e.dot(from_centre / rc));
-              by_radius[b].tangential.push_back(e.dot(radial));
-              for (size_t z = 0; mode == 0 && z + 1 < std::size(kBinEdgesM); ++z) {
-                if (depth_m[i] >= kBinEdgesM[z] && depth_m[i] < kBinEdgesM[z + 1]) grid[z][b].push_back(e.dot(radial));
-              }
+            const double rc = from_centre.norm();
+            const int rb = rc > 0.0 ? BinOf(kRadiusEdgesPx, rc) : -1;
+            const int zb = BinOf(kBinEdgesM, depth_m[i]);
+            if (rb >= 0) {
+              by_radius[static_cast<size_t>(rb)].radial.push_back(e.dot(from_centre / rc));
+              by_radius[static_cast<size_t>(rb)].tangential.push_back(e.dot(radial));
+              if (mode == 0 && zb >= 0) grid[static_cast<size_t>(zb)][static_cast<size_t>(rb)].push_back(e.dot(radial));
             }
-            for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
-              if (depth_m[i] < kBinEdgesM[b] || depth_m[i] >= kBinEdgesM[b + 1]) continue;
-              stats[b].radial.push_back(e.dot(radial));
-              stats[b].tangential.push_back(radial.x() * e.y() - radial.y() * e.x());
+            if (zb >= 0) {
+              stats[static_cast<size_t>(zb)].radial.push_back(e.dot(radial));
+              stats[static_cast<size_t>(zb)].tangential.push_back(radial.x() * e.y() - radial.y() * e.x());
             }
           }
         }

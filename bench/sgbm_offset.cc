@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bench/sequence_args.h"
+#include "bench/stats.h"
 #include "engine/depth/depth_metrics.h"
 #include "engine/depth/stereo_depth.h"
 
@@ -37,11 +38,7 @@ struct DepthFrame {
   cv::Mat confidence;
 };
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
+using semap::bench::Median;
 
 // Residuals (disparity in frame b, offset added, minus the one predicted from frame a's pixel) for `offset`.
 std::vector<double> Residuals(const DepthFrame& a, const DepthFrame& b, double offset_px, int stride_px) {
