@@ -69,6 +69,11 @@ constexpr std::uint64_t kCellMask = (std::uint64_t{1} << kCellBits) - 1;
 constexpr std::uint64_t kEmptyKey = ~std::uint64_t{0};
 // Fibonacci hashing of a key to a slot (the top slot_bits_ bits of key · 2⁶⁴/φ).
 constexpr std::uint64_t kHashMultiplier = 0x9E3779B97F4A7C15ULL;
+
+// The first slot of `key` in an open-addressing table of 2^bits slots.
+std::size_t HomeSlot(std::uint64_t key, int bits) {
+  return static_cast<std::size_t>((key * kHashMultiplier) >> (64 - bits));
+}
 }  // namespace
 
 RadiusGrid::RadiusGrid(const std::vector<Eigen::Vector3d>& points, double radius_m)
@@ -87,7 +92,7 @@ RadiusGrid::RadiusGrid(const std::vector<Eigen::Vector3d>& points, double radius
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = points[i];
     const std::uint64_t key = Key(CellOf(p.x()), CellOf(p.y()), CellOf(p.z()));
-    std::size_t s = static_cast<std::size_t>((key * kHashMultiplier) >> (64 - count_bits));
+    std::size_t s = HomeSlot(key, count_bits);
     while (counting[s].key != kEmptyKey && counting[s].key != key) s = (s + 1) & count_mask;
     if (counting[s].key == kEmptyKey) {
       counting[s].key = key;
@@ -126,9 +131,7 @@ std::uint64_t RadiusGrid::Key(std::int64_t x, std::int64_t y, std::int64_t z) co
          ((static_cast<std::uint64_t>(y) & kCellMask) << kCellBits) | (static_cast<std::uint64_t>(z) & kCellMask);
 }
 
-std::size_t RadiusGrid::Home(std::uint64_t key) const {
-  return static_cast<std::size_t>((key * kHashMultiplier) >> (64 - slot_bits_));
-}
+std::size_t RadiusGrid::Home(std::uint64_t key) const { return HomeSlot(key, slot_bits_); }
 
 void RadiusGrid::Radius(const Eigen::Vector3d& query, std::vector<std::uint32_t>* out) const {
   out->clear();
