@@ -8,19 +8,28 @@
 // its label image, or with semantics.source: enet the segmenter's labels of the frame (every frame); only
 // without either, the label of the mesh triangle hit (which cannot tell a car that left: the mesh shows
 // the road behind it there). A third table judges the static scene on the pixels both depth maps cover, so that
-// neither is judged on pixels the other leaves out (the mesh covers more, and harder, pixels).
+// neither is judged on pixels the other leaves out (the mesh covers more, and harder, pixels). A fourth
+// splits those pixels by the angle between the pixel's ray and the normal of the mesh triangle it hits
+// (0° = the surface faces the camera, 90° = seen edge-on): a surface seen at a grazing angle turns a small
+// error across it into a large one along the ray, 1 / cos of that angle. Beside the depth figures it gives
+// each side's median distance to the reference point across the surface: |depth error| · |ray| / z ·
+// cos(angle), the depth error with that magnification taken out.
 //
 // Usage: semap_fusion_table SEQUENCE --mesh MESH.ply [--frames N] [--config FILE] [--set key=value ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "app/eval/mesh_evaluation.h"
 #include "bench/sequence_args.h"
+#include "bench/stats.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
@@ -125,6 +134,88 @@ struct ReferenceTables {
   Table all, static_scene, common;
 };
 
+// The static pixels both depth maps cover (within the strict depth range), by the incidence angle of the
+// mesh surface at the pixel (see the header).
+class IncidenceTable {
+ public:
+  explicit IncidenceTable(const DepthAccuracyOptions& strict) : strict_(strict) {}
+  void Add(const cv::Mat& static_reference, const cv::Mat& input, const cv::Mat& mesh_depth,
+           const cv::Mat& triangle, const semap::Mesh& mesh, const semap::StereoCalibration& k,
+           const semap::Pose3d& world_from_cam) {
+    const Eigen::Matrix3d cam_from_world = world_from_cam.linear().transpose();
+    for (int v = 0; v < static_reference.rows; ++v) {
+      for (int u = 0; u < static_reference.cols; ++u) {
+        const double z = static_reference.at<float>(v, u);
+        const float zi = input.at<float>(v, u), zm = mesh_depth.at<float>(v, u);
+        const int t = triangle.at<int>(v, u);
+        if (!(z >= strict_.min_depth_m && z <= strict_.max_depth_m) || t < 0) continue;
+        if (!(std::isfinite(zi) && zi > 0.0f && std::isfinite(zm) && zm > 0.0f)) continue;
+        const auto& tri = mesh.triangles[std::size_t(t)];
+        const Eigen::Vector3d normal_world =
+            (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+        if (normal_world.squaredNorm() == 0.0) continue;
+        const Eigen::Vector3d normal = (cam_from_world * normal_world).normalized();
+        const Eigen::Vector3d ray((u - k.cx_px) / k.fx_px, (v - k.cy_px) / k.fy_px, 1.0);  // at z = 1
+        const double cos_incidence = std::abs(normal.dot(ray.normalized()));
+        const double angle_deg = std::acos(std::min(1.0, cos_incidence)) * 180.0 / M_PI;
+        const int b = semap::bench::BinOf(kAngleEdgesDeg, angle_deg);
+        const int r = semap::bench::BinOf(kRangeEdgesM, z);
+        if (b < 0 || r < 0) continue;
+        const double across = ray.norm() * cos_incidence;  // distance across the surface per metre of depth
+        Bin& bin = bins_[std::size_t(r)][std::size_t(b)];
+        const double ei = double(zi) - z, em = double(zm) - z;
+        bin.input_sq += ei * ei;
+        bin.mesh_sq += em * em;
+        bin.input_abs.push_back(std::abs(ei));
+        bin.mesh_abs.push_back(std::abs(em));
+        bin.input_across.push_back(std::abs(ei) * across);
+        bin.mesh_across.push_back(std::abs(em) * across);
+      }
+    }
+  }
+  void Print(const std::string& title) const {
+    std::printf("\n%s\n\n", title.c_str());
+    std::printf(
+        "| reference depth | incidence | share of pixels | SGBM RMSE (m) | SGBM median (m) | mesh RMSE (m) | "
+        "mesh median (m) | SGBM median across (m) | mesh median across (m) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n");
+    std::size_t total = 0;
+    for (const auto& range : bins_) {
+      for (const Bin& bin : range) total += bin.input_abs.size();
+    }
+    for (std::size_t r = 0; r < bins_.size(); ++r) {
+      for (std::size_t b = 0; b < bins_[r].size(); ++b) {
+        const Bin& bin = bins_[r][b];
+        const double n = double(bin.input_abs.size());
+        if (n == 0) continue;
+        char range[32];
+        if (r + 2 < std::size(kRangeEdgesM)) {
+          std::snprintf(range, sizeof(range), "%.0f-%.0f m", kRangeEdgesM[r], kRangeEdgesM[r + 1]);
+        } else {
+          std::snprintf(range, sizeof(range), "%.0f m and beyond", kRangeEdgesM[r]);
+        }
+        std::printf("| %s | %.0f-%.0f° | %.1f %% | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", range,
+                    kAngleEdgesDeg[b], kAngleEdgesDeg[b + 1],
+                    100.0 * n / double(total), std::sqrt(bin.input_sq / n), semap::bench::Median(bin.input_abs),
+                    std::sqrt(bin.mesh_sq / n), semap::bench::Median(bin.mesh_abs),
+                    semap::bench::Median(bin.input_across), semap::bench::Median(bin.mesh_across));
+      }
+    }
+  }
+
+ private:
+  // The last edge holds 90° itself.
+  static constexpr double kAngleEdgesDeg[] = {0.0, 45.0, 70.0, 80.0, 85.0, 90.0001};
+  // Reference depth: the paper protocol's range, and beyond it (the strict range's end is not a bound here).
+  static constexpr double kRangeEdgesM[] = {0.0, semap::kPaperMaxDepthM, std::numeric_limits<double>::infinity()};
+  struct Bin {
+    double input_sq = 0.0, mesh_sq = 0.0;
+    std::vector<double> input_abs, mesh_abs, input_across, mesh_across;
+  };
+  DepthAccuracyOptions strict_;
+  std::array<std::array<Bin, std::size(kAngleEdgesDeg) - 1>, std::size(kRangeEdgesM) - 1> bins_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -152,6 +243,7 @@ int main(int argc, char** argv) {
     if (config.semantics.source == semap::LabelSource::kEnet) segmenter = semap::MakeSegmenter(config.semantics);
     const DepthAccuracyOptions strict = config.eval;
     ReferenceTables lidar_tables(strict), exact_tables(strict);
+    IncidenceTable lidar_incidence(strict), exact_incidence(strict);
     int with_lidar = 0, with_exact = 0;
     while (auto frame = source->Next()) {
       if (!frame->world_from_cam) continue;
@@ -165,19 +257,33 @@ int main(int argc, char** argv) {
       const cv::Mat classes = semap::PixelClasses(frame->labels, rendered.triangle, triangle_labels);
       if (frame->velodyne) {
         const cv::Mat lidar = semap::LidarDepthImage(*frame->velodyne, frame->calibration, strict);
-        lidar_tables.Add(lidar, StaticOnly(lidar, classes, movable), stereo, rendered.depth);
+        const cv::Mat lidar_static = StaticOnly(lidar, classes, movable);
+        lidar_tables.Add(lidar, lidar_static, stereo, rendered.depth);
+        lidar_incidence.Add(lidar_static, stereo, rendered.depth, rendered.triangle, mesh, frame->calibration,
+                            *frame->world_from_cam);
         ++with_lidar;
       }
       if (exact_path) {
         const cv::Mat exact = semap::io::ReadDepthPngMm(*exact_path);
-        exact_tables.Add(exact, StaticOnly(exact, classes, movable), stereo, rendered.depth);
+        const cv::Mat exact_static = StaticOnly(exact, classes, movable);
+        exact_tables.Add(exact, exact_static, stereo, rendered.depth);
+        exact_incidence.Add(exact_static, stereo, rendered.depth, rendered.triangle, mesh, frame->calibration,
+                            *frame->world_from_cam);
         ++with_exact;
       }
     }
     std::printf("Fusion: per-frame SGBM depth (the map's input) against the mesh %s, %s, strict protocol (%s)\n",
                 mesh_path.c_str(), sequence.c_str(), semap::ProtocolFilters(strict).c_str());
-    if (with_lidar > 0) lidar_tables.Print("Velodyne", with_lidar);
-    if (with_exact > 0) exact_tables.Print("Exact depth", with_exact);
+    const std::string incidence_title =
+        ", static scene, the pixels both cover, by the angle between the ray and the mesh surface's normal";
+    if (with_lidar > 0) {
+      lidar_tables.Print("Velodyne", with_lidar);
+      lidar_incidence.Print("Velodyne" + incidence_title);
+    }
+    if (with_exact > 0) {
+      exact_tables.Print("Exact depth", with_exact);
+      exact_incidence.Print("Exact depth" + incidence_title);
+    }
     if (with_lidar == 0 && with_exact == 0) {
       std::fprintf(stderr, "semap_fusion_table: %s has no frame with a pose and a reference depth\n", sequence.c_str());
       return 1;

@@ -46,7 +46,7 @@ BatchMapResult BuildBatchMap(const MapOptions& options, const LabelledCloud& clo
   }
   for (const Eigen::Vector3d& c : cloud.camera_centers_world) lattice.Use(c, 0, &nodes);
   for (std::uint32_t n = 0; n < nodes.size(); ++n) {
-    inputs.emplace_back(ToPoint(lattice.Position(nodes[n])), VertexInfo{n, true, false, 0, {}});
+    inputs.emplace_back(ToPoint(lattice.Position(nodes[n])), VertexInfo{n, true, false, 0, 0, {}});
   }
   Delaunay dt;
   dt.insert(inputs.begin(), inputs.end());

@@ -40,6 +40,8 @@ struct MapUpdateResult {
   // vertices the views saw through that left the map (map.outlier_sightings).
   std::size_t vertices_moved = 0;
   std::size_t vertices_outliers = 0;
+  // kDepth, map.fuse_output_sigmas: vertices the output moved to their fused estimate (no re-triangulation).
+  std::size_t vertices_output_moved = 0;
   // kDepth, map.confirm_beyond_m: far points held for a second sighting (not in point_ids' vertices), and
   // held points of earlier frames that this frame confirmed (each became a vertex).
   std::size_t points_held = 0;

@@ -34,6 +34,8 @@ void MapOptions::Check() const {
                      fuse_gate_sigmas, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(fuse_move_sigmas) && fuse_move_sigmas >= 0.0, "fuse_move_sigmas",
                      fuse_move_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(fuse_output_sigmas) && fuse_output_sigmas >= 0.0, "fuse_output_sigmas",
+                     fuse_output_sigmas, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(outlier_sightings >= 0, "outlier_sightings", outlier_sightings, "must be >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(seen_noise_sigmas) && seen_noise_sigmas >= 0.0, "seen_noise_sigmas",
                      seen_noise_sigmas, "must be finite and >= 0");

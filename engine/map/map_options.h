@@ -45,6 +45,7 @@ struct MapOptions {
   double matter_behind_sigmas = 3.0;
   double fuse_gate_sigmas = 3.0;
   double fuse_move_sigmas = 3.0;
+  double fuse_output_sigmas = 1.0;
   int outlier_sightings = 3;
   double refine_depth_ratio = 0.0;
   double refine_noise_sigmas = 6.0;
@@ -109,6 +110,12 @@ struct MapOptions {
     v.Field("fuse_move_sigmas", &fuse_move_sigmas,
             "depth: a vertex moves to its fused estimate once that lies farther than this many of the "
             "estimate's σ from it (>= 0)");
+    // The output needs no re-triangulation: a vertex the triangulation keeps at its old place is written at
+    // its estimate, under a new output id (its triangles go out again in the next mesh delta).
+    v.Field("fuse_output_sigmas", &fuse_output_sigmas,
+            "depth: the output mesh puts a vertex at its fused estimate once that lies farther than this many "
+            "of the estimate's σ from where the output had it (>= 0; fuse_move_sigmas moves it in the "
+            "triangulation too)");
     v.Field("outlier_sightings", &outlier_sightings,
             "depth: a vertex that at least this many views saw through (their depth at its pixel beyond the "
             "gate, or sky), and more than saw it, leaves the map (an SGBM mismatch, or a moving object that "

@@ -19,6 +19,12 @@
 //     nearer saw something in front of it (occlusion): no evidence. Where the four pixels around disagree by
 //     more than the gate (a depth edge), a sighting within the gate counts as an inlier without moving the
 //     vertex.
+//   - Where the vertex is written: the triangulation keeps a vertex where it was inserted until its estimate
+//     has left it by map.fuse_move_sigmas of its σ (a move re-triangulates its star and re-votes its cells,
+//     the costly part); the output mesh follows the estimate sooner, from map.fuse_output_sigmas of its σ on,
+//     with no re-triangulation: the surface's connectivity is the triangulation's, its vertices the fused
+//     estimates. A vertex so moved keeps its point id, under a new output id (VertexInfo::output_version),
+//     so that a mesh delta re-sends its triangles.
 //   - The inlier ratio is judged by counts (IsOutlier), not by SVO's Beta posterior: a vertex that at least
 //     `min_outliers` views saw through, and more saw through than saw, is an outlier (an SGBM mismatch, or
 //     a moving object that left).

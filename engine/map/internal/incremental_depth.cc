@@ -355,6 +355,15 @@ std::uint32_t IncrementalState::FilterVertex(VertexHandle v, const VotingView& v
   // with a new id (the mesh's deltas name vertices by id, and a vertex's position never changes under it).
   const Eigen::Vector3d estimate = record.filter.Estimate();
   if ((estimate - position).norm() <= options_.fuse_move_sigmas * record.filter.Sigma() || !Refinable(id)) {
+    // Not moved in the triangulation: the output follows the estimate once it has left the output's
+    // position by fuse_output_sigmas (a frozen vertex's output is final: its triangles were emitted).
+    VertexInfo& info = v->info();
+    const Eigen::Vector3d& output = info.output_version == 0 ? position : record.output_position;
+    if (!info.frozen && (estimate - output).norm() > options_.fuse_output_sigmas * record.filter.Sigma()) {
+      record.output_position = estimate;
+      if (++info.output_version == 0) info.output_version = 1;  // 0 means "at its triangulation position"
+      ++result->vertices_output_moved;
+    }
     return id;
   }
   const std::uint32_t successor_id = next_point_id_++;

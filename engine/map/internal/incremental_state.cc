@@ -65,7 +65,12 @@ IncrementalState::IncrementalState(const MapOptions& options)
       carver_(&dt_, options.grow_passes, options.repair_fill_cost_q()),
       integrator_(&dt_, options),
       lattice_(options.steiner_spacing_m, options.steiner_margin_cubes),
-      mesher_(&dt_, Emit()) {}
+      mesher_(&dt_, Emit(), [this](VertexHandle v) { return OutputPosition(v); }) {}
+
+Eigen::Vector3d IncrementalState::OutputPosition(VertexHandle v) const {
+  if (v->info().steiner || v->info().output_version == 0) return ToEigen(v->point());
+  return points_.at(v->info().id).output_position;
+}
 
 MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::vector<Observation>& extra) {
   frame.AssertConsistent();
@@ -381,13 +386,13 @@ std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* 
 
 void IncrementalState::RecordInserted(const PendingVertex& pv, VertexHandle v, MapUpdateResult* result) {
   if (pv.point_id != kNoId) {
-    v->info() = VertexInfo{pv.point_id, false, false, 0, pv.attributes};
+    v->info() = VertexInfo{pv.point_id, false, false, 0, 0, pv.attributes};
     PointRecord& record = points_.at(pv.point_id);
     record.vertex = v;
     arrival_.push_back({pv.point_id, record.last_seen});
     ++result->inserted;
   } else {
-    v->info() = VertexInfo{next_steiner_id_++, true, false, 0, {}};
+    v->info() = VertexInfo{next_steiner_id_++, true, false, 0, 0, {}};
     steiner_[pv.node] = v;
     ++result->steiner_inserted;
   }

@@ -19,7 +19,7 @@ IdentifiedMesh Mesher::ExtractLive() const {
     for (const SurfaceFacet& f : around)
       irregular.insert(irregular.end(), f.vertices.begin(), f.vertices.end());
   }
-  return ExtractSurfaceMesh(*dt_, rule_, irregular, &fan_copies_, PointAttributes{}.label);
+  return ExtractSurfaceMesh(*dt_, rule_, irregular, &fan_copies_, PointAttributes{}.label, position_);
 }
 
 IdentifiedMesh Mesher::TakeFinalised() {
@@ -89,11 +89,11 @@ void Mesher::EmitHole(const std::vector<CellHandle>& destroyed, std::uint32_t de
         const std::uint64_t key = VertexKey(u);
         std::uint8_t copy = copies->second[std::find(f.id.begin(), f.id.end(), key) - f.id.begin()];
         if (copy == kUnassigned) copy = 0;
-        const std::uint64_t id = CopyKey(key, copy);
+        const std::uint64_t id = OutputKey(u, copy);
         auto [it, inserted] =
             finalised_index_.try_emplace(id, std::uint32_t(finalised_.mesh.vertices.size()));
         if (inserted) {
-          finalised_.mesh.vertices.push_back(ToEigen(u->point()));
+          finalised_.mesh.vertices.push_back(position_ ? position_(u) : ToEigen(u->point()));
           finalised_.vertex_ids.push_back(id);
           const PointAttributes& a = u->info().attributes;  // the defaults for a Steiner vertex
           finalised_.mesh.labels.push_back(a.label);

@@ -19,7 +19,8 @@ namespace semap::map_internal {
 // carver left non-regular, whose runs are found by wedges. Not thread-safe.
 class Mesher {
  public:
-  Mesher(const Delaunay* dt, const EmitRule& rule) : dt_(dt), rule_(rule) {}
+  Mesher(const Delaunay* dt, const EmitRule& rule, VertexPosition position = {})
+      : dt_(dt), rule_(rule), position_(std::move(position)) {}
 
   // The live surface (the rule's facets left out), with stable vertex ids (surface_extraction.h).
   IdentifiedMesh ExtractLive() const;
@@ -46,6 +47,7 @@ class Mesher {
 
   const Delaunay* dt_;
   EmitRule rule_;
+  VertexPosition position_;  // where the output puts a vertex (empty: its triangulation position)
   IdentifiedMesh finalised_;
   std::unordered_map<std::uint64_t, std::uint32_t> finalised_index_;  // copy key → finalised_ vertex
   FanCopies fan_copies_;  // the copies at frozen vertices (and, during a finalisation, at the removed ones)

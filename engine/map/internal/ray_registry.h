@@ -24,6 +24,9 @@ struct PointRecord {
   double sighting_depth_m = 0.0;
   // kDepth, map.fuse_gate_sigmas > 0: the fused estimate of its sightings (depth_filter.h).
   DepthFilter filter;
+  // Where the output mesh puts its vertex once output_version > 0 (VertexInfo): the fused estimate as it
+  // stood at the last bump.
+  Eigen::Vector3d output_position = Eigen::Vector3d::Zero();
 };
 
 struct CameraRecord {

@@ -300,7 +300,8 @@ class VertexIndex {
 
 }  // namespace
 
-IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled) {
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled,
+                            const VertexPosition& position) {
   IdentifiedMesh out;
   Mesh& mesh = out.mesh;
   VertexIndex index(facets);
@@ -312,8 +313,8 @@ IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlab
       std::uint32_t& slot = index.Slot(v, f.copy[k]);
       if (slot == VertexIndex::kUnset) {
         slot = std::uint32_t(mesh.vertices.size());
-        mesh.vertices.push_back(ToEigen(v->point()));
-        out.vertex_ids.push_back(CopyKey(VertexKey(v), f.copy[k]));
+        mesh.vertices.push_back(position ? position(v) : ToEigen(v->point()));
+        out.vertex_ids.push_back(OutputKey(v, f.copy[k]));
         if (v->info().steiner) {
           mesh.labels.push_back(unlabelled);
           mesh.colors_rgb.push_back(kSteinerColor);
@@ -331,12 +332,12 @@ IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlab
 
 IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule,
                                   const std::vector<VertexHandle>& irregular, const FanCopies* frozen,
-                                  Label unlabelled) {
+                                  Label unlabelled, const VertexPosition& position) {
   std::vector<SurfaceFacet> facets;
   std::vector<VertexHandle> open;
   CollectSurface(dt, rule, &facets, &open);
   AssignCopies(dt, &facets, open, irregular, frozen);
-  return FacetsToMesh(facets, unlabelled);
+  return FacetsToMesh(facets, unlabelled, position);
 }
 
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt) {

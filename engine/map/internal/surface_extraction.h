@@ -31,6 +31,13 @@ inline std::uint64_t CopyKey(std::uint64_t vertex_key, std::uint8_t copy) {
   return vertex_key | (std::uint64_t(copy) << 32);
 }
 
+// The id under which the output names copy `copy` of vertex `v`: its CopyKey, with the vertex's output version
+// (VertexInfo::output_version) above, so that a vertex the output moved comes back under a new id.
+inline std::uint64_t OutputKey(VertexHandle v, std::uint8_t copy) {
+  constexpr int kVersionShift = 40;  // above the copy's 8 bits at 32, below the Steiner bit at 63
+  return CopyKey(VertexKey(v), copy) | (std::uint64_t(v->info().output_version) << kVersionShift);
+}
+
 // One boundary facet, oriented counter-clockwise seen from the carved (free) side.
 struct SurfaceFacet {
   std::array<VertexHandle, 3> vertices;
@@ -111,12 +118,15 @@ void SurfaceAround(const Delaunay& dt, VertexHandle v, std::vector<SurfaceFacet>
 // Builds a mesh of `facets` (vertices shared, with their info().attributes; Steiner vertices labelled
 // `unlabelled`, grey), with the vertex keys as stable vertex ids (CopyKey for the copies of pinched
 // vertices).
-IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled);
+// Where the output puts a vertex (empty: where the triangulation has it).
+using VertexPosition = std::function<Eigen::Vector3d(VertexHandle)>;
+IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled,
+                            const VertexPosition& position = {});
 
 // The output surface: CollectSurface, AssignCopies (with `frozen`, may be null), FacetsToMesh.
 IdentifiedMesh ExtractSurfaceMesh(const Delaunay& dt, const EmitRule& rule,
                                   const std::vector<VertexHandle>& irregular, const FanCopies* frozen,
-                                  Label unlabelled);
+                                  Label unlabelled, const VertexPosition& position = {});
 
 // Votes of every finite cell.
 std::vector<CellVotes> CollectCellVotes(const Delaunay& dt);

@@ -35,6 +35,9 @@ struct VertexInfo {
   // On a seam of finalisation (incremental map): its surface fan is final, so every cell around it keeps its
   // carving for good (see CellInfo::Pinned).
   bool frozen = false;
+  // Bumped each time the output moves the vertex to its fused estimate (map.fuse_output_sigmas): part of
+  // its output id, so that a mesh delta re-sends its triangles at the new position.
+  std::uint16_t output_version = 0;
   std::uint32_t stamp = 0;  // scratch mark for set membership during one update
   PointAttributes attributes;  // fits in the padding: VertexInfo stays 16 bytes
 };
