@@ -102,10 +102,25 @@ void LeftRightCheck(const cv::Mat& right_disparity, float max_diff_px, cv::Mat* 
   }
 }
 
+// RunSgbmRight on the pair at half resolution, its disparity brought back to `size` in full-resolution px:
+// the right image's disparity for a left-right check at a quarter of the pixels.
+cv::Mat RunSgbmRightHalf(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+  cv::Mat left_half, right_half, disparity;
+  cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::resize(right, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  const int half_disparities = std::max(kDisparityMultiple, num_disparities / 2 / kDisparityMultiple * kDisparityMultiple);
+  cv::resize(RunSgbmRight(o, left_half, right_half, half_disparities), disparity, left.size(), 0.0, 0.0,
+             cv::INTER_NEAREST);
+  return disparity * 2.0f;
+}
+
 cv::Mat MatchPair(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
   cv::Mat disparity = RunSgbm(o, left, right, num_disparities);
   if (o.left_right_max_diff_px >= 0.0f) {
-    LeftRightCheck(RunSgbmRight(o, left, right, num_disparities), o.left_right_max_diff_px, &disparity);
+    const cv::Mat right_disparity = o.left_right_half_resolution
+                                        ? RunSgbmRightHalf(o, left, right, num_disparities)
+                                        : RunSgbmRight(o, left, right, num_disparities);
+    LeftRightCheck(right_disparity, o.left_right_max_diff_px, &disparity);
   }
   return disparity;
 }

@@ -30,6 +30,7 @@ struct DepthOptions {
   int speckle_range_px = 2;
   int disp12_max_diff_px = 1;
   float left_right_max_diff_px = -1.0f;
+  bool left_right_half_resolution = false;
   int pre_filter_cap = 31;
   SgbmMode mode = SgbmMode::kThreeWay;
   bool half_resolution = false;
@@ -74,6 +75,8 @@ struct DepthOptions {
         "left_right_max_diff_px", &left_right_max_diff_px,
         "explicit left-right check (any mode) with a second matching pass, right against left: a pixel is "
         "kept when the two disparities differ by at most this many px (-1 = off)");
+    v.Field("left_right_half_resolution", &left_right_half_resolution,
+            "the left-right check's right-image pass at half resolution (a quarter of its cost)");
     v.Field("pre_filter_cap", &pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
     v.Enum("mode", &mode,
            {{"sgbm", SgbmMode::kSgbm},
