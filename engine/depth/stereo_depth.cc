@@ -108,7 +108,8 @@ cv::Mat RunSgbmRightHalf(const DepthOptions& o, const cv::Mat& left, const cv::M
   cv::Mat left_half, right_half, disparity;
   cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
   cv::resize(right, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-  const int half_disparities = std::max(kDisparityMultiple, num_disparities / 2 / kDisparityMultiple * kDisparityMultiple);
+  const int half_disparities =
+      std::max(kDisparityMultiple, num_disparities / 2 / kDisparityMultiple * kDisparityMultiple);
   cv::resize(RunSgbmRight(o, left_half, right_half, half_disparities), disparity, left.size(), 0.0, 0.0,
              cv::INTER_NEAREST);
   return disparity * 2.0f;

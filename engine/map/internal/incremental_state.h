@@ -73,11 +73,11 @@ class IncrementalState {
   void MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result);
   // A point seen again (kDepth): more support, and its age restarts.
   void SeenAgain(std::uint32_t id);
-  // map.fuse_gate_sigmas > 0 (and a depth noise model): each live vertex is the fused estimate of its
-  // sightings (depth_filter.h).
   // Where the output mesh puts vertex `v`: its fused estimate as of its last output bump (FilterVertex), else
   // its position in the triangulation.
   Eigen::Vector3d OutputPosition(VertexHandle v) const;
+  // map.fuse_gate_sigmas > 0 (and a depth noise model): each live vertex is the fused estimate of its
+  // sightings (depth_filter.h).
   bool Fusing() const { return options_.fuse_gate_sigmas > 0.0 && options_.disparity_sigma_px > 0.0; }
   // The sighting of live vertex `v` by `view` added to its depth filter. A vertex more views saw through
   // than saw (map.outlier_sightings) leaves the map; one whose estimate moved away from it (beyond

@@ -93,7 +93,7 @@ void Mesher::EmitHole(const std::vector<CellHandle>& destroyed, std::uint32_t de
         auto [it, inserted] =
             finalised_index_.try_emplace(id, std::uint32_t(finalised_.mesh.vertices.size()));
         if (inserted) {
-          finalised_.mesh.vertices.push_back(position_ ? position_(u) : ToEigen(u->point()));
+          finalised_.mesh.vertices.push_back(PositionOf(position_, u));
           finalised_.vertex_ids.push_back(id);
           const PointAttributes& a = u->info().attributes;  // the defaults for a Steiner vertex
           finalised_.mesh.labels.push_back(a.label);

@@ -313,7 +313,7 @@ IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlab
       std::uint32_t& slot = index.Slot(v, f.copy[k]);
       if (slot == VertexIndex::kUnset) {
         slot = std::uint32_t(mesh.vertices.size());
-        mesh.vertices.push_back(position ? position(v) : ToEigen(v->point()));
+        mesh.vertices.push_back(PositionOf(position, v));
         out.vertex_ids.push_back(OutputKey(v, f.copy[k]));
         if (v->info().steiner) {
           mesh.labels.push_back(unlabelled);

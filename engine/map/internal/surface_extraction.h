@@ -120,6 +120,9 @@ void SurfaceAround(const Delaunay& dt, VertexHandle v, std::vector<SurfaceFacet>
 // vertices).
 // Where the output puts a vertex (empty: where the triangulation has it).
 using VertexPosition = std::function<Eigen::Vector3d(VertexHandle)>;
+inline Eigen::Vector3d PositionOf(const VertexPosition& position, VertexHandle v) {
+  return position ? position(v) : ToEigen(v->point());
+}
 IdentifiedMesh FacetsToMesh(const std::vector<SurfaceFacet>& facets, Label unlabelled,
                             const VertexPosition& position = {});
 
