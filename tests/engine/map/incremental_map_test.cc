@@ -56,6 +56,25 @@ std::set<std::array<double, 9>> TriangleSet(const Mesh& mesh) {
   return s;
 }
 
+// Triangles by their corners' positions as TriangleSet, but oriented (each in the least of its three rotations)
+// and counted: a triangle given twice, or turned over, does not compare equal.
+std::multiset<std::array<double, 9>> OrientedTriangles(const Mesh& mesh) {
+  std::multiset<std::array<double, 9>> out;
+  for (const auto& t : mesh.triangles) {
+    std::array<double, 9> key;
+    for (int first = 0; first < 3; ++first) {
+      std::array<double, 9> rotated;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d& p = mesh.vertices[t[(first + k) % 3]];
+        for (int d = 0; d < 3; ++d) rotated[3 * k + d] = p[d];
+      }
+      if (first == 0 || rotated < key) key = rotated;
+    }
+    out.insert(key);
+  }
+  return out;
+}
+
 // One frame of a random stream: a camera moving along +y, points scattered on a noisy "street" (ground and
 // two walls) ahead of it, some of them re-observations of earlier points (merged by distance) and some extra
 // rays to existing point ids.
@@ -756,6 +775,7 @@ TEST(IncrementalMap, SizesCountsEveryFiniteCell) {
 namespace fusion_test {
 
 constexpr double kFocalBaselineMPx = 24.0;  // StreetDepthFrame's f·B (48 px × 0.5 m)
+constexpr double kDisparitySigmaPx = 0.06;   // the noisy street's: σ_z = D² · 0.06 / 24 = 0.0025 D²
 
 // The street frame at y_m with stereo-like noise on its depth view: each pixel's depth D becomes
 // D + σ_z·n, σ_z = D²·disparity_sigma_px/(f·B), n a standard normal draw; the frame's points move with their
@@ -855,7 +875,7 @@ FusionErrors PixelErrors(const Mesh& mesh, const test::StreetScene& scene, const
 // accurate by median and RMSE.
 TEST(IncrementalMap, FusedSightingsCentreTheMesh) {
   const test::StreetScene scene;
-  constexpr double kDisparitySigmaPx = 0.06;  // σ_z = D² · 0.06 / 24 = 0.0025 D²
+  using fusion_test::kDisparitySigmaPx;
   constexpr int kFrames = 30;
   MapOptions fused;
   fused.visibility = Visibility::kDepth;
@@ -924,7 +944,7 @@ TEST(IncrementalMap, FusedSightingsCentreTheMesh) {
 // positions.
 TEST(IncrementalMap, FusedOutputDeltasReproduceTheMesh) {
   const test::StreetScene scene;
-  constexpr double kDisparitySigmaPx = 0.06;
+  using fusion_test::kDisparitySigmaPx;
   MapOptions options;
   options.visibility = Visibility::kDepth;
   options.disparity_sigma_px = kDisparitySigmaPx;
@@ -932,22 +952,6 @@ TEST(IncrementalMap, FusedOutputDeltasReproduceTheMesh) {
   options.finalise_distance_m = 12.0;  // seams of finalisation within the drive
   options.finalise_min_age_frames = 2;
   options.finalise_every_frames = 2;
-  const auto triangles = [](const Mesh& m) {  // every triangle by its corners, in a canonical rotation
-    std::multiset<std::array<double, 9>> out;
-    for (const auto& t : m.triangles) {
-      std::array<double, 9> key;
-      for (int first = 0; first < 3; ++first) {  // the least of the three rotations
-        std::array<double, 9> rotated;
-        for (int k = 0; k < 3; ++k) {
-          const Eigen::Vector3d& p = m.vertices[t[(first + k) % 3]];
-          for (int d = 0; d < 3; ++d) rotated[3 * k + d] = p[d];
-        }
-        if (first == 0 || rotated < key) key = rotated;
-      }
-      out.insert(key);
-    }
-    return out;
-  };
   for (const double output_sigmas : {options.fuse_output_sigmas, 1e9}) {
     MapOptions o = options;
     o.fuse_output_sigmas = output_sigmas;
@@ -961,14 +965,14 @@ TEST(IncrementalMap, FusedOutputDeltasReproduceTheMesh) {
       output_moved += map.Update(fusion_test::NoisyStreetFrame(scene, 1.0 * f, kDisparitySigmaPx, &rng))
                           .vertices_output_moved;
       const IdentifiedMesh frozen = map.TakeFinalisedMesh();
-      const auto finalised = triangles(frozen.mesh);
+      const auto finalised = OrientedTriangles(frozen.mesh);
       written.insert(finalised.begin(), finalised.end());
       accumulator.Apply(differ.Update(f, map.ExtractIdentifiedMesh(), frozen));
     }
     std::multiset<std::array<double, 9>> expected = written;
-    const auto live = triangles(map.ExtractMesh());
+    const auto live = OrientedTriangles(map.ExtractMesh());
     expected.insert(live.begin(), live.end());
-    EXPECT_TRUE(triangles(accumulator.ToMesh()) == expected) << "fuse_output_sigmas " << output_sigmas;
+    EXPECT_TRUE(OrientedTriangles(accumulator.ToMesh()) == expected) << "fuse_output_sigmas " << output_sigmas;
     EXPECT_GT(written.size(), 100u) << "no seam of finalisation";
     if (output_sigmas < 1e9) {
       EXPECT_GT(output_moved, 100u);
