@@ -32,13 +32,17 @@ void BM_EnetSegment(benchmark::State& state) {
   semap::SemanticsOptions o;
   o.source = semap::LabelSource::kEnet;
   o.enet_model_path = Shared() + "/models/enet-cityscapes/enet-model.net";
-  auto segmenter = semap::MakeSegmenter(o);
+  // Second argument: 1 = the fused head (the default), 0 = OpenCV's last layer over the whole output.
+  const bool fused = state.range(1) != 0;
+  semap::EnetSegmenter segmenter(o, fused ? semap::EnetHead::kFused : semap::EnetHead::kNetwork);
   const cv::Mat& image = TestFrame().frame.left;
-  segmenter->Segment(image);  // first call allocates the network's buffers
-  for (auto _ : state) benchmark::DoNotOptimize(segmenter->Segment(image));
-  state.SetLabel(std::to_string(cv::getNumThreads()) + " thread(s)");
+  segmenter.Segment(image);  // first call allocates the network's buffers
+  for (auto _ : state) benchmark::DoNotOptimize(segmenter.Segment(image));
+  state.SetLabel(std::to_string(cv::getNumThreads()) + " thread(s), " +
+                 (segmenter.head() == semap::EnetHead::kFused ? "fused head" : "network head"));
 }
-BENCHMARK(BM_EnetSegment)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_EnetSegment)->Args({1, 1})->Args({1, 0})->Args({2, 1})->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)->MinTime(3.0);
 
 void BM_FirstCameraLabels(benchmark::State& state) {
   cv::setNumThreads(1);

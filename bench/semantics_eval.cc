@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <memory>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -37,6 +38,11 @@ int main(int argc, char** argv) {
   app.add_option("--overlay-index", overlay_index, "frame (0-based, in name order) whose overlay is written");
   app.add_flag("--stretch", stretch, "stretch the image to the network input instead of keeping its aspect");
   app.add_option("--threads", threads, "OpenCV threads");
+  std::string head = "fused";
+  app.add_option("--head", head,
+                 "ENet's last layer: fused (computed on the image's rows with the argmax, the default) or network "
+                 "(OpenCV's, over the whole output)")
+      ->check(CLI::IsMember({"fused", "network"}));
   CLI11_PARSE(app, argc, argv);
   try {
     cv::setNumThreads(threads);
@@ -44,7 +50,8 @@ int main(int argc, char** argv) {
     o.source = semap::LabelSource::kEnet;
     o.enet_model_path = model;
     o.enet_keep_aspect = !stretch;
-    auto segmenter = semap::MakeSegmenter(o);
+    auto segmenter = std::make_unique<semap::EnetSegmenter>(
+        o, head == "network" ? semap::EnetHead::kNetwork : semap::EnetHead::kFused);
     const semap::ClassMap& classes = segmenter->class_map();
     std::vector<double> share(20, 0.0);
     double seconds = 0.0, cpu_seconds = 0.0, total_px = 0.0;
@@ -82,8 +89,9 @@ int main(int argc, char** argv) {
       }
     }
     const double n = static_cast<double>(names.size());
-    std::printf("ENet (%s) on %zu frames, OpenCV threads %d: %.1f ms/frame wall, %.1f ms/frame CPU\n",
-                stretch ? "stretched" : "aspect kept", names.size(), cv::getNumThreads(),
+    std::printf("ENet (%s, %s head) on %zu frames, OpenCV threads %d: %.1f ms/frame wall, %.1f ms/frame CPU\n",
+                stretch ? "stretched" : "aspect kept",
+                segmenter->head() == semap::EnetHead::kFused ? "fused" : "network", names.size(), cv::getNumThreads(),
                 1000.0 * seconds / n, 1000.0 * cpu_seconds / n);
     std::printf("pixel shares:");
     for (size_t c = 0; c < share.size(); ++c) {

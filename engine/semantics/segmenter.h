@@ -97,10 +97,21 @@ class Segmenter {
 // ENet (Paszke et al. 2016) trained on Cityscapes, through OpenCV's dnn module: input RGB (swapRB) scaled by
 // 1/255 to enet_input_{width,height}_px, output 1×20×H×W scores → argmax → nearest-neighbour resize back
 // to the image. Labels are ClassMap::Cityscapes() ids.
+//
+// The network's last layer (a 2×2, stride-2 transposed convolution from 16 feature channels to the 20 class
+// scores at full resolution) is evaluated by the segmenter itself, only on the output rows that hold the
+// image, and fused with the argmax (EnetHead::kFused): OpenCV computes it over the whole padded output and
+// it was the network's costliest layer. The constructor checks the fused head against OpenCV's own layer
+// on a small input and keeps OpenCV's (kNetwork) when the model's last layer is anything else or disagrees.
+enum class EnetHead {
+  kFused,    // the last layer computed here, on the image's rows, fused with the argmax (when it checks out)
+  kNetwork,  // the whole network in OpenCV, argmax over its full output (the reference)
+};
+
 class EnetSegmenter : public Segmenter {
  public:
   // Throws std::runtime_error naming the path when the model file is missing or does not load as a network.
-  explicit EnetSegmenter(const SemanticsOptions& options);
+  explicit EnetSegmenter(const SemanticsOptions& options, EnetHead head = EnetHead::kFused);
   ~EnetSegmenter() override;
   EnetSegmenter(const EnetSegmenter&) = delete;
   EnetSegmenter& operator=(const EnetSegmenter&) = delete;
@@ -108,6 +119,8 @@ class EnetSegmenter : public Segmenter {
   cv::Mat Segment(const cv::Mat& image) override;
   const ClassMap& class_map() const override { return class_map_; }
   std::string name() const override { return "enet-cityscapes"; }
+  // The head in use: kFused only when it was asked for and the model's last layer checked out.
+  EnetHead head() const;
 
  private:
   struct Impl;

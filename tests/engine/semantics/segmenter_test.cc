@@ -132,5 +132,30 @@ TEST(EnetSegmenter, SegmentsARealKittiFrame) {
   EXPECT_THROW(segmenter->Segment(cv::Mat(4, 4, CV_32FC3)), std::invalid_argument);
 }
 
+// The fused head (the last layer computed here, on the image's rows only) against the whole network in
+// OpenCV: the same labels but where float rounding breaks a near tie between two classes' scores.
+TEST(EnetSegmenter, FusedHeadLabelsAsTheWholeNetwork) {
+  SEMAP_REQUIRE_SHARED(kEnetModel);
+  SEMAP_REQUIRE_SHARED(kKittiLeft);
+  SemanticsOptions o;
+  o.source = LabelSource::kEnet;
+  o.enet_model_path = (test::SharedDir() / kEnetModel).string();
+  EnetSegmenter fused(o, EnetHead::kFused);
+  EnetSegmenter network(o, EnetHead::kNetwork);
+  ASSERT_EQ(fused.head(), EnetHead::kFused) << "the model's last layer did not check out";
+  ASSERT_EQ(network.head(), EnetHead::kNetwork);
+  const cv::Mat image = cv::imread((test::SharedDir() / kKittiLeft).string(), cv::IMREAD_COLOR);
+  for (const bool keep_aspect : {true, false}) {
+    o.enet_keep_aspect = keep_aspect;
+    EnetSegmenter a(o, EnetHead::kFused);
+    EnetSegmenter b(o, EnetHead::kNetwork);
+    const cv::Mat fused_labels = a.Segment(image);
+    const cv::Mat network_labels = b.Segment(image);
+    ASSERT_EQ(fused_labels.size(), network_labels.size());
+    const int differ = cv::countNonZero(fused_labels != network_labels);
+    EXPECT_LE(differ, static_cast<int>(1e-4 * image.total())) << "keep_aspect " << keep_aspect;
+  }
+}
+
 }  // namespace
 }  // namespace semap
