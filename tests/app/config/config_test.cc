@@ -196,5 +196,13 @@ TEST(Config, CommittedDefaultYamlMatchesTheCode) {
       << "config/default.yaml is stale: regenerate with `semap config --defaults > config/default.yaml`";
 }
 
+// The presets shipped beside default.yaml load (every key known, every value in range) and set what they say.
+TEST(Config, TheOneFramePresetLoads) {
+  const Config c = LoadConfig(test::SourceDir() / "config" / "one_frame.yaml");
+  EXPECT_EQ(c.depth.max_points_per_frame, 0);
+  EXPECT_EQ(c.map.seen_noise_sigmas, 1.0);
+  EXPECT_EQ(c.map.disparity_sigma_px, Config{}.map.disparity_sigma_px) << "a key the preset leaves alone";
+}
+
 }  // namespace
 }  // namespace semap::app
