@@ -41,8 +41,13 @@ void BM_EnetSegment(benchmark::State& state) {
   state.SetLabel(std::to_string(cv::getNumThreads()) + " thread(s), " +
                  (segmenter.head() == semap::EnetHead::kFused ? "fused head" : "network head"));
 }
-BENCHMARK(BM_EnetSegment)->Args({1, 1})->Args({1, 0})->Args({2, 1})->Args({2, 0})
-    ->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_EnetSegment)
+    ->Args({1, 1})
+    ->Args({1, 0})
+    ->Args({2, 1})
+    ->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
 
 void BM_FirstCameraLabels(benchmark::State& state) {
   cv::setNumThreads(1);

@@ -39,9 +39,10 @@ int main(int argc, char** argv) {
   app.add_flag("--stretch", stretch, "stretch the image to the network input instead of keeping its aspect");
   app.add_option("--threads", threads, "OpenCV threads");
   std::string head = "fused";
-  app.add_option("--head", head,
-                 "ENet's last layer: fused (computed on the image's rows with the argmax, the default) or network "
-                 "(OpenCV's, over the whole output)")
+  app.add_option(
+         "--head", head,
+         "ENet's last layer: fused (computed on the image's rows with the argmax, the default) or network "
+         "(OpenCV's, over the whole output)")
       ->check(CLI::IsMember({"fused", "network"}));
   CLI11_PARSE(app, argc, argv);
   try {
@@ -89,10 +90,11 @@ int main(int argc, char** argv) {
       }
     }
     const double n = static_cast<double>(names.size());
-    std::printf("ENet (%s, %s head) on %zu frames, OpenCV threads %d: %.1f ms/frame wall, %.1f ms/frame CPU\n",
-                stretch ? "stretched" : "aspect kept",
-                segmenter->head() == semap::EnetHead::kFused ? "fused" : "network", names.size(), cv::getNumThreads(),
-                1000.0 * seconds / n, 1000.0 * cpu_seconds / n);
+    std::printf(
+        "ENet (%s, %s head) on %zu frames, OpenCV threads %d: %.1f ms/frame wall, %.1f ms/frame CPU\n",
+        stretch ? "stretched" : "aspect kept",
+        segmenter->head() == semap::EnetHead::kFused ? "fused" : "network", names.size(), cv::getNumThreads(),
+        1000.0 * seconds / n, 1000.0 * cpu_seconds / n);
     std::printf("pixel shares:");
     for (size_t c = 0; c < share.size(); ++c) {
       if (share[c] / total_px >= 0.005) {

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/all_layers.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -42,7 +42,6 @@ std::uint8_t ArgMax(const float* scores, int n) {
   }
   return static_cast<std::uint8_t>(best);
 }
-}  // namespace
 
 // ENet's last layer, out[k, 2y + a, 2x + b] = bias[k] + sum_c in[c, y, x] W[c, k, a, b], evaluated here.
 struct FusedHead {
@@ -58,11 +57,13 @@ struct FusedHead {
   void Score(const cv::Mat& features, int row0, int row1, Visit&& visit) const {
     const int h = features.size[2];
     const int w = features.size[3];
-    const Eigen::Map<const RowMajorMatrixXf> in(features.ptr<float>(), channels, static_cast<Eigen::Index>(h) * w);
+    const Eigen::Map<const RowMajorMatrixXf> in(features.ptr<float>(), channels,
+                                                static_cast<Eigen::Index>(h) * w);
     Eigen::MatrixXf scores;
     for (int y0 = row0 / kHeadUpsampling; y0 * kHeadUpsampling < row1 && y0 < h; y0 += kHeadBlockRows) {
       const int rows = std::min(kHeadBlockRows, h - y0);
-      const auto block = in.middleCols(static_cast<Eigen::Index>(y0) * w, static_cast<Eigen::Index>(rows) * w);
+      const auto block =
+          in.middleCols(static_cast<Eigen::Index>(y0) * w, static_cast<Eigen::Index>(rows) * w);
       for (int a = 0; a < kHeadUpsampling; ++a) {
         for (int b = 0; b < kHeadUpsampling; ++b) {
           scores.noalias() = weights[a * kHeadUpsampling + b] * block;
@@ -78,7 +79,6 @@ struct FusedHead {
   }
 };
 
-namespace {
 // The fused head of `net`'s last layer, or nothing when that layer is not a 2×2 stride-2 transposed
 // convolution whose input is the layer before it, or when it does not reproduce OpenCV's scores. `net` is a
 // network of its own for this check: OpenCV 4.6 can give wrong outputs when one network is run at another
@@ -86,16 +86,18 @@ namespace {
 std::optional<FusedHead> MakeFusedHead(cv::dnn::Net net) {
   const std::vector<cv::String> names = net.getLayerNames();
   const std::vector<int> outputs = net.getUnconnectedOutLayers();
-  if (names.size() < 2 || outputs.size() != 1 || net.getLayerId(names.back()) != outputs[0]) return std::nullopt;
+  if (names.size() < 2 || outputs.size() != 1 || net.getLayerId(names.back()) != outputs[0])
+    return std::nullopt;
   const cv::Ptr<cv::dnn::Layer> last = net.getLayer(outputs[0]);
   const auto deconv = last.dynamicCast<cv::dnn::BaseConvolutionLayer>();
   const std::vector<size_t> two{kHeadUpsampling, kHeadUpsampling};
   const std::vector<size_t> zero{0, 0};
   if (last->type != "Deconvolution" || !deconv || deconv->kernel_size != two || deconv->strides != two ||
       deconv->pads_begin != zero || deconv->pads_end != zero ||
-      (!deconv->adjust_pads.empty() && deconv->adjust_pads != zero) || deconv->dilations != std::vector<size_t>{1, 1} ||
-      last->blobs.empty() || last->blobs[0].dims != 4 || last->blobs[0].type() != CV_32F ||
-      last->blobs[0].size[2] != kHeadUpsampling || last->blobs[0].size[3] != kHeadUpsampling) {
+      (!deconv->adjust_pads.empty() && deconv->adjust_pads != zero) ||
+      deconv->dilations != std::vector<size_t>{1, 1} || last->blobs.empty() || last->blobs[0].dims != 4 ||
+      last->blobs[0].type() != CV_32F || last->blobs[0].size[2] != kHeadUpsampling ||
+      last->blobs[0].size[3] != kHeadUpsampling) {
     return std::nullopt;
   }
   FusedHead head;
@@ -117,7 +119,8 @@ std::optional<FusedHead> MakeFusedHead(cv::dnn::Net net) {
       m.resize(head.classes, head.channels);
       for (int c = 0; c < head.channels; ++c) {
         for (int k = 0; k < head.classes; ++k) {
-          m(k, c) = wp[((static_cast<size_t>(c) * head.classes + k) * kHeadUpsampling + a) * kHeadUpsampling + b];
+          m(k, c) =
+              wp[((static_cast<size_t>(c) * head.classes + k) * kHeadUpsampling + a) * kHeadUpsampling + b];
         }
       }
     }
@@ -155,7 +158,8 @@ cv::Rect OutputRoi(const cv::Rect& roi, const cv::Size& input, int h, int w) {
   const double sx = double(w) / input.width;
   const double sy = double(h) / input.height;
   return cv::Rect(static_cast<int>(roi.x * sx), static_cast<int>(roi.y * sy),
-                  std::max(1, static_cast<int>(roi.width * sx)), std::max(1, static_cast<int>(roi.height * sy))) &
+                  std::max(1, static_cast<int>(roi.width * sx)),
+                  std::max(1, static_cast<int>(roi.height * sy))) &
          cv::Rect(0, 0, w, h);
 }
 }  // namespace
@@ -228,6 +232,11 @@ cv::Mat EnetSegmenter::Segment(const cv::Mat& image) {
   if (impl_->head) {
     const FusedHead& head = *impl_->head;
     const cv::Mat features = impl_->net.forward(head.input_layer);  // 1 × channels × H/2 × W/2
+    if (features.dims != 4 || features.size[0] != 1 || features.size[1] != head.channels ||
+        features.type() != CV_32F || !features.isContinuous()) {
+      throw std::runtime_error("ENet: unexpected features before the last layer (dims " +
+                               std::to_string(features.dims) + ")");
+    }
     const int h = kHeadUpsampling * features.size[2];
     const int w = kHeadUpsampling * features.size[3];
     const cv::Rect out_roi = OutputRoi(roi, input, h, w);

@@ -50,11 +50,12 @@ TEST(OneFramePreset, CoversMoreOfARealFrameAtALikeAccuracy) {
   const OneFrameFigures defaults = OneFrameMap(seq, frame, "", test::TempDir() / "one_frame_defaults");
   const fs::path out = test::TempDir() / "one_frame_preset";
   const OneFrameFigures with_preset = OneFrameMap(seq, frame, "--config " + preset.string(), out);
-  // bench/RESULTS.md, one-frame maps: over the 20 frames 70 → 82 % with PS and ENet; this frame, O, no labels:
-  // 55 → 71 %.
+  // bench/RESULTS.md, one-frame maps: over the 20 frames 70 → 82 % with PS and ENet; this frame, O, no
+  // labels: 55 → 71 %.
   EXPECT_GE(with_preset.strict_completeness, defaults.strict_completeness + 0.10);
   EXPECT_LE(with_preset.paper_rmse_m, defaults.paper_rmse_m + 0.10);
-  const test::ManifoldReport r = test::CheckManifold(io::ReadMeshPly(out / "mesh.ply"), /*allow_boundary=*/true);
+  const test::ManifoldReport r =
+      test::CheckManifold(io::ReadMeshPly(out / "mesh.ply"), /*allow_boundary=*/true);
   EXPECT_TRUE(r.ok()) << r.Summary();
 }
 
