@@ -1,0 +1,184 @@
+// semap_rectification_check: is a stereo sequence rectified? In a rectified pair a point of the left image
+// lies on the same row of the right one. FAST corners of each left image are matched into the right image
+// with pyramidal KLT (the odometry's window and stereo levels, started at the median disparity, checked back
+// into the left image); the match's vertical offset (right row − left row) is averaged per cell of a grid
+// over the image and printed as a table, with a fit of the offset to the terms a small error of the
+// rectification gives: a constant (pitch between the cameras), one growing with the column (roll) and one
+// with column × row (a keystone: yaw, or a projective term of the rectifying homographies). A rectified pair
+// shows offsets of a few hundredths of a pixel everywhere; SGBM matches along rows, and the odometry's stereo
+// matches are refused beyond odometry.max_epipolar_error_px.
+//
+// Usage: semap_rectification_check SEQUENCE [--frames N] [--every K] [--grid COLSxROWS] [--config FILE]
+// [--set ...]
+#include <CLI/CLI.hpp>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <string>
+#include <vector>
+
+#include "bench/sequence_args.h"
+#include "bench/stats.h"
+
+namespace {
+
+// KLT's stop criteria, as in engine/odometry.
+constexpr int kKltMaxIterations = 30;
+constexpr double kKltEpsilonPx = 0.01;
+// FAST threshold (grey levels) of the corners matched.
+constexpr int kFastThreshold = 20;
+// A match is kept when it tracks back into the left image this close to its start, px ...
+constexpr double kMaxRoundTripPx = 0.3;
+// ... and its vertical offset is below this (larger ones are mismatches, not rectification), px.
+constexpr double kMaxVerticalOffsetPx = 3.0;
+// Matches of less disparity than this are left out (no texture to tell a row by at infinity), px.
+constexpr double kMinDisparityPx = 1.0;
+// The fit's robust rounds: residuals beyond this many MADs are dropped before the next round.
+constexpr int kFitRounds = 3;
+constexpr double kFitTrimMads = 3.0;
+constexpr double kMadToSigma = 1.4826;
+
+cv::Mat Gray(const cv::Mat& image) {
+  if (image.channels() == 1) return image;
+  cv::Mat gray;
+  cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+struct Match {
+  double u_px, v_px, dy_px;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"vertical offsets of stereo matches over the image: is a sequence rectified?"};
+  semap::bench::SequenceArgs args;
+  args.AddTo(app, "sequence folder");
+  int every = 2;
+  std::string grid_text = "8x4";
+  app.add_option("--every", every, "use every K-th frame")->check(CLI::PositiveNumber);
+  app.add_option("--grid", grid_text, "cells of the table, COLSxROWS");
+  CLI11_PARSE(app, argc, argv);
+  int grid_cols = 0, grid_rows = 0;
+  if (std::sscanf(grid_text.c_str(), "%dx%d", &grid_cols, &grid_rows) != 2 || grid_cols < 1 ||
+      grid_rows < 1) {
+    std::fprintf(stderr, "--grid %s: expected COLSxROWS, e.g. 8x4\n", grid_text.c_str());
+    return 2;
+  }
+  try {
+    const semap::app::Config config = args.LoadConfig();
+    auto source = semap::io::OpenFrameSource(args.sequence, args.Input(config, false));
+    const semap::StereoOdometryOptions& o = config.odometry;
+    const cv::Size win(o.klt_window_px, o.klt_window_px);
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
+                                kKltEpsilonPx);
+    std::vector<Match> matches;
+    semap::StereoCalibration calibration;
+    cv::Size size;
+    int frames = 0, index = 0;
+    while (auto frame = source->Next()) {
+      if (index++ % every != 0) continue;
+      ++frames;
+      calibration = frame->calibration;
+      const cv::Mat left = Gray(frame->left), right = Gray(frame->right);
+      size = left.size();
+      std::vector<cv::KeyPoint> corners;
+      cv::FAST(left, corners, kFastThreshold, true);
+      if (corners.empty()) continue;
+      std::vector<cv::Point2f> left_px, right_px, back_px;
+      for (const auto& k : corners) left_px.push_back(k.pt);
+      std::vector<cv::Mat> left_pyramid, right_pyramid;
+      cv::buildOpticalFlowPyramid(left, left_pyramid, win, o.stereo_levels);
+      cv::buildOpticalFlowPyramid(right, right_pyramid, win, o.stereo_levels);
+      // Start every match at the disparity of the scene's middle distance: a tenth of fB (10 m at f B = 100).
+      const float start_px = static_cast<float>(calibration.DisparityFromDepth(10.0));
+      for (const auto& p : left_px) right_px.emplace_back(p.x - start_px, p.y);
+      std::vector<uchar> status, back_status;
+      std::vector<float> error;
+      cv::calcOpticalFlowPyrLK(left_pyramid, right_pyramid, left_px, right_px, status, error, win,
+                               o.stereo_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+      back_px = left_px;
+      cv::calcOpticalFlowPyrLK(right_pyramid, left_pyramid, right_px, back_px, back_status, error, win, 1,
+                               term, cv::OPTFLOW_USE_INITIAL_FLOW);
+      for (size_t i = 0; i < left_px.size(); ++i) {
+        if (!status[i] || !back_status[i] || cv::norm(back_px[i] - left_px[i]) > kMaxRoundTripPx) continue;
+        const double dy = right_px[i].y - left_px[i].y;
+        if (std::abs(dy) > kMaxVerticalOffsetPx || left_px[i].x - right_px[i].x < kMinDisparityPx) continue;
+        matches.push_back({left_px[i].x, left_px[i].y, dy});
+      }
+    }
+    if (matches.empty()) {
+      std::fprintf(stderr, "%s: no stereo matches in %d frames\n", args.sequence.c_str(), frames);
+      return 1;
+    }
+    // The table: mean vertical offset per cell (and its match count).
+    std::vector<std::vector<double>> cells(static_cast<size_t>(grid_cols * grid_rows));
+    for (const Match& m : matches) {
+      const int c = std::min(grid_cols - 1, static_cast<int>(m.u_px * grid_cols / size.width));
+      const int r = std::min(grid_rows - 1, static_cast<int>(m.v_px * grid_rows / size.height));
+      cells[static_cast<size_t>(r * grid_cols + c)].push_back(m.dy_px);
+    }
+    std::printf(
+        "%s: %d frames, %zu stereo matches; mean vertical offset (right row - left row, px) per cell,\n"
+        "columns left to right, rows top to bottom (matches in brackets):\n\n|",
+        args.sequence.c_str(), frames, matches.size());
+    for (int c = 0; c < grid_cols; ++c) std::printf(" col %d |", c + 1);
+    std::printf("\n|");
+    for (int c = 0; c < grid_cols; ++c) std::printf("---:|");
+    std::printf("\n");
+    for (int r = 0; r < grid_rows; ++r) {
+      std::printf("|");
+      for (int c = 0; c < grid_cols; ++c) {
+        const auto& v = cells[static_cast<size_t>(r * grid_cols + c)];
+        if (v.empty()) {
+          std::printf(" – |");
+        } else {
+          std::printf(" %+.2f (%zu) |", semap::bench::Mean(v), v.size());
+        }
+      }
+      std::printf("\n");
+    }
+    // The fit, in normalised image coordinates x = (u - cx)/fx, y = (v - cy)/fy: dy/fy = a + b x + c x y.
+    const semap::StereoCalibration& k = calibration;
+    std::vector<bool> keep(matches.size(), true);
+    Eigen::Vector3d w = Eigen::Vector3d::Zero();
+    double mad_px = 0.0;
+    for (int round = 0; round < kFitRounds; ++round) {
+      Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+      for (size_t i = 0; i < matches.size(); ++i) {
+        if (!keep[i]) continue;
+        const double x = (matches[i].u_px - k.cx_px) / k.fx_px, y = (matches[i].v_px - k.cy_px) / k.fy_px;
+        const Eigen::Vector3d a(1.0, x, x * y);
+        normal += a * a.transpose();
+        rhs += a * (matches[i].dy_px / k.fy_px);
+      }
+      w = normal.ldlt().solve(rhs);
+      std::vector<double> residuals(matches.size());
+      for (size_t i = 0; i < matches.size(); ++i) {
+        const double x = (matches[i].u_px - k.cx_px) / k.fx_px, y = (matches[i].v_px - k.cy_px) / k.fy_px;
+        residuals[i] = std::abs(matches[i].dy_px - k.fy_px * (w[0] + w[1] * x + w[2] * x * y));
+      }
+      mad_px = semap::bench::Median(residuals);
+      for (size_t i = 0; i < matches.size(); ++i)
+        keep[i] = residuals[i] <= kFitTrimMads * kMadToSigma * mad_px;
+    }
+    // What each term gives at the image's corners, px.
+    const double x_edge = std::max(k.cx_px, size.width - k.cx_px) / k.fx_px;
+    const double y_edge = std::max(k.cy_px, size.height - k.cy_px) / k.fy_px;
+    std::printf(
+        "\nfit dy = a + b x + c x y (x, y normalised): a %+.3f px (pitch %.4f deg), b x at the left/right "
+        "edge %+.2f px (roll %.4f deg), c x y at the corners %+.2f px; median |residual| %.3f px\n",
+        k.fy_px * w[0], w[0] * 180.0 / M_PI, k.fy_px * w[1] * x_edge, w[1] * 180.0 / M_PI,
+        k.fy_px * w[2] * x_edge * y_edge, mad_px);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "semap_rectification_check: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
