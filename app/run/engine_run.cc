@@ -52,6 +52,7 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
   } else {
     reader = std::move(source);
   }
+  if (config.depth.align_rows) reader = std::make_unique<RowAlignmentReader>(std::move(reader));
   if (odometry != nullptr && odometry->log) {
     reader = std::make_unique<OdometryReader>(std::move(reader), config.odometry, odometry->plan.replace_poses,
                                               odometry->log);

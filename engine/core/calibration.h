@@ -3,6 +3,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
+#include <opencv2/core.hpp>
 
 namespace semap {
 
@@ -50,6 +52,29 @@ struct DisparityOffset {
   double per_row_px = 0.0;  // the offset's change per unit of (v − cy) / fy, px
   double At(double v_px, const StereoCalibration& c) const { return constant_px + per_row_px * (v_px - c.cy_px) / c.fy_px; }
   bool IsZero() const { return constant_px == 0.0 && per_row_px == 0.0; }
+};
+
+// The residual vertical misalignment of a rectified pair: right row − left row at a left-image pixel, a
+// quadratic in x = (u − W/2) / W and y = (v − H/2) / W (the image's centre and width; no calibration needed):
+// Σ coefficients_px[k] · (1, x, y, x·y, x², y²)[k]. Measured on the images (engine/depth/row_alignment.h).
+struct RowOffsets {
+  static constexpr int kTerms = 6;
+  std::array<double, kTerms> coefficients_px{};
+  cv::Size image_size;
+  int matches = 0;                  // the stereo matches the fit kept
+  double median_residual_px = 0.0;  // their median |residual|
+  double max_abs_px = 0.0;          // the largest |fitted offset| at those matches (not extrapolated)
+
+  double At(double u_px, double v_px) const {
+    const double w = image_size.width;
+    const double x = (u_px - 0.5 * w) / w;
+    const double y = (v_px - 0.5 * image_size.height) / w;
+    const std::array<double, kTerms> t{1.0, x, y, x * y, x * x, y * y};
+    double offset = 0.0;
+    for (int k = 0; k < kTerms; ++k)
+      offset += coefficients_px[static_cast<size_t>(k)] * t[static_cast<size_t>(k)];
+    return offset;
+  }
 };
 
 }  // namespace semap

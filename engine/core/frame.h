@@ -30,6 +30,10 @@ struct Frame {
   // Added to every disparity measured on the pair before it becomes depth (true = measured + offset at the
   // pixel's row): the rig's rectification offset as known when the frame was read (the visual odometry's).
   DisparityOffset disparity_offset;
+  // The rig's residual vertical misalignment as measured when the frame was read (depth.align_rows; the
+  // pipeline's RowAlignmentReader; all-zero coefficients: measured, nothing to correct). Absent: not
+  // measured, and the depth stage measures it on the pair itself.
+  std::optional<RowOffsets> row_offsets;
 };
 
 }  // namespace semap

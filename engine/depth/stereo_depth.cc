@@ -5,11 +5,13 @@
 #include <memory>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "engine/core/check.h"
 #include "engine/depth/internal/disparity_fill.h"
+#include "engine/depth/row_alignment.h"
 
 namespace semap {
 namespace {
@@ -104,7 +106,8 @@ void LeftRightCheck(const cv::Mat& right_disparity, float max_diff_px, cv::Mat* 
 
 // RunSgbmRight on the pair at half resolution, its disparity brought back to `size` in full-resolution px:
 // the right image's disparity for a left-right check at a quarter of the pixels.
-cv::Mat RunSgbmRightHalf(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right, int num_disparities) {
+cv::Mat RunSgbmRightHalf(const DepthOptions& o, const cv::Mat& left, const cv::Mat& right,
+                         int num_disparities) {
   cv::Mat left_half, right_half, disparity;
   cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
   cv::resize(right, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
@@ -168,6 +171,8 @@ void DepthOptions::Check() const {
                      "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(max_depth_m) && max_depth_m > min_depth_m, "max_depth_m", max_depth_m,
                      "must be finite and greater than min_depth_m");
+  SEMAP_CHECK_OPTION(std::isfinite(align_rows_min_px) && align_rows_min_px >= 0.0, "align_rows_min_px",
+                     align_rows_min_px, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(pixel_stride >= 1, "pixel_stride", pixel_stride, "must be >= 1");
   SEMAP_CHECK_OPTION(vote_stride_px >= 1, "vote_stride_px", vote_stride_px, "must be >= 1");
   SEMAP_CHECK_OPTION(max_points_per_frame >= 0, "max_points_per_frame", max_points_per_frame,
@@ -178,16 +183,36 @@ void DepthOptions::Check() const {
 
 StereoDepth::StereoDepth(const DepthOptions& options) : options_(options) { options_.Check(); }
 
-DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) const {
+DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right,
+                                     const RowOffsets* row_offsets) const {
   CheckPair(left, right);
   const DepthOptions& o = options_;
   DisparityResult result;
+  cv::Mat right_rows = right;  // the right image, its rows lined up with the left's when align_rows
+  if (o.align_rows) {
+    std::optional<RowOffsets> measured;
+    if (row_offsets == nullptr) {
+      const auto gray = [](const cv::Mat& image) {
+        if (image.channels() == 1) return image;
+        cv::Mat g;
+        cv::cvtColor(image, g, cv::COLOR_BGR2GRAY);
+        return g;
+      };
+      measured = FitRowOffsets(gray(left), gray(right));
+      if (measured) row_offsets = &*measured;
+    }
+    if (row_offsets != nullptr && row_offsets->max_abs_px >= o.align_rows_min_px &&
+        row_offsets->image_size == right.size()) {
+      right_rows = AlignRows(right, *row_offsets);
+      result.rows_aligned_px = row_offsets->max_abs_px;
+    }
+  }
   if (!o.half_resolution) {
-    result.disparity_px = MatchPair(o, left, right, o.num_disparities);
+    result.disparity_px = MatchPair(o, left, right_rows, o.num_disparities);
   } else {
     cv::Mat left_half, right_half;
     cv::resize(left, left_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-    cv::resize(right, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    cv::resize(right_rows, right_half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
     const int half_range = std::max(kDisparityMultiple, (o.num_disparities / 2 + kDisparityMultiple - 1) /
                                                             kDisparityMultiple * kDisparityMultiple);
     if (left_half.empty()) {
@@ -200,8 +225,8 @@ DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right) 
     }
   }
   result.confidence = cv::Mat(left.size(), CV_32F);
-  depth_internal::FillDisparity(o.fill_max_gap_px, o.fill_left_border ? o.num_disparities : 0, o.filled_confidence,
-                          &result.disparity_px, &result.confidence);
+  depth_internal::FillDisparity(o.fill_max_gap_px, o.fill_left_border ? o.num_disparities : 0,
+                                o.filled_confidence, &result.disparity_px, &result.confidence);
   return result;
 }
 
@@ -278,15 +303,18 @@ LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_
   return cloud;
 }
 
-DepthView StereoDepth::ToDepthView(const Frame& frame, const cv::Mat& disparity_px, const cv::Mat& confidence) const {
+DepthView StereoDepth::ToDepthView(const Frame& frame, const cv::Mat& disparity_px,
+                                   const cv::Mat& confidence) const {
   const DepthOptions& o = options_;
   if (disparity_px.empty() || disparity_px.type() != CV_32FC1 ||
       (!confidence.empty() && (confidence.size() != disparity_px.size() || confidence.type() != CV_32FC1))) {
-    throw std::invalid_argument("ToDepthView: expected a CV_32F disparity (and confidence of its size), got " +
-                                Describe(disparity_px));
+    throw std::invalid_argument(
+        "ToDepthView: expected a CV_32F disparity (and confidence of its size), got " +
+        Describe(disparity_px));
   }
   if (!frame.calibration.IsValid()) {
-    throw std::invalid_argument("ToDepthView: frame " + std::to_string(frame.id) + " has an invalid calibration");
+    throw std::invalid_argument("ToDepthView: frame " + std::to_string(frame.id) +
+                                " has an invalid calibration");
   }
   const StereoCalibration& calib = frame.calibration;
   const int s = o.vote_stride_px;
@@ -322,7 +350,8 @@ DepthView StereoDepth::ToDepthView(const Frame& frame, const cv::Mat& disparity_
 }
 
 LabelledCloud StereoDepth::Process(const Frame& frame) const {
-  const DisparityResult r = Compute(frame.left, frame.right);
+  const DisparityResult r =
+      Compute(frame.left, frame.right, frame.row_offsets ? &*frame.row_offsets : nullptr);
   LabelledCloud cloud = ToCloud(frame, r.disparity_px, r.confidence);
   cloud.camera_views = {std::make_shared<const DepthView>(ToDepthView(frame, r.disparity_px, r.confidence))};
   return cloud;

@@ -34,6 +34,8 @@ struct DepthOptions {
   int pre_filter_cap = 31;
   SgbmMode mode = SgbmMode::kThreeWay;
   bool half_resolution = false;
+  bool align_rows = true;
+  double align_rows_min_px = 0.25;
 
   // Post-processing of the disparity.
   int fill_max_gap_px = 64;
@@ -78,6 +80,17 @@ struct DepthOptions {
     v.Field("left_right_half_resolution", &left_right_half_resolution,
             "the left-right check's right-image pass at half resolution (a quarter of its cost)");
     v.Field("pre_filter_cap", &pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
+    // KITTI's real pairs are off by up to 0.7 px (odometry 04) and 1.6 px (kitti_odometry_turn) at the
+    // corners; lining the rows up lowers KITTI 04's SGBM median error by 4 % and the map's static bias at
+    // 20-30 m from +0.16 to +0.05 m (bench/RESULTS.md, "Rows lined up", 2026-11-27). See
+    // engine/depth/internal/row_alignment.h.
+    v.Field(
+        "align_rows", &align_rows,
+        "measure the pair's residual vertical misalignment on each frame (sparse stereo matches, a quadratic "
+        "over the image) and move the right image's rows by it before matching");
+    v.Field("align_rows_min_px", &align_rows_min_px,
+            "align_rows leaves a pair alone whose fitted misalignment stays below this everywhere, px (a "
+            "rectified pair is not resampled)");
     v.Enum("mode", &mode,
            {{"sgbm", SgbmMode::kSgbm},
             {"hh", SgbmMode::kHh},
@@ -121,6 +134,7 @@ struct DepthOptions {
 struct DisparityResult {
   cv::Mat disparity_px;  // CV_32F, disparity in full-resolution px; invalid = 0 (never NaN or infinite)
   cv::Mat confidence;    // CV_32F in [0, 1]: 1 matched, filled_confidence small-gap filled, 0 border-filled
+  double rows_aligned_px = 0.0;  // align_rows: the largest row offset removed from the right image (0: none)
 };
 
 // The depth stage. Stateless apart from its options: const methods may be called from several threads at once
@@ -135,7 +149,11 @@ class StereoDepth {
   // Disparity of the left image. Requires two non-empty images of the same size and type, both CV_8UC1 or
   // both CV_8UC3 (throws std::invalid_argument naming the mismatch otherwise). Invalid pixels are 0. An image
   // no wider than num_disparities (at the matching resolution) cannot be matched: every pixel is invalid.
-  DisparityResult Compute(const cv::Mat& left, const cv::Mat& right) const;
+  // With align_rows, the right image's rows are first lined up with the left's by `row_offsets` (the rig's,
+  // as measured earlier: RowAlignmentReader), or, when null, by a fit on this pair (FitRowOffsets: ~30 ms
+  // more), when the misalignment reaches align_rows_min_px.
+  DisparityResult Compute(const cv::Mat& left, const cv::Mat& right,
+                          const RowOffsets* row_offsets = nullptr) const;
   // Compute(left, right).disparity_px.
   cv::Mat ComputeDisparity(const cv::Mat& left, const cv::Mat& right) const;
 
@@ -151,7 +169,8 @@ class StereoDepth {
 
   // The depth map of the map's visibility votes: every vote_stride_px-th pixel of `disparity_px`, as
   // camera-frame depth; pixels that would give no point (invalid, out of range, low confidence) are 0.
-  DepthView ToDepthView(const Frame& frame, const cv::Mat& disparity_px, const cv::Mat& confidence = cv::Mat()) const;
+  DepthView ToDepthView(const Frame& frame, const cv::Mat& disparity_px,
+                        const cv::Mat& confidence = cv::Mat()) const;
 
   // Compute(), then ToCloud() with the ToDepthView() of its camera.
   LabelledCloud Process(const Frame& frame) const;

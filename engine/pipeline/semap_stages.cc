@@ -1,10 +1,12 @@
 #include "engine/pipeline/semap_stages.h"
 
 #include <chrono>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 
 #include "engine/core/check.h"
+#include "engine/depth/row_alignment.h"
 
 namespace semap {
 
@@ -66,8 +68,41 @@ cv::Mat LabelsFromKeyframe(const Frame& frame, const KeyframeLabels& keyframe, c
 
 }  // namespace
 
+RowAlignmentReader::RowAlignmentReader(std::unique_ptr<FrameReader> source) : source_(std::move(source)) {}
+
+std::optional<Frame> RowAlignmentReader::Next() {
+  std::optional<Frame> frame = source_->Next();
+  if (!frame) return frame;
+  const bool due =
+      frames_since_attempt_ >= kRemeasureEveryFrames || (!current_ && frames_read_ < kFirstAttemptFrames);
+  ++frames_read_;
+  if (due && !frame->left.empty() && frame->left.size() == frame->right.size() &&
+      frame->left.type() == frame->right.type()) {
+    frames_since_attempt_ = 0;
+    cv::Mat left = frame->left, right = frame->right;
+    if (left.channels() == 3) {
+      cv::cvtColor(frame->left, left, cv::COLOR_BGR2GRAY);
+      cv::cvtColor(frame->right, right, cv::COLOR_BGR2GRAY);
+    }
+    if (left.type() == CV_8UC1) {
+      if (std::optional<RowOffsets> fit = FitRowOffsets(left, right)) current_ = *fit;
+    }
+  } else {
+    ++frames_since_attempt_;
+  }
+  if (current_) {
+    frame->row_offsets = current_;
+  } else {
+    RowOffsets none;  // measured, nothing to correct: the depth stage does not measure again
+    none.image_size = frame->left.size();
+    frame->row_offsets = none;
+  }
+  return frame;
+}
+
 LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
-  const DisparityResult disparity = depth_.Compute(frame.left, frame.right);
+  const DisparityResult disparity =
+      depth_.Compute(frame.left, frame.right, frame.row_offsets ? &*frame.row_offsets : nullptr);
   LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
   DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
   if (cloud.size() == 0) {

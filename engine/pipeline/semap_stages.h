@@ -18,6 +18,29 @@ namespace semap {
 // SGBM depth, then the paper's labelling rule: the frame's points are labelled from the frame's own label
 // image (its camera is their first camera); points labelled sky are dropped (semantics.drop_sky). A frame
 // that gives no point at all (no valid disparity, or only sky) throws: the pipeline skips and counts it.
+// Measures the rig's residual row misalignment (FitRowOffsets, depth.align_rows) on the frames it reads and
+// hands each frame the last measurement (Frame::row_offsets), so that the depth workers only resample the
+// right image instead of each measuring its own pair (~30 ms a frame). Every frame is measured until one
+// fits, for the first kFirstAttemptFrames frames; after that, and after a fit, every kRemeasureEveryFrames
+// frames, each fit replacing the one before (a rig's rectification holds for a drive; a new measurement
+// follows a change of camera). A frame read before any fit carries "measured, nothing to correct". Frames
+// are passed on in order, so every run of the same frames gets the same offsets. Runs on the reader's
+// thread; one thread calls Next().
+class RowAlignmentReader : public FrameReader {
+ public:
+  static constexpr int kFirstAttemptFrames = 10;
+  static constexpr int kRemeasureEveryFrames = 100;
+
+  explicit RowAlignmentReader(std::unique_ptr<FrameReader> source);
+  std::optional<Frame> Next() override;
+
+ private:
+  std::unique_ptr<FrameReader> source_;
+  std::optional<RowOffsets> current_;
+  int frames_read_ = 0;
+  int frames_since_attempt_ = 0;
+};
+
 // The frame's label image is, given keyframe labels (a pipeline with a SegmenterStage), the keyframe's own
 // on a keyframe, else the keyframe's carried over as semantics.enet_propagation says (reprojected through
 // this frame's SGBM depth and the relative pose, or reused); without, FrameLabels() (the frame's label image,
