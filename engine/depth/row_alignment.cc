@@ -54,9 +54,15 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left_gray, const cv::Mat& right_gray) {
-  if (left_gray.type() != CV_8UC1 || right_gray.type() != CV_8UC1 || left_gray.size() != right_gray.size()) {
-    throw std::invalid_argument("FitRowOffsets: expected two grey 8-bit images of one size");
+std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& right) {
+  if ((left.type() != CV_8UC1 && left.type() != CV_8UC3) || left.type() != right.type() ||
+      left.size() != right.size()) {
+    throw std::invalid_argument("FitRowOffsets: expected two 8-bit grey or BGR images of one size and type");
+  }
+  cv::Mat left_gray = left, right_gray = right;
+  if (left.channels() == 3) {
+    cv::cvtColor(left, left_gray, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(right, right_gray, cv::COLOR_BGR2GRAY);
   }
   std::vector<cv::KeyPoint> corners;
   cv::FAST(left_gray, corners, kFastThreshold, /*nonmaxSuppression=*/true);

@@ -20,9 +20,10 @@
 
 namespace semap {
 
-// The fit on a pair of grey (CV_8UC1) images of one size; nothing when too few matches are found (a blank,
-// texture-less or smooth generated frame). ~30 ms on one core for a KITTI pair.
-std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left_gray, const cv::Mat& right_gray);
+// The fit on a pair of 8-bit grey or BGR images of one size and type (a frame's own; BGR is matched in grey);
+// nothing when too few matches are found (a blank, texture-less or smooth generated frame). Throws
+// std::invalid_argument on other images. ~30 ms on one core for a KITTI pair.
+std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& right);
 
 // `right` (any type cv::remap takes) with each pixel taken from the row the offsets say: the right image as
 // a camera whose rows line up with the left one's would have seen it; bilinear between rows. Where the

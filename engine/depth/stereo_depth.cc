@@ -192,13 +192,7 @@ DisparityResult StereoDepth::Compute(const cv::Mat& left, const cv::Mat& right,
   if (o.align_rows) {
     std::optional<RowOffsets> measured;
     if (row_offsets == nullptr) {
-      const auto gray = [](const cv::Mat& image) {
-        if (image.channels() == 1) return image;
-        cv::Mat g;
-        cv::cvtColor(image, g, cv::COLOR_BGR2GRAY);
-        return g;
-      };
-      measured = FitRowOffsets(gray(left), gray(right));
+      measured = FitRowOffsets(left, right);
       if (measured) row_offsets = &*measured;
     }
     if (row_offsets != nullptr && row_offsets->max_abs_px >= o.align_rows_min_px &&

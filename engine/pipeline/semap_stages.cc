@@ -1,7 +1,6 @@
 #include "engine/pipeline/semap_stages.h"
 
 #include <chrono>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 
@@ -76,17 +75,11 @@ std::optional<Frame> RowAlignmentReader::Next() {
   const bool due =
       frames_since_attempt_ >= kRemeasureEveryFrames || (!current_ && frames_read_ < kFirstAttemptFrames);
   ++frames_read_;
-  if (due && !frame->left.empty() && frame->left.size() == frame->right.size() &&
-      frame->left.type() == frame->right.type()) {
+  const int type = frame->left.type();
+  if (due && !frame->left.empty() && frame->left.size() == frame->right.size() && type == frame->right.type() &&
+      (type == CV_8UC1 || type == CV_8UC3)) {
     frames_since_attempt_ = 0;
-    cv::Mat left = frame->left, right = frame->right;
-    if (left.channels() == 3) {
-      cv::cvtColor(frame->left, left, cv::COLOR_BGR2GRAY);
-      cv::cvtColor(frame->right, right, cv::COLOR_BGR2GRAY);
-    }
-    if (left.type() == CV_8UC1) {
-      if (std::optional<RowOffsets> fit = FitRowOffsets(left, right)) current_ = *fit;
-    }
+    if (std::optional<RowOffsets> fit = FitRowOffsets(frame->left, frame->right)) current_ = *fit;
   } else {
     ++frames_since_attempt_;
   }
