@@ -22,6 +22,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "bench/grey_image.h"
 #include "bench/sequence_args.h"
 #include "bench/stats.h"
 #include "engine/depth/depth_metrics.h"
@@ -29,6 +30,7 @@
 namespace {
 
 using semap::bench::BinOf;
+using semap::bench::Gray;
 using semap::bench::Mean;
 using semap::bench::Median;
 
@@ -50,13 +52,6 @@ constexpr int kScaleEveryFrames = 5;
 constexpr double kStereoStartOffPx = 2.0;
 // Corners closer than this to the focus of expansion have no radial direction, px.
 constexpr double kMinRadiusPx = 20.0;
-
-cv::Mat Gray(const cv::Mat& image) {
-  if (image.channels() == 1) return image;
-  cv::Mat gray;
-  cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-  return gray;
-}
 
 // True when every Velodyne return within kSmoothRadiusPx of (u, v), and at least kMinSmoothReturns of
 // them, lie within `share` of depth `z_m`.

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/grey_image.h"
 #include "bench/sequence_args.h"
 #include "bench/stats.h"
 
@@ -41,13 +42,6 @@ constexpr double kMinDisparityPx = 1.0;
 constexpr int kFitRounds = 3;
 constexpr double kFitTrimMads = 3.0;
 constexpr double kMadToSigma = 1.4826;
-
-cv::Mat Gray(const cv::Mat& image) {
-  if (image.channels() == 1) return image;
-  cv::Mat gray;
-  cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-  return gray;
-}
 
 struct Match {
   double u_px, v_px, dy_px;
@@ -85,7 +79,7 @@ int main(int argc, char** argv) {
       if (index++ % every != 0) continue;
       ++frames;
       calibration = frame->calibration;
-      const cv::Mat left = Gray(frame->left), right = Gray(frame->right);
+      const cv::Mat left = semap::bench::Gray(frame->left), right = semap::bench::Gray(frame->right);
       size = left.size();
       std::vector<cv::KeyPoint> corners;
       cv::FAST(left, corners, kFastThreshold, true);
