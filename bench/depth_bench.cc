@@ -1,5 +1,7 @@
 // Depth stage micro-benchmarks on a real KITTI stereo-2015 frame (1242×375): SGBM disparity and the full
-// stage (disparity + point cloud) at full and half resolution, on one core (cv::setNumThreads(1)).
+// stage (disparity + point cloud) at full and half resolution, on one core (cv::setNumThreads(1)). As in a
+// stream, the pair's row offsets (depth.align_rows) are measured once, outside the timed loops (the reader
+// of `semap run` measures them on the first frames, then every 100): BM_FitRowOffsets times that fit.
 // Run: ./build/bench/depth_bench  (SEMAP_SHARED overrides the shared folder)
 #include <benchmark/benchmark.h>
 
@@ -7,6 +9,7 @@
 #include <opencv2/core/utility.hpp>
 #include <string>
 
+#include "engine/depth/row_alignment.h"
 #include "engine/depth/stereo_depth.h"
 #include "tests/common/kitti2015_subset.h"
 
@@ -21,13 +24,26 @@ const semap::test::Stereo2015Frame& TestFrame() {
   return frame;
 }
 
+// The test frame with its row offsets measured once, as the stream's reader attaches them (all zero when the
+// fit finds nothing: measured, nothing to correct).
+const semap::Frame& AlignedFrame() {
+  static const semap::Frame frame = [] {
+    semap::Frame f = TestFrame().frame;
+    semap::RowOffsets none;
+    none.image_size = f.left.size();
+    f.row_offsets = semap::FitRowOffsets(f.left, f.right).value_or(none);
+    return f;
+  }();
+  return frame;
+}
+
 void BM_Disparity(benchmark::State& state) {
   cv::setNumThreads(1);
   semap::DepthOptions o;
   o.half_resolution = state.range(0) != 0;
   const semap::StereoDepth depth(o);
-  const auto& f = TestFrame().frame;
-  for (auto _ : state) benchmark::DoNotOptimize(depth.Compute(f.left, f.right));
+  const semap::Frame& f = AlignedFrame();
+  for (auto _ : state) benchmark::DoNotOptimize(depth.Compute(f.left, f.right, &*f.row_offsets));
   state.SetLabel(o.half_resolution ? "half resolution" : "full resolution");
 }
 BENCHMARK(BM_Disparity)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
@@ -37,7 +53,7 @@ void BM_DepthStage(benchmark::State& state) {
   semap::DepthOptions o;
   o.half_resolution = state.range(0) != 0;
   const semap::StereoDepth depth(o);
-  const auto& f = TestFrame().frame;
+  const semap::Frame& f = AlignedFrame();
   size_t points = 0;
   for (auto _ : state) {
     const auto cloud = depth.Process(f);
@@ -57,6 +73,13 @@ void BM_ToCloud(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(depth.ToCloud(f, r.disparity_px, r.confidence));
 }
 BENCHMARK(BM_ToCloud)->Unit(benchmark::kMillisecond);
+
+void BM_FitRowOffsets(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const auto& f = TestFrame().frame;
+  for (auto _ : state) benchmark::DoNotOptimize(semap::FitRowOffsets(f.left, f.right));
+}
+BENCHMARK(BM_FitRowOffsets)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -3,7 +3,8 @@
 // depend on how busy the machine is (CPU time, not wall time: on a shared machine wall time drifts, CPU time
 // far less). The same stages and options as `semap run` (app/run/engine_run.cc): the frame source, ENet on
 // keyframes (semantics.source enet, semantics.enet_every_frames; the frames between labelled from their
-// keyframe), the depth stage (SGBM + labels), the windowed simplifier and the incremental map.
+// keyframe), the reader's row alignment (depth.align_rows), the depth stage (SGBM + labels), the windowed
+// simplifier and the incremental map.
 //
 // Usage: semap_stage_cpu SEQUENCE [--frames N] [--config FILE] [--set section.key=value ...] [--csv FILE]
 //
@@ -74,6 +75,10 @@ int main(int argc, char** argv) {
     cv::setNumThreads(1);
     auto source = semap::app::OpenStreamingSource(config, sequence);
     const semap::ClassMap class_map = source->class_map();
+    // The reader of `semap run` measures the pair's row offsets (depth.align_rows) on the first frames, then
+    // every 100, and hands them to the depth stage with each frame: its cost is the read stage's, as there.
+    std::unique_ptr<semap::FrameReader> reader = std::move(source);
+    if (config.depth.align_rows) reader = std::make_unique<semap::RowAlignmentReader>(std::move(reader));
     const bool enet = config.semantics.source == semap::LabelSource::kEnet;
     // ENet on keyframes as `semap run` does (every_frames 1: every frame in the depth stage, as there).
     const bool keyframes = enet && config.semantics.enet_every_frames > 1;
@@ -97,7 +102,7 @@ int main(int argc, char** argv) {
     double segment_total_ms = 0.0;
     for (;;) {
       double t = CpuMs();
-      std::optional<semap::Frame> frame = source->Next();
+      std::optional<semap::Frame> frame = reader->Next();
       if (!frame) break;
       const double read_ms = CpuMs() - t;
       double segment_ms = 0.0;
