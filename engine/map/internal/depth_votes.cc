@@ -141,9 +141,10 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     // The pixel's point is uncertain along the ray by its own σ (see the header): the sample is free with the
     // probability that the true surface lies beyond it, Φ(d/σ), matter otherwise, out to the extension plus
     // matter_behind_sigmas σ behind the point.
-    const double sigma_m = std::hypot(
-        view.DepthSigma(depth_m, geometry.disparity_sigma_px) * range / x.z(),
-        geometry.ray.sigma_free_m);
+    // hypot of two positive lengths in metres, without std::hypot's care for overflow (3 % of a run's CPU).
+    const double sigma_along_m = view.DepthSigma(depth_m, geometry.disparity_sigma_px) * range / x.z();
+    const double sigma_m =
+        std::sqrt(sigma_along_m * sigma_along_m + geometry.ray.sigma_free_m * geometry.ray.sigma_free_m);
     if (d > kFreeSaturationSigmas * sigma_m) {
       free += 1.0;  // 1 − Φ is below a quarter of a fixed-point unit
     } else if (d >= -(geometry.ray.extension_m + geometry.matter_behind_sigmas * sigma_m)) {
