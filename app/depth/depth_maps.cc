@@ -67,10 +67,14 @@ void WriteAllDepthMaps(const Config& config, const std::string& path, const std:
   input.load_velodyne = false;
   input.load_labels =
       config.semantics.source == LabelSource::kAuto || config.semantics.source == LabelSource::kDisk;
-  const auto source = io::OpenFrameSource(path, input);
+  auto source = io::OpenFrameSource(path, input);
   DepthOptions dense = config.depth;
   dense.max_points_per_frame = 0;
   StereoLabelStage stage(dense, config.semantics, source->class_map());
+  // The rows lined up as `semap run` lines them up (measured on the first frames, then every 100), so that the
+  // depth maps are the ones the map is built from.
+  std::unique_ptr<FrameReader> reader = std::move(source);
+  if (config.depth.align_rows) reader = std::make_unique<RowAlignmentReader>(std::move(reader));
   std::filesystem::create_directories(out / "depth");
   io::AtomicFile poses(out / "poses.txt");
   poses.stream().precision(17);
@@ -78,7 +82,7 @@ void WriteAllDepthMaps(const Config& config, const std::string& path, const std:
   double stage_s = 0.0;
   std::optional<StereoCalibration> calibration;
   const auto start = std::chrono::steady_clock::now();
-  while (auto frame = source->Next()) {
+  while (auto frame = reader->Next()) {
     if (!frame->world_from_cam) {
       throw std::runtime_error("frame " + std::to_string(frame->id) + " of " + path +
                                " has no pose: --all needs a sequence with poses");

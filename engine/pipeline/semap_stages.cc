@@ -72,6 +72,7 @@ RowAlignmentReader::RowAlignmentReader(std::unique_ptr<FrameReader> source) : so
 std::optional<Frame> RowAlignmentReader::Next() {
   std::optional<Frame> frame = source_->Next();
   if (!frame) return frame;
+  ++frames_since_attempt_;  // this frame included: an attempt at frame a, the next at frame a + 100
   const bool due =
       frames_since_attempt_ >= kRemeasureEveryFrames || (!current_ && frames_read_ < kFirstAttemptFrames);
   ++frames_read_;
@@ -80,8 +81,6 @@ std::optional<Frame> RowAlignmentReader::Next() {
       (type == CV_8UC1 || type == CV_8UC3)) {
     frames_since_attempt_ = 0;
     if (std::optional<RowOffsets> fit = FitRowOffsets(frame->left, frame->right)) current_ = *fit;
-  } else {
-    ++frames_since_attempt_;
   }
   if (current_) {
     frame->row_offsets = current_;

@@ -1,9 +1,11 @@
-// StereoLabelStage with keyframe labels (a pipeline with a segment stage) and SegmenterStage. The
-// frame-label path without keyframes is tested with the labelling rule (tests/engine/semantics/labelling_test.cc).
+// StereoLabelStage with keyframe labels (a pipeline with a segment stage), SegmenterStage and the
+// RowAlignmentReader. The frame-label path without keyframes is tested with the labelling rule
+// (tests/engine/semantics/labelling_test.cc), the row fit itself in tests/engine/depth/row_alignment_test.cc.
 #include "engine/pipeline/semap_stages.h"
 
 #include <gtest/gtest.h>
 
+#include <deque>
 #include <set>
 
 #include <opencv2/imgproc.hpp>
@@ -171,6 +173,103 @@ TEST(IncrementalMapStage, MeshEveryNFramesPublishesLessOftenAndEndsWithTheSameMe
     return out;
   };
   EXPECT_EQ(canonical(a), canonical(b));
+}
+
+// A reader of prepared frames, in order.
+class FramesReader : public FrameReader {
+ public:
+  explicit FramesReader(std::deque<Frame> frames) : frames_(std::move(frames)) {}
+  std::optional<Frame> Next() override {
+    if (frames_.empty()) return std::nullopt;
+    Frame f = std::move(frames_.front());
+    frames_.pop_front();
+    return f;
+  }
+
+ private:
+  std::deque<Frame> frames_;
+};
+
+// A textured pair whose right image lies `dy_px` rows below the left one (and 12 px to the left): a rig whose
+// rows are off by a constant.
+Frame MisalignedPair(std::int64_t id, double dy_px) {
+  cv::Mat noise(240, 640, CV_8UC1);
+  cv::RNG rng(5);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat left;
+  cv::GaussianBlur(noise, left, cv::Size(0, 0), 1.5);
+  cv::normalize(left, left, 0, 255, cv::NORM_MINMAX);
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, -12, 0, 1, dy_px);
+  Frame f;
+  f.id = id;
+  f.left = left;
+  cv::warpAffine(left, f.right, shift, left.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+  return f;
+}
+
+Frame BlankPair(std::int64_t id) {
+  Frame f;
+  f.id = id;
+  f.left = cv::Mat(240, 640, CV_8UC1, cv::Scalar(128));
+  f.right = f.left.clone();
+  return f;
+}
+
+// The documented cadence, written out: frames 0-2 blank (no fit: "measured, nothing to correct"), frame 3
+// fits (+0.8 px), frames after it hold that fit although their rows are off by −0.6 px, until the frame
+// kRemeasureEveryFrames after the fit measures again.
+TEST(RowAlignmentReader, MeasuresUntilAFitThenHoldsItForItsInterval) {
+  constexpr double kFirstDyPx = 0.8, kLaterDyPx = -0.6;
+  const int remeasure_at = 3 + RowAlignmentReader::kRemeasureEveryFrames;
+  std::deque<Frame> frames;
+  for (int i = 0; i <= remeasure_at; ++i) {
+    if (i < 3) {
+      frames.push_back(BlankPair(i));
+    } else if (i == 3) {
+      frames.push_back(MisalignedPair(i, kFirstDyPx));
+    } else {
+      // Between the two measurements a blank pair: a measurement there would find nothing, keep the fit,
+      // and move the next measurement off frame remeasure_at.
+      frames.push_back(i == remeasure_at ? MisalignedPair(i, kLaterDyPx) : BlankPair(i));
+    }
+  }
+  RowAlignmentReader reader(std::make_unique<FramesReader>(std::move(frames)));
+  std::vector<RowOffsets> seen;
+  while (auto f = reader.Next()) {
+    ASSERT_TRUE(f->row_offsets.has_value()) << "frame " << f->id;
+    EXPECT_EQ(f->row_offsets->image_size, cv::Size(640, 240)) << "frame " << f->id;
+    seen.push_back(*f->row_offsets);
+  }
+  ASSERT_EQ(seen.size(), static_cast<std::size_t>(remeasure_at + 1));
+  const auto at_centre = [](const RowOffsets& r) { return r.At(320.0, 120.0); };
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(seen[i].matches, 0) << "frame " << i;
+    EXPECT_EQ(seen[i].max_abs_px, 0.0) << "frame " << i;
+  }
+  EXPECT_NEAR(at_centre(seen[3]), kFirstDyPx, 0.1);
+  EXPECT_GT(seen[3].matches, 0);
+  for (int i = 4; i < remeasure_at; ++i) {
+    EXPECT_EQ(seen[i].coefficients_px, seen[3].coefficients_px) << "frame " << i << " was measured again";
+  }
+  EXPECT_NEAR(at_centre(seen[remeasure_at]), kLaterDyPx, 0.1) << "not measured again at its interval";
+}
+
+// A stream that never fits stops trying after the first frames and tries again at the interval.
+TEST(RowAlignmentReader, AStreamWithoutTextureIsMeasuredOnlyAtTheStartAndAtTheInterval) {
+  const int first_tries = RowAlignmentReader::kFirstAttemptFrames;
+  std::deque<Frame> frames;
+  // A textured misaligned pair right after the first tries: not measured (its offsets stay zero) until the
+  // interval since the last try has passed.
+  const int last_try = first_tries - 1, next_try = last_try + RowAlignmentReader::kRemeasureEveryFrames;
+  for (int i = 0; i <= next_try; ++i) {
+    frames.push_back(i == first_tries || i == next_try ? MisalignedPair(i, 0.8) : BlankPair(i));
+  }
+  RowAlignmentReader reader(std::make_unique<FramesReader>(std::move(frames)));
+  std::vector<RowOffsets> seen;
+  while (auto f = reader.Next()) seen.push_back(*f->row_offsets);
+  ASSERT_EQ(seen.size(), static_cast<std::size_t>(next_try + 1));
+  EXPECT_EQ(seen[first_tries].matches, 0) << "measured after the first tries";
+  EXPECT_NEAR(seen[next_try].At(320.0, 120.0), 0.8, 0.1) << "not measured at the interval";
 }
 
 }  // namespace
