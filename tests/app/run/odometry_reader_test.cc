@@ -2,16 +2,15 @@
 
 #include <gtest/gtest.h>
 
-#include <deque>
-
 #include "engine/sim/camera_renderer.h"
 #include "engine/sim/synthetic_sequence.h"
+#include "tests/common/frames_reader.h"
 
 namespace semap::app {
 namespace {
 
 // Frames of a generated drive, with (or without) their exact poses; `blank` frames have black images.
-class DriveReader : public FrameReader {
+class DriveReader : public test::FramesReader {
  public:
   DriveReader(const sim::SyntheticSequence& seq, int frames, bool with_poses, int blank = -1) {
     const sim::CameraRenderer renderer(seq.scene(), seq.options());
@@ -30,15 +29,6 @@ class DriveReader : public FrameReader {
       frames_.push_back(std::move(f));
     }
   }
-  std::optional<Frame> Next() override {
-    if (frames_.empty()) return std::nullopt;
-    Frame f = std::move(frames_.front());
-    frames_.pop_front();
-    return f;
-  }
-
- private:
-  std::deque<Frame> frames_;
 };
 
 sim::SynthOptions Drive(int frames) {

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "engine/core/mesh_delta.h"
+#include "tests/common/frames_reader.h"
 #include "tests/engine/map/street_scene.h"
 
 namespace semap {
@@ -175,21 +176,6 @@ TEST(IncrementalMapStage, MeshEveryNFramesPublishesLessOftenAndEndsWithTheSameMe
   EXPECT_EQ(canonical(a), canonical(b));
 }
 
-// A reader of prepared frames, in order.
-class FramesReader : public FrameReader {
- public:
-  explicit FramesReader(std::deque<Frame> frames) : frames_(std::move(frames)) {}
-  std::optional<Frame> Next() override {
-    if (frames_.empty()) return std::nullopt;
-    Frame f = std::move(frames_.front());
-    frames_.pop_front();
-    return f;
-  }
-
- private:
-  std::deque<Frame> frames_;
-};
-
 // A textured pair whose right image lies `dy_px` rows below the left one (and 12 px to the left): a rig whose
 // rows are off by a constant.
 Frame MisalignedPair(std::int64_t id, double dy_px) {
@@ -233,7 +219,7 @@ TEST(RowAlignmentReader, MeasuresUntilAFitThenHoldsItForItsInterval) {
       frames.push_back(i == remeasure_at ? MisalignedPair(i, kLaterDyPx) : BlankPair(i));
     }
   }
-  RowAlignmentReader reader(std::make_unique<FramesReader>(std::move(frames)));
+  RowAlignmentReader reader(std::make_unique<test::FramesReader>(std::move(frames)));
   std::vector<RowOffsets> seen;
   while (auto f = reader.Next()) {
     ASSERT_TRUE(f->row_offsets.has_value()) << "frame " << f->id;
@@ -264,7 +250,7 @@ TEST(RowAlignmentReader, AStreamWithoutTextureIsMeasuredOnlyAtTheStartAndAtTheIn
   for (int i = 0; i <= next_try; ++i) {
     frames.push_back(i == first_tries || i == next_try ? MisalignedPair(i, 0.8) : BlankPair(i));
   }
-  RowAlignmentReader reader(std::make_unique<FramesReader>(std::move(frames)));
+  RowAlignmentReader reader(std::make_unique<test::FramesReader>(std::move(frames)));
   std::vector<RowOffsets> seen;
   while (auto f = reader.Next()) seen.push_back(*f->row_offsets);
   ASSERT_EQ(seen.size(), static_cast<std::size_t>(next_try + 1));
