@@ -20,8 +20,8 @@ constexpr int kMaxDepth = 128;
 constexpr int kSahDepth = 80;
 
 // An axis-aligned box grown point by point. Plain float arithmetic rather than Eigen's expressions: Build()
-// extends boxes a few times per triangle and tree level, and under the sanitizers (-O1, nothing of Eigen
-// inlined) the expression form made the BVH build of a generated street 20-40 times slower than the rest.
+// extends boxes a few times per triangle and tree level, and in a sanitized build (-O1, Eigen's expressions
+// not inlined) that form took 60 % of a rendering test's time (perf; bench/RESULTS.md, "Checks").
 struct Box {
   std::array<float, 3> lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
                           std::numeric_limits<float>::max()};
