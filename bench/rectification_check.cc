@@ -1,7 +1,7 @@
 // semap_rectification_check: is a stereo sequence rectified? In a rectified pair a point of the left image
-// lies on the same row of the right one. FAST corners of each left image are matched into the right image
-// with pyramidal KLT (the odometry's window and stereo levels, started at the median disparity, checked back
-// into the left image); the match's vertical offset (right row − left row) is averaged per cell of a grid
+// lies on the same row of the right one. The stereo matches the depth stage's row alignment fits
+// (semap::MatchRows: the strongest FAST corners of each left image, pyramidal KLT into the right image and
+// back); the match's vertical offset (right row − left row) is averaged per cell of a grid
 // over the image and printed as a table, with a fit of the offset to the terms a small error of the
 // rectification gives: a constant (pitch between the cameras), one growing with the column (roll) and one
 // with column × row (a keystone: yaw, or a projective term of the rectifying homographies). A rectified pair
@@ -15,29 +15,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <opencv2/features2d.hpp>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 #include <string>
 #include <vector>
 
-#include "bench/grey_image.h"
 #include "bench/sequence_args.h"
 #include "bench/stats.h"
+#include "engine/depth/row_alignment.h"
 
 namespace {
 
-// KLT's stop criteria, as in engine/odometry.
-constexpr int kKltMaxIterations = 30;
-constexpr double kKltEpsilonPx = 0.01;
-// FAST threshold (grey levels) of the corners matched.
-constexpr int kFastThreshold = 20;
-// A match is kept when it tracks back into the left image this close to its start, px ...
-constexpr double kMaxRoundTripPx = 0.3;
-// ... and its vertical offset is below this (larger ones are mismatches, not rectification), px.
-constexpr double kMaxVerticalOffsetPx = 3.0;
-// Matches of less disparity than this are left out (no texture to tell a row by at infinity), px.
-constexpr double kMinDisparityPx = 1.0;
 // The fit's robust rounds: residuals beyond this many MADs are dropped before the next round.
 constexpr int kFitRounds = 3;
 constexpr double kFitTrimMads = 3.0;
@@ -67,10 +53,6 @@ int main(int argc, char** argv) {
   try {
     const semap::app::Config config = args.LoadConfig();
     auto source = semap::io::OpenFrameSource(args.sequence, args.Input(config, false));
-    const semap::StereoOdometryOptions& o = config.odometry;
-    const cv::Size win(o.klt_window_px, o.klt_window_px);
-    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
-                                kKltEpsilonPx);
     std::vector<Match> matches;
     semap::StereoCalibration calibration;
     cv::Size size;
@@ -79,31 +61,10 @@ int main(int argc, char** argv) {
       if (index++ % every != 0) continue;
       ++frames;
       calibration = frame->calibration;
-      const cv::Mat left = semap::bench::Gray(frame->left), right = semap::bench::Gray(frame->right);
-      size = left.size();
-      std::vector<cv::KeyPoint> corners;
-      cv::FAST(left, corners, kFastThreshold, true);
-      if (corners.empty()) continue;
-      std::vector<cv::Point2f> left_px, right_px, back_px;
-      for (const auto& k : corners) left_px.push_back(k.pt);
-      std::vector<cv::Mat> left_pyramid, right_pyramid;
-      cv::buildOpticalFlowPyramid(left, left_pyramid, win, o.stereo_levels);
-      cv::buildOpticalFlowPyramid(right, right_pyramid, win, o.stereo_levels);
-      // Start every match at the disparity of the scene's middle distance: a tenth of fB (10 m at f B = 100).
-      const float start_px = static_cast<float>(calibration.DisparityFromDepth(10.0));
-      for (const auto& p : left_px) right_px.emplace_back(p.x - start_px, p.y);
-      std::vector<uchar> status, back_status;
-      std::vector<float> error;
-      cv::calcOpticalFlowPyrLK(left_pyramid, right_pyramid, left_px, right_px, status, error, win,
-                               o.stereo_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
-      back_px = left_px;
-      cv::calcOpticalFlowPyrLK(right_pyramid, left_pyramid, right_px, back_px, back_status, error, win, 1,
-                               term, cv::OPTFLOW_USE_INITIAL_FLOW);
-      for (size_t i = 0; i < left_px.size(); ++i) {
-        if (!status[i] || !back_status[i] || cv::norm(back_px[i] - left_px[i]) > kMaxRoundTripPx) continue;
-        const double dy = right_px[i].y - left_px[i].y;
-        if (std::abs(dy) > kMaxVerticalOffsetPx || left_px[i].x - right_px[i].x < kMinDisparityPx) continue;
-        matches.push_back({left_px[i].x, left_px[i].y, dy});
+      size = frame->left.size();
+      // The matches the depth stage's row alignment fits (engine/depth/row_alignment.h).
+      for (const semap::RowMatch& m : semap::MatchRows(frame->left, frame->right)) {
+        matches.push_back({m.left_px.x, m.left_px.y, m.right_px.y - m.left_px.y});
       }
     }
     if (matches.empty()) {

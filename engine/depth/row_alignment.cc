@@ -54,10 +54,10 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& right) {
+std::vector<RowMatch> MatchRows(const cv::Mat& left, const cv::Mat& right) {
   if ((left.type() != CV_8UC1 && left.type() != CV_8UC3) || left.type() != right.type() ||
       left.size() != right.size()) {
-    throw std::invalid_argument("FitRowOffsets: expected two 8-bit grey or BGR images of one size and type");
+    throw std::invalid_argument("MatchRows: expected two 8-bit grey or BGR images of one size and type");
   }
   cv::Mat left_gray = left, right_gray = right;
   if (left.channels() == 3) {
@@ -67,7 +67,7 @@ std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& righ
   std::vector<cv::KeyPoint> corners;
   cv::FAST(left_gray, corners, kFastThreshold, /*nonmaxSuppression=*/true);
   cv::KeyPointsFilter::retainBest(corners, kMaxCorners);
-  if (static_cast<int>(corners.size()) < kMinMatches) return std::nullopt;
+  if (corners.empty()) return {};
   std::vector<cv::Point2f> left_px, right_px, back_px;
   for (const cv::KeyPoint& k : corners) left_px.push_back(k.pt);
   const cv::Size window(kKltWindowPx, kKltWindowPx);
@@ -83,14 +83,23 @@ std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& righ
   back_px = left_px;
   cv::calcOpticalFlowPyrLK(right_pyramid, left_pyramid, right_px, back_px, found_back, error, window, 1, stop,
                            cv::OPTFLOW_USE_INITIAL_FLOW);
-  std::vector<Terms> terms;
-  std::vector<double> offsets;
+  std::vector<RowMatch> matches;
   for (size_t i = 0; i < left_px.size(); ++i) {
     if (!found[i] || !found_back[i] || cv::norm(back_px[i] - left_px[i]) > kMaxRoundTripPx) continue;
     const double offset = right_px[i].y - left_px[i].y;
     if (std::abs(offset) > kMaxRowOffsetPx || left_px[i].x - right_px[i].x < kMinDisparityPx) continue;
-    terms.push_back(TermsAt(left_gray.size(), right_px[i].x, right_px[i].y));
-    offsets.push_back(offset);
+    matches.push_back({left_px[i], right_px[i]});
+  }
+  return matches;
+}
+
+std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& right) {
+  const std::vector<RowMatch> matches = MatchRows(left, right);
+  std::vector<Terms> terms;
+  std::vector<double> offsets;
+  for (const RowMatch& m : matches) {
+    terms.push_back(TermsAt(left.size(), m.right_px.x, m.right_px.y));
+    offsets.push_back(m.right_px.y - m.left_px.y);
   }
   if (static_cast<int>(offsets.size()) < kMinMatches) return std::nullopt;
   std::vector<bool> keep(offsets.size(), true);
@@ -125,7 +134,7 @@ std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& righ
   }
   RowOffsets fit;
   for (int k = 0; k < RowOffsets::kTerms; ++k) fit.coefficients_px[static_cast<size_t>(k)] = coefficients[k];
-  fit.image_size = left_gray.size();
+  fit.image_size = left.size();
   fit.matches = kept;
   fit.median_residual_px = median_residual;
   fit.max_abs_px = max_abs;

@@ -15,14 +15,26 @@
 
 #include <opencv2/core.hpp>
 #include <optional>
+#include <vector>
 
 #include "engine/core/calibration.h"
 
 namespace semap {
 
-// The fit on a pair of 8-bit grey or BGR images of one size and type (a frame's own; BGR is matched in grey);
-// nothing when too few matches are found (a blank, texture-less or smooth generated frame). Throws
-// std::invalid_argument on other images. ~30 ms on one core for a KITTI pair.
+// One stereo match of a left-image corner: where it lies in each image (right row − left row is the rows'
+// misalignment there).
+struct RowMatch {
+  cv::Point2f left_px, right_px;
+};
+
+// The matches FitRowOffsets fits, on a pair of 8-bit grey or BGR images of one size and type (BGR is matched
+// in grey): the strongest FAST corners of the left image, tracked into the right one by pyramidal KLT and back,
+// kept when the round trip closes, the row offset is plausible and the disparity positive (the rules and
+// their constants in row_alignment.cc). Empty for a blank image. Throws std::invalid_argument on other images.
+std::vector<RowMatch> MatchRows(const cv::Mat& left, const cv::Mat& right);
+
+// The fit on MatchRows's matches of a pair; nothing when too few are found (a blank, texture-less or smooth
+// generated frame). Throws std::invalid_argument on other images. ~30 ms on one core for a KITTI pair.
 std::optional<RowOffsets> FitRowOffsets(const cv::Mat& left, const cv::Mat& right);
 
 // `right` (any type cv::remap takes) with each pixel taken from the row the offsets say: the right image as
