@@ -83,11 +83,12 @@ struct DepthOptions {
     // KITTI's real pairs are off by up to 0.7 px (odometry 04) and 1.6 px (kitti_odometry_turn) at the
     // corners; lining the rows up lowers KITTI 04's SGBM median error by 4 % and the map's static bias at
     // 20-30 m from +0.16 to +0.05 m (bench/RESULTS.md, "Rows lined up", 2026-11-27). See
-    // engine/depth/internal/row_alignment.h.
+    // engine/depth/row_alignment.h.
     v.Field(
         "align_rows", &align_rows,
-        "measure the pair's residual vertical misalignment on each frame (sparse stereo matches, a quadratic "
-        "over the image) and move the right image's rows by it before matching");
+        "measure the pair's residual vertical misalignment (sparse stereo matches, a quadratic over the image; "
+        "semap run measures it on its first frames, then every 100) and move the right image's rows by it "
+        "before matching");
     v.Field("align_rows_min_px", &align_rows_min_px,
             "align_rows leaves a pair alone whose fitted misalignment stays below this everywhere, px (a "
             "rectified pair is not resampled)");
