@@ -166,12 +166,13 @@ PipelineSummary RunAndStopAfter(Pipeline& pipeline, std::chrono::milliseconds de
 // The calling thread's nice value.
 int ThreadNice() { return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))); }
 
-// The nice values of TBB's threads, every worker taking part.
+// The nice values of TBB's threads, every worker taking part. The wait bounds how long the workers may take
+// to start (it returns as soon as all have): on a loaded machine under TSan one took over 500 ms.
 std::set<int> NicesOfTbbThreads() {
   std::mutex mutex;
   std::set<int> nices;
   std::set<std::thread::id> ids;
-  const bool each_once = OnEveryThread(500ms, [&] {
+  const bool each_once = OnEveryThread(5s, [&] {
     std::lock_guard<std::mutex> lock(mutex);
     nices.insert(ThreadNice());
     ids.insert(std::this_thread::get_id());
