@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "engine/core/check.h"
 
 namespace semap {
@@ -59,6 +61,27 @@ TEST(ErrorImage, SparsePointsAreSquaresLargeErrorsOnTopAndTheBackgroundIsGrey) {
   const cv::Vec3b far = image.at<cv::Vec3b>(0, 0);
   EXPECT_EQ(far[0], far[1]);  // the red background turned grey
   EXPECT_EQ(far[1], far[2]);
+}
+
+// A grey background is dimmed to contrast 0.35 about mid-grey and quantised to steps of 8 grey levels (each
+// pixel at the middle of its step), and the caller's image is left as it was.
+TEST(ErrorImage, AGreyBackgroundIsDimmedToFewLevelsAndLeftUntouched) {
+  cv::Mat reference(4, 256, CV_32F, cv::Scalar(0.0f));  // no reference pixel: all background
+  cv::Mat mesh(4, 256, CV_32F, cv::Scalar(0.0f));
+  cv::Mat background(4, 256, CV_8UC1);
+  for (int x = 0; x < 256; ++x) background.col(x).setTo(x);
+  const cv::Mat original = background.clone();
+  const cv::Mat image =
+      RenderErrorImage(reference, mesh, background, DepthAccuracyOptions(), ErrorImageOptions(), "");
+  EXPECT_EQ(cv::norm(background, original, cv::NORM_INF), 0.0);
+  for (int x = 0; x < 256; ++x) {
+    const double dimmed = std::round(0.35 * x + 0.5 * 0.65 * 255.0);  // convertTo rounds; stays below 256
+    const int expected = static_cast<int>(dimmed) / 8 * 8 + 4;
+    const cv::Vec3b c = image.at<cv::Vec3b>(2, x);
+    EXPECT_EQ(int(c[0]), expected) << "grey level " << x;
+    EXPECT_EQ(c[0], c[1]);
+    EXPECT_EQ(c[1], c[2]);
+  }
 }
 
 TEST(ErrorImage, BadOptionsAreNamed) {
