@@ -81,7 +81,8 @@ cv::Mat RenderErrorImage(const cv::Mat& reference, const cv::Mat& mesh, const cv
     cv::Mat dimmed;  // a buffer of its own: a grey background is the caller's image
     grey.convertTo(dimmed, CV_8U, kBackgroundContrast, kBackgroundOffset);
     // A few grey levels are enough to recognise the scene and keep the PNG small (a third of the size). A
-    // plain loop: a frame's quantisation takes well under a millisecond, no call for a parallel loop.
+    // plain table loop rather than cv::LUT, which hands a frame-sized image to OpenCV's threads (a hand-over
+    // TSan cannot see, as cv::Mat::forEach's was): a frame takes well under a millisecond on one thread.
     std::array<std::uint8_t, 256> level{};
     for (int g = 0; g < 256; ++g) {
       const int step_start = g / kBackgroundLevelStep * kBackgroundLevelStep;
