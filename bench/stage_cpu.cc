@@ -178,6 +178,11 @@ int main(int argc, char** argv) {
       }
     }
     std::printf("| all stages | %.1f | | | |\n\nmap finish (once): %.0f ms CPU\n", sum, finish_ms);
+    const semap::MapStatistics counts = map.Statistics();
+    std::printf("map: %zu live vertices at the end; vertices moved to their fused estimate %llu, outliers removed "
+                "%llu\n",
+                counts.num_points, static_cast<unsigned long long>(counts.vertices_moved),
+                static_cast<unsigned long long>(counts.vertices_outliers));
     std::printf("bounds on 2 cores: %.2f f/s from all stages' CPU (2000 / %.0f ms), %.2f f/s from the slowest "
                 "single-thread stage (%s, 1000 / %.0f ms)\n",
                 2000.0 / sum, sum, 1000.0 / slowest_single, slowest_name.c_str(), slowest_single);

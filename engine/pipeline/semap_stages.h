@@ -90,6 +90,8 @@ class IncrementalMapStage : public MapStage {
   IncrementalMapStage(const MapOptions& options, int mesh_every_frames);
   MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override;
   MapUpdate Finish() override;
+  // The map's sizes and work counters so far (a pass over every cell: for reports, not every frame).
+  MapStatistics Statistics() const { return map_.Statistics(); }
 
  private:
   // The map's sizes, with its surface when `with_mesh`.
