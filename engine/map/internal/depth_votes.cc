@@ -148,7 +148,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     if (d > kFreeSaturationSigmas * sigma_m) {
       free += 1.0;  // 1 − Φ is below a quarter of a fixed-point unit
     } else if (d >= -(geometry.ray.extension_m + geometry.matter_behind_sigmas * sigma_m)) {
-      const double p_free = 0.5 * std::erfc(-d / (sigma_m * std::sqrt(2.0)));  // Φ(d/σ)
+      const double p_free = StandardNormalCdf(d / sigma_m);
       free += p_free;
       matter += 1.0 - p_free;
     }

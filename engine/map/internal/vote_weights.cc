@@ -1,9 +1,51 @@
 #include "engine/map/internal/vote_weights.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <vector>
 
 namespace semap::map_internal {
+namespace {
+
+// StandardNormalCdf's table: Φ and φ at x = −kNormalCdfLimit + i / kNormalCdfStepsPerUnit.
+constexpr int kNormalCdfStepsPerUnit = 32;
+constexpr int kNormalCdfNodes = static_cast<int>(2.0 * kNormalCdfLimit * kNormalCdfStepsPerUnit) + 1;
+
+struct NormalCdfNode {
+  double cdf;
+  double density;  // dΦ/dx
+};
+
+const std::vector<NormalCdfNode>& NormalCdfTable() {
+  static const std::vector<NormalCdfNode> table = [] {
+    std::vector<NormalCdfNode> nodes(kNormalCdfNodes);
+    const double inverse_sqrt_two_pi = 1.0 / std::sqrt(2.0 * M_PI);
+    for (int i = 0; i < kNormalCdfNodes; ++i) {
+      const double x = -kNormalCdfLimit + double(i) / kNormalCdfStepsPerUnit;
+      nodes[i] = {0.5 * std::erfc(-x / std::sqrt(2.0)), inverse_sqrt_two_pi * std::exp(-0.5 * x * x)};
+    }
+    return nodes;
+  }();
+  return table;
+}
+
+}  // namespace
+
+double StandardNormalCdf(double x) {
+  if (!(x > -kNormalCdfLimit)) return 0.0;
+  if (x >= kNormalCdfLimit) return 1.0;
+  const std::vector<NormalCdfNode>& table = NormalCdfTable();
+  const double s = (x + kNormalCdfLimit) * kNormalCdfStepsPerUnit;
+  const int i = std::min(static_cast<int>(s), kNormalCdfNodes - 2);
+  const double t = s - i, t2 = t * t, t3 = t2 * t;
+  const double step = 1.0 / kNormalCdfStepsPerUnit;
+  const NormalCdfNode& a = table[i];
+  const NormalCdfNode& b = table[i + 1];
+  const double value = (2.0 * t3 - 3.0 * t2 + 1.0) * a.cdf + (t3 - 2.0 * t2 + t) * step * a.density +
+                       (3.0 * t2 - 2.0 * t3) * b.cdf + (t3 - t2) * step * b.density;
+  return std::clamp(value, 0.0, 1.0);  // rounding at the table's ends
+}
 
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c) {

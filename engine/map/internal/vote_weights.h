@@ -29,6 +29,13 @@ inline double GaussianComplement(double d_m, double sigma_m) {
   return 1.0 - std::exp(-(d_m * d_m) / (2.0 * sigma_m * sigma_m));
 }
 
+// Φ(x), the standard normal distribution function, within 2e-9 of 0.5·erfc(−x/√2) everywhere: cubic Hermite
+// interpolation in a table of Φ and its density at steps of 1/32 over ±kNormalCdfLimit, 0 below and 1 above
+// (Φ(−8.5) is 1e-17). std::erfc in the depth votes took ~9 % of the map's CPU (KITTI 04, half resolution,
+// perf, 2026-11-28); this is a few multiplications. Thread-safe (the table is built once, on first use).
+inline constexpr double kNormalCdfLimit = 8.5;
+double StandardNormalCdf(double x);
+
 // Distance from p to triangle abc (closest-point regions, Ericson, Real-Time Collision Detection 5.1.5).
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace semap::map_internal {
@@ -11,6 +13,34 @@ TEST(VoteWeights, GaussianComplementShape) {
   EXPECT_EQ(GaussianComplement(0.0, 0.05), 0.0);
   EXPECT_NEAR(GaussianComplement(0.05, 0.05), 1.0 - std::exp(-0.5), 1e-15);
   EXPECT_GT(GaussianComplement(0.2, 0.05), 0.999);
+}
+
+// The table against the library's erfc, densely and at random, and the properties the votes rely on.
+TEST(VoteWeights, StandardNormalCdfMatchesErfc) {
+  const auto reference = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
+  double worst = 0.0;
+  for (double x = -12.0; x <= 12.0; x += 1e-3) worst = std::max(worst, std::abs(StandardNormalCdf(x) - reference(x)));
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> anywhere(-kNormalCdfLimit, kNormalCdfLimit);
+  for (int i = 0; i < 100000; ++i) {
+    const double x = anywhere(rng);
+    worst = std::max(worst, std::abs(StandardNormalCdf(x) - reference(x)));
+  }
+  EXPECT_LT(worst, 2e-9);
+  EXPECT_EQ(StandardNormalCdf(0.0), 0.5);
+  EXPECT_EQ(StandardNormalCdf(-kNormalCdfLimit), 0.0);
+  EXPECT_EQ(StandardNormalCdf(kNormalCdfLimit), 1.0);
+  EXPECT_EQ(StandardNormalCdf(-1e300), 0.0);
+  EXPECT_EQ(StandardNormalCdf(1e300), 1.0);
+  // Monotone, as a distribution function (a free vote never falls as a sample moves away from the point), up
+  // to the rounding of the interpolation's sum (a few units in the last place of 1).
+  constexpr double kRounding = 1e-15;
+  double previous = 0.0;
+  for (double x = -kNormalCdfLimit - 0.01; x <= kNormalCdfLimit + 0.01; x += 1e-4) {
+    const double value = StandardNormalCdf(x);
+    ASSERT_GE(value, previous - kRounding) << "at " << x;
+    previous = value;
+  }
 }
 
 TEST(VoteWeights, SaturationGivesTheFullFixedPointWeight) {
