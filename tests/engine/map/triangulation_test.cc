@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <boost/iterator/function_output_iterator.hpp>
+#include <cstdint>
 #include <iterator>
 #include <random>
 #include <vector>
@@ -45,6 +47,40 @@ TEST(Triangulation, HandlesCompareByCreationNotByAddress) {
   dt.incident_cells(last, std::back_inserter(star));
   ASSERT_FALSE(star.empty());
   for (const CellHandle c : star) EXPECT_GT(c->time_stamp(), newest_before);
+}
+
+// The incremental map removes its moved and outlier vertices one at a time and marks the cells each removal
+// hands over as created (IncrementalState::RemoveRefined). Removing neighbours one after the other destroys
+// cells an earlier removal created, and new cells may reuse their slots: the marks must still fall on exactly
+// the cells that were not there before, as a stamp of every old cell tells.
+TEST(Triangulation, CellsGivenByOneRemovalAfterAnotherAreExactlyTheNewCells) {
+  Delaunay dt;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> coordinate(0.0, 10.0);
+  std::vector<VertexHandle> vertices;
+  for (int i = 0; i < 400; ++i) {
+    vertices.push_back(dt.insert(Point(coordinate(rng), coordinate(rng), coordinate(rng))));
+  }
+  constexpr std::uint32_t kOld = 1, kCreated = 2;
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info().stamp = kOld;
+  // A vertex and its neighbours (their holes overlap), then scattered ones.
+  std::vector<VertexHandle> removed{vertices[7]};
+  dt.finite_adjacent_vertices(vertices[7], std::back_inserter(removed));
+  for (int i = 100; i < 400; i += 37) {
+    if (std::find(removed.begin(), removed.end(), vertices[i]) == removed.end()) removed.push_back(vertices[i]);
+  }
+  ASSERT_GT(removed.size(), 10u);
+  const auto mark_created =
+      boost::make_function_output_iterator([](CellHandle c) { c->info().created = kCreated; });
+  for (const VertexHandle v : removed) dt.remove_and_give_new_cells(v, mark_created);
+  ASSERT_TRUE(dt.is_valid());
+  int new_cells = 0;
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
+    const bool is_new = c->info().stamp != kOld;
+    new_cells += is_new;
+    EXPECT_EQ(c->info().created == kCreated, is_new);
+  }
+  EXPECT_GT(new_cells, 0);
 }
 
 }  // namespace
