@@ -158,16 +158,16 @@ void IncrementalState::InsertAndVote(std::vector<PendingVertex>* pending, std::v
   for (LatticeKey node : *nodes) pending->push_back({lattice_.Position(node), kNoId, node, {}});
   SpatialSort(pending);
 
-  destroyed_.clear();
+  result->locate_ms = Lap(lap);
+
+  // The conflict regions are found as the points go in (see InsertVerticesInheriting), not in a pass of
+  // their own before: the same points go in and the same cells go.
   std::vector<char> conflicts_pinned;
-  CollectConflicts(*pending, &conflicts_pinned);
+  InsertVerticesInheriting(pending, result, &conflicts_pinned);
   AddToBoundary(refined_link_);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> no_rays;
   result->points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, pending, &no_rays, result);
   result->cells_destroyed = destroyed_.size();
-  result->locate_ms = Lap(lap);
-
-  InsertVerticesInheriting(pending, result);
   CollectCreatedCells();
   result->insert_ms = Lap(lap);
 
@@ -440,12 +440,29 @@ void IncrementalState::AddToBoundary(const std::vector<VertexHandle>& vertices) 
   }
 }
 
-void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result) {
+void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result,
+                                                std::vector<char>* conflicts_pinned) {
+  destroyed_.clear();
+  boundary_.clear();
+  conflicts_pinned->assign(pending->size(), 0);
   if (dt_.dimension() < 3) {
-    InsertVertices(pending, result);  // nothing to inherit yet
+    InsertVertices(pending, result);  // nothing to inherit yet, and no seam
     return;
   }
   inserted_.clear();
+  // The cells this pass creates carry `created_now` (set through the boundary facets below: each new cell has
+  // one); any other cell of a hole is an old one, destroyed: listed in destroyed_, its vertices in boundary_.
+  const std::uint32_t created_now = NewMark();
+  const std::uint32_t in_boundary = NewMark();
+  // A pinned cell carved across a facet must stay (its surface is final): a point whose conflict region holds
+  // one is left out. Such a cell is never destroyed, so it is in the region of every later point in its
+  // sphere: the points left out are those whose region in the old triangulation held one (a cell of the old
+  // triangulation goes iff a new point lies in its sphere), as a pass over the old triangulation before the
+  // insertions would find. A cell created now is uncarved and unsealed: never one. A pinned cell carved across
+  // none of its facets may go: the cells replacing it are uncarved as it was (and pinned where they touch a
+  // frozen vertex), so no surface changes. Without that, frozen vertices on the convex hull, or big sealed
+  // cells, would keep the map from growing (a drive's new ground lies outside the hull).
+  const auto blocks = [](CellHandle cc) { return IsPinned(cc) && cc->info().CarvedAcrossAny(); };
   std::vector<CellHandle> hole;
   std::vector<Delaunay::Facet> boundary;
   struct Parent {
@@ -456,11 +473,13 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
   };
   std::vector<Parent> parents;
   CellHandle hint;
-  for (const PendingVertex& pv : *pending) {
+  for (std::size_t k = 0; k < pending->size(); ++k) {
+    const PendingVertex& pv = (*pending)[k];
     const Point p = ToPoint(pv.position);
     Delaunay::Locate_type lt;
     int li, lj;
     const CellHandle c = dt_.locate(p, lt, li, lj, hint);
+    hint = c;
     if (lt == Delaunay::VERTEX) {
       // Exactly where a vertex already is (exact synthetic data can do that): the point is that vertex.
       MergeCoincident(pv, c->vertex(li), result);
@@ -469,6 +488,20 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
     hole.clear();
     boundary.clear();
     dt_.find_conflicts(p, c, std::back_inserter(boundary), std::back_inserter(hole));
+    if (std::any_of(hole.begin(), hole.end(), blocks)) {
+      (*conflicts_pinned)[k] = 1;
+      continue;
+    }
+    for (const CellHandle h : hole) {
+      if (h->info().stamp == created_now) continue;
+      destroyed_.push_back(h);
+      for (int i = 0; i < 4; ++i) {
+        const VertexHandle w = h->vertex(i);
+        if (dt_.is_infinite(w) || w->info().stamp == in_boundary) continue;
+        w->info().stamp = in_boundary;
+        boundary_.push_back(w);
+      }
+    }
     parents.clear();
     for (const Delaunay::Facet& f : boundary) {
       const CellHandle inside = f.first;
@@ -482,6 +515,7 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
       CellInfo& info = parent.outside->neighbor(parent.facet)->info();
       info.free_q = parent.free_q;
       info.matter_q = parent.matter_q;
+      info.stamp = created_now;
       if (parent.facet_seen) MarkFacetSeen(parent.outside, parent.facet);
     }
     RecordInserted(pv, v, result);

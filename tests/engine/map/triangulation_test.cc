@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iterator>
 #include <random>
+#include <set>
 #include <vector>
 
 namespace semap::map_internal {
@@ -81,6 +82,73 @@ TEST(Triangulation, CellsGivenByOneRemovalAfterAnotherAreExactlyTheNewCells) {
     EXPECT_EQ(c->info().created == kCreated, is_new);
   }
   EXPECT_GT(new_cells, 0);
+}
+
+// The incremental map finds each point's conflict region as it inserts the points, and leaves out a point
+// whose region holds a pinned cell carved across a facet (IncrementalState::InsertVerticesInheriting). That
+// relies on two facts checked here against a pass over the triangulation before any insertion: the points
+// left out are those whose region in the old triangulation held such a cell, and the old cells destroyed are
+// those in the old region of a point that went in.
+TEST(Triangulation, ConflictsFoundWhileInsertingAreThoseOfTheOldTriangulation) {
+  Delaunay dt;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> coordinate(0.0, 10.0);
+  const auto random_point = [&] { return Point(coordinate(rng), coordinate(rng), coordinate(rng)); };
+  for (int i = 0; i < 500; ++i) dt.insert(random_point());
+  // Every 7th finite cell pinned and carved across a facet (sealed, keeping one carved facet).
+  int n = 0;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    if (n++ % 7 == 0) c->info().sealed = CellInfo::kSealed | 1;
+  }
+  const auto blocks = [](CellHandle c) { return IsPinned(c) && c->info().CarvedAcrossAny(); };
+  std::vector<Point> pending;
+  for (int i = 0; i < 300; ++i) pending.push_back(random_point());
+
+  // The reference: each point's conflict region in the triangulation as it is now.
+  constexpr std::uint32_t kOld = 1, kCreatedNow = 2;
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info().stamp = kOld;
+  std::vector<bool> left_out_before(pending.size(), false);
+  std::set<std::size_t> destroyed_before;  // old cells, by time stamp
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    std::vector<CellHandle> region;
+    dt.find_conflicts(pending[k], dt.locate(pending[k]), CGAL::Emptyset_iterator(), std::back_inserter(region));
+    left_out_before[k] = std::any_of(region.begin(), region.end(), blocks);
+    if (left_out_before[k]) continue;
+    for (const CellHandle c : region) destroyed_before.insert(c->time_stamp());
+  }
+  ASSERT_GT(std::count(left_out_before.begin(), left_out_before.end(), true), 10);
+
+  // While inserting, as the map does.
+  std::vector<bool> left_out_while(pending.size(), false);
+  std::set<std::size_t> destroyed_while;
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    std::vector<CellHandle> hole;
+    std::vector<Delaunay::Facet> boundary;
+    dt.find_conflicts(pending[k], dt.locate(pending[k]), std::back_inserter(boundary), std::back_inserter(hole));
+    if (std::any_of(hole.begin(), hole.end(), blocks)) {
+      left_out_while[k] = true;
+      continue;
+    }
+    for (const CellHandle c : hole) {
+      if (c->info().stamp == kOld) destroyed_while.insert(c->time_stamp());
+    }
+    const VertexHandle v =
+        dt.insert_in_hole(pending[k], hole.begin(), hole.end(), boundary.front().first, boundary.front().second);
+    std::vector<CellHandle> star;
+    dt.incident_cells(v, std::back_inserter(star));
+    for (const CellHandle c : star) c->info().stamp = kCreatedNow;
+  }
+  EXPECT_EQ(left_out_while, left_out_before);
+  EXPECT_EQ(destroyed_while, destroyed_before);
+  // And the old cells still there are exactly the others.
+  std::size_t old_left = 0;
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
+    if (c->info().stamp != kOld) continue;
+    ++old_left;
+    EXPECT_EQ(destroyed_before.count(c->time_stamp()), 0u);
+  }
+  EXPECT_GT(old_left, 0u);
+  EXPECT_TRUE(dt.is_valid());
 }
 
 }  // namespace
