@@ -113,7 +113,9 @@ class IncrementalState {
                       MapUpdateResult* result, std::vector<PendingVertex>* pending,
                       std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays);
   // destroyed_ = the cells in conflict with `pending`, except for the vertices whose conflict zone holds a
-  // pinned cell: those are flagged in `conflicts_pinned` (one entry per pending vertex).
+  // pinned cell: those are flagged in `conflicts_pinned` (one entry per pending vertex). map.visibility: rays,
+  // whose rays through destroyed_ are untraced before the insertions; the depth path finds the same while
+  // inserting (InsertVerticesInheriting).
   void CollectConflicts(const std::vector<PendingVertex>& pending, std::vector<char>* conflicts_pinned);
   // boundary_ = the finite vertices of destroyed_, except those stamped `excluded_vertex_mark`.
   void CollectBoundary(std::uint32_t excluded_vertex_mark);
