@@ -167,7 +167,6 @@ void IncrementalState::InsertAndVote(std::vector<PendingVertex>* pending, std::v
   AddToBoundary(refined_link_);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> no_rays;
   result->points_rejected_at_seam = DropPinnedConflicts(conflicts_pinned, pending, &no_rays, result);
-  result->cells_destroyed = destroyed_.size();
   CollectCreatedCells();
   result->insert_ms = Lap(lap);
 
@@ -442,7 +441,6 @@ void IncrementalState::AddToBoundary(const std::vector<VertexHandle>& vertices) 
 
 void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result,
                                                 std::vector<char>* conflicts_pinned) {
-  destroyed_.clear();
   boundary_.clear();
   conflicts_pinned->assign(pending->size(), 0);
   if (dt_.dimension() < 3) {
@@ -451,7 +449,8 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
   }
   inserted_.clear();
   // The cells this pass creates carry `created_now` (set through the boundary facets below: each new cell has
-  // one); any other cell of a hole is an old one, destroyed: listed in destroyed_, its vertices in boundary_.
+  // one); any other cell of a hole is an old one, destroyed: counted, its vertices listed in boundary_ (the
+  // cell itself is freed by the insertion: no handle to it is kept).
   const std::uint32_t created_now = NewMark();
   const std::uint32_t in_boundary = NewMark();
   // A pinned cell carved across a facet must stay (its surface is final): a point whose conflict region holds
@@ -494,7 +493,7 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
     }
     for (const CellHandle h : hole) {
       if (h->info().stamp == created_now) continue;
-      destroyed_.push_back(h);
+      ++result->cells_destroyed;
       for (int i = 0; i < 4; ++i) {
         const VertexHandle w = h->vertex(i);
         if (dt_.is_infinite(w) || w->info().stamp == in_boundary) continue;

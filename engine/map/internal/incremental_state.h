@@ -68,8 +68,9 @@ class IncrementalState {
   // InsertVertices, each cell the insertion creates starting with the votes of the destroyed cell it was
   // built on (the one inside the hole across its facet opposite the new vertex): what the map knew there.
   // A point whose conflict region holds a pinned cell carved across a facet is not inserted and flagged in
-  // `conflicts_pinned` (one entry per pending vertex; DropPinnedConflicts drops it). destroyed_ = the cells
-  // of the triangulation before the pass that it destroys, boundary_ = their finite vertices.
+  // `conflicts_pinned` (one entry per pending vertex; DropPinnedConflicts drops it). Counts in
+  // result->cells_destroyed the cells of the triangulation before the pass that it destroys; boundary_ = their
+  // finite vertices.
   void InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result,
                                 std::vector<char>* conflicts_pinned);
   // A pending data point exactly at `existing`: its frame points become that point (or are dropped, on a
