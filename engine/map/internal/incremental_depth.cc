@@ -494,12 +494,7 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
     for (const CellHandle h : hole) {
       if (h->info().stamp == created_now) continue;
       ++result->cells_destroyed;
-      for (int i = 0; i < 4; ++i) {
-        const VertexHandle w = h->vertex(i);
-        if (dt_.is_infinite(w) || w->info().stamp == in_boundary) continue;
-        w->info().stamp = in_boundary;
-        boundary_.push_back(w);
-      }
+      AddVerticesToBoundary(h, in_boundary, kNoMark);
     }
     parents.clear();
     for (const Delaunay::Facet& f : boundary) {

@@ -308,13 +308,15 @@ std::size_t IncrementalState::DropPinnedConflicts(
 void IncrementalState::CollectBoundary(std::uint32_t excluded_vertex_mark) {
   boundary_.clear();
   const std::uint32_t mark = NewMark();
-  for (const CellHandle c : destroyed_) {
-    for (int k = 0; k < 4; ++k) {
-      const VertexHandle v = c->vertex(k);
-      if (dt_.is_infinite(v) || v->info().stamp == mark || v->info().stamp == excluded_vertex_mark) continue;
-      v->info().stamp = mark;
-      boundary_.push_back(v);
-    }
+  for (const CellHandle c : destroyed_) AddVerticesToBoundary(c, mark, excluded_vertex_mark);
+}
+
+void IncrementalState::AddVerticesToBoundary(CellHandle c, std::uint32_t mark, std::uint32_t excluded_vertex_mark) {
+  for (int k = 0; k < 4; ++k) {
+    const VertexHandle v = c->vertex(k);
+    if (dt_.is_infinite(v) || v->info().stamp == mark || v->info().stamp == excluded_vertex_mark) continue;
+    v->info().stamp = mark;
+    boundary_.push_back(v);
   }
 }
 

@@ -120,6 +120,9 @@ class IncrementalState {
   void CollectConflicts(const std::vector<PendingVertex>& pending, std::vector<char>* conflicts_pinned);
   // boundary_ = the finite vertices of destroyed_, except those stamped `excluded_vertex_mark`.
   void CollectBoundary(std::uint32_t excluded_vertex_mark);
+  // Appends to boundary_ the finite vertices of `c` stamped neither `mark` nor `excluded_vertex_mark`, and
+  // stamps them `mark`.
+  void AddVerticesToBoundary(CellHandle c, std::uint32_t mark, std::uint32_t excluded_vertex_mark);
   // Uncarves the touched cells that are no longer free, then repairs the manifold around them (greedy
   // growth; carve-and-repair leaves their vertices in repair_later_ for Regrow).
   std::size_t ShrinkNonFree();
