@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include "engine/core/check.h"
 
@@ -109,6 +110,54 @@ RelativePoseError RelativeError(const std::vector<Pose3d>& truth, const std::vec
     out.drift.translation_percent = 100.0 * t_rel / out.drift.segments;
     out.drift.rotation_deg_per_m = kRadToDeg * r_rel / out.drift.segments;
   }
+  return out;
+}
+
+FrameRotationFit FitFrameRotation(const std::vector<Pose3d>& truth, const std::vector<Pose3d>& estimate,
+                                  int delta_frames, double min_length_m) {
+  CheckSameLength(truth, estimate);
+  SEMAP_ASSERT(delta_frames >= 1);
+  // The pull towards the identity, per window: the pairs (e_k, e_k) of the three axes at this weight. Far
+  // below what a window that tells a direction adds; decisive only about an axis that nothing tells.
+  constexpr double kIdentityPull = 0.01;
+  // A window's rotation of this many radians weighs as much as its translation direction: a turn of a few
+  // degrees a frame tells the roll about the direction of travel, the noise of a straight drive does not.
+  constexpr double kRotationUnitRad = 0.1;
+  const std::vector<double> dist = Distances(truth);
+  const size_t delta = static_cast<size_t>(delta_frames);
+  // Σ truth · estimateᵀ over the pairs: each window's translation direction, and its rotation vector (rad; a
+  // rotation R_truth = R R_estimate Rᵀ turns the axis by R: what tells a roll about the direction of travel
+  // in a turn).
+  Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();
+  int windows = 0;
+  for (size_t a = 0; a + delta < truth.size(); ++a) {
+    const size_t b = a + delta;
+    if (dist[b] - dist[a] < min_length_m) continue;
+    const Pose3d truth_motion = truth[a].inverse() * truth[b];
+    const Pose3d estimate_motion = estimate[a].inverse() * estimate[b];
+    if (truth_motion.translation().norm() == 0.0 || estimate_motion.translation().norm() == 0.0) continue;
+    cross += truth_motion.translation().normalized() * estimate_motion.translation().normalized().transpose();
+    const Eigen::AngleAxisd truth_rotation(truth_motion.linear()), estimate_rotation(estimate_motion.linear());
+    cross += (truth_rotation.angle() / kRotationUnitRad * truth_rotation.axis()) *
+             (estimate_rotation.angle() / kRotationUnitRad * estimate_rotation.axis()).transpose();
+    ++windows;
+  }
+  cross += kIdentityPull * std::max(windows, 1) * Eigen::Matrix3d::Identity();
+  // R maximising Σ truth_dir · R estimate_dir: R = U diag(1, 1, det(U Vᵀ)) Vᵀ for cross = U S Vᵀ.
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  FrameRotationFit out;
+  out.truth_cam_from_estimate_cam = svd.matrixU() * d * svd.matrixV().transpose();
+  const Eigen::AngleAxisd angle_axis(out.truth_cam_from_estimate_cam);
+  out.angles_deg = kRadToDeg * angle_axis.angle() * angle_axis.axis();
+  // The truth's poses of the estimate's camera frame: world_from_truth_cam · truth_cam_from_estimate_cam.
+  Pose3d extrinsic = Pose3d::Identity();
+  extrinsic.linear() = out.truth_cam_from_estimate_cam;
+  std::vector<Pose3d> truth_in_estimate_frame;
+  truth_in_estimate_frame.reserve(truth.size());
+  for (const Pose3d& p : truth) truth_in_estimate_frame.push_back(p * extrinsic);
+  out.relative = RelativeError(truth_in_estimate_frame, estimate, delta_frames, min_length_m);
   return out;
 }
 

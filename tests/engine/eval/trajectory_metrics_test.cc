@@ -93,5 +93,53 @@ TEST(TrajectoryMetrics, ShortOrStandingDrives) {
   EXPECT_EQ(AbsoluteError({}, {}).rmse_m, 0.0);
 }
 
+// A drive whose heading and slope change along it (a turn that tightens and eases, a climb that comes and goes),
+// so that its windows' directions span the camera frame's x–z plane and more.
+std::vector<Pose3d> WindingDrive(int frames) {
+  std::vector<Pose3d> out;
+  Pose3d p = Pose3d::Identity();
+  for (int i = 0; i < frames; ++i) {
+    out.push_back(p);
+    Pose3d step = Pose3d::Identity();
+    step.linear() = (Eigen::AngleAxisd(0.03 * std::sin(0.05 * i), Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(0.01 * std::cos(0.07 * i), Eigen::Vector3d::UnitX()))
+                        .toRotationMatrix();
+    step.translation() = Eigen::Vector3d(0, 0, 1.0);
+    p = p * step;
+  }
+  return out;
+}
+
+// An estimate that is the truth seen from a camera frame rotated by a known R: the fit finds R, and with R
+// taken out the relative error all but vanishes. Not exactly: the weak pull towards the identity (0.01 of a
+// window per axis) holds back the axis this drive tells least, the pitch, by a few thousandths of a degree.
+TEST(TrajectoryMetrics, AFixedFrameRotationIsFoundAndTakenOut) {
+  const auto truth = WindingDrive(300);
+  Pose3d extrinsic = Pose3d::Identity();
+  const Eigen::Vector3d angles_rad(0.4 * kPi / 180, 0.5 * kPi / 180, -0.2 * kPi / 180);
+  extrinsic.linear() = Eigen::AngleAxisd(angles_rad.norm(), angles_rad.normalized()).toRotationMatrix();
+  std::vector<Pose3d> estimate;
+  for (const Pose3d& p : truth) estimate.push_back(p * extrinsic);
+  // With the rotation in it, every motion of the estimate is off: its direction by the rotation's ~0.7°.
+  const RelativePoseError before = RelativeError(truth, estimate, 10);
+  EXPECT_GT(before.drift.translation_percent, 0.5);
+  const FrameRotationFit fit = FitFrameRotation(truth, estimate, 10);
+  constexpr double kPullBiasDeg = 0.01;
+  EXPECT_NEAR(fit.angles_deg.x(), 0.4, kPullBiasDeg);
+  EXPECT_NEAR(fit.angles_deg.y(), 0.5, kPullBiasDeg);
+  EXPECT_NEAR(fit.angles_deg.z(), -0.2, kPullBiasDeg);
+  EXPECT_LT(fit.relative.drift.translation_percent, 0.05 * before.drift.translation_percent);
+  EXPECT_LT(fit.relative.drift.rotation_deg_per_m, 0.05 * before.drift.rotation_deg_per_m);
+}
+
+// A straight drive cannot tell a roll about its direction: the fit adds none, and an estimate that is right
+// gets the identity.
+TEST(TrajectoryMetrics, AStraightDriveGetsNoFrameRotation) {
+  const auto truth = Drive(100, 1.0, 0.0);
+  const FrameRotationFit fit = FitFrameRotation(truth, truth, 10);
+  EXPECT_TRUE(fit.truth_cam_from_estimate_cam.isApprox(Eigen::Matrix3d::Identity(), 1e-9));
+  EXPECT_LT(fit.relative.drift.translation_percent, 1e-9);
+}
+
 }  // namespace
 }  // namespace semap
