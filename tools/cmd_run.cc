@@ -51,7 +51,7 @@ std::vector<std::string> Overrides(const RunArgs& a) {
 }
 
 int Run(const RunArgs& args) {
-  const app::Config config = app::LoadConfig(args.common.config_path, Overrides(args));
+  const app::Config config = app::LoadStreamRunConfig(args.common.config_path, Overrides(args), args.path);
   app::StreamRunRequest request;
   request.dataset = args.path;
   request.progress_s = args.progress_s;

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "app/config/one_frame_preset.h"
 #include "engine/core/check.h"
 
 namespace semap::app {
@@ -50,17 +51,10 @@ void SetValue(std::vector<Section>& sections, const std::string& section_name, c
   }
 }
 
-void LoadFile(std::vector<Section>& sections, const std::filesystem::path& path) {
-  if (!std::filesystem::exists(path)) throw ConfigError("config file not found: " + path.string());
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(path.string() + ": not valid YAML: " + e.what());
-  }
-  if (root.IsNull()) return;  // an empty file means all defaults
-  if (!root.IsMap()) throw ConfigError(path.string() + ": top level must be a map of sections");
-  const std::string where = path.string() + ": ";
+// The sections of a parsed YAML document; `where` names it in errors ("FILE: ").
+void LoadNode(std::vector<Section>& sections, const YAML::Node& root, const std::string& where) {
+  if (root.IsNull()) return;  // an empty document means all defaults
+  if (!root.IsMap()) throw ConfigError(where + "top level must be a map of sections");
   for (const auto& sec : root) {
     const auto name = sec.first.as<std::string>();
     if (!sec.second.IsMap() && !sec.second.IsNull()) {
@@ -70,6 +64,27 @@ void LoadFile(std::vector<Section>& sections, const std::filesystem::path& path)
     if (sec.second.IsNull()) SetValue(sections, name, "", sec.second, where);  // reports unknown section
     for (const auto& kv : sec.second) SetValue(sections, name, kv.first.as<std::string>(), kv.second, where);
   }
+}
+
+void LoadFile(std::vector<Section>& sections, const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw ConfigError("config file not found: " + path.string());
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path.string());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path.string() + ": not valid YAML: " + e.what());
+  }
+  LoadNode(sections, root, path.string() + ": ");
+}
+
+void LoadPreset(std::vector<Section>& sections, const std::string& text) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(std::string("preset: not valid YAML: ") + e.what());
+  }
+  LoadNode(sections, root, "preset: ");
 }
 
 void ApplyOverride(std::vector<Section>& sections, const std::string& override_text) {
@@ -91,9 +106,11 @@ void ApplyOverride(std::vector<Section>& sections, const std::string& override_t
 
 }  // namespace
 
-Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides) {
+Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides,
+                  const std::string& preset) {
   Config config;
   auto sections = BindSections(config);
+  if (!preset.empty()) LoadPreset(sections, preset);
   if (!yaml_path.empty()) LoadFile(sections, yaml_path);
   for (const auto& o : overrides) ApplyOverride(sections, o);
   for (const auto& s : sections) {
@@ -104,6 +121,11 @@ Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std:
     }
   }
   return config;
+}
+
+const std::string& OneFramePresetYaml() {
+  static const std::string text = kOneFramePresetYaml;
+  return text;
 }
 
 std::string DumpConfig(const Config& config) {

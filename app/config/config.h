@@ -33,6 +33,7 @@ class ConfigError : public std::runtime_error {
 struct Config {
   io::FrameSourceOptions input;  // where frames come from and what is loaded with them
   PoseInputOptions pose_input;   // input.poses: where the camera poses come from
+  OneFrameInputOptions one_frame;  // input.one_frame_preset: a run of one frame
   sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
   PipelineOptions pipeline;  // stage threads, queues, modes
   io::OutputOptions output;      // files written by a run
@@ -48,10 +49,16 @@ struct Config {
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
 std::vector<io::Section> BindSections(Config& config);
 
-// Loads the defaults, then the YAML file (if not empty), then each "section.key=value" override, then
-// runs every section's Check(). Unknown sections/keys, malformed values and out-of-range values throw
-// ConfigError naming the file and the key.
-Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides = {});
+// Loads the defaults, then `preset` (YAML text, if not empty: a preset such as OneFramePresetYaml()), then the
+// YAML file (if not empty), then each "section.key=value" override, then runs every section's Check().
+// Unknown sections/keys, malformed values and out-of-range values throw ConfigError naming the file (or the
+// preset) and the key.
+Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides = {},
+                  const std::string& preset = {});
+
+// config/one_frame.yaml as it was built into the program (the file stays the one place its values are
+// written): what input.one_frame_preset applies to a run of one frame.
+const std::string& OneFramePresetYaml();
 
 // The YAML text of `config` with each section and field preceded by its doc comment.
 std::string DumpConfig(const Config& config);

@@ -36,4 +36,20 @@ struct PoseInputOptions {
   void Check() const {}
 };
 
+// input.one_frame_preset: how a run of exactly one frame is configured.
+struct OneFrameInputOptions {
+  bool one_frame_preset = true;
+
+  // Bound into the input section. Visitor: Field(key, T*, text).
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("one_frame_preset", &one_frame_preset,
+            "a `semap run` of exactly one frame takes config/one_frame.yaml's values (every matched pixel a "
+            "point, a seen band of 1 sigma) where the config file and --set leave them: no second view will "
+            "confirm or refine a one-frame map (bench/RESULTS.md, one-frame maps)");
+  }
+
+  void Check() const {}
+};
+
 }  // namespace semap::app

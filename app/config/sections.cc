@@ -33,6 +33,7 @@ std::vector<Section> BindSections(Config& c) {
   std::vector<Section> s;
   s.push_back(MakeSection("input", "Input: where frames come from and what is loaded with them.", c.input));
   c.pose_input.Describe(s.back().binder);  // input.poses: the app's, not the frame source's
+  c.one_frame.Describe(s.back().binder);   // input.one_frame_preset: the app's too
   s.push_back(MakeSection("odometry", "Stereo visual odometry: poses from the images (input.poses = odometry, or auto "
                           "on a sequence without poses).", c.odometry));
   s.push_back(MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));

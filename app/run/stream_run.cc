@@ -14,6 +14,15 @@
 
 namespace semap::app {
 
+Config LoadStreamRunConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides,
+                           const std::string& dataset) {
+  const Config config = LoadConfig(yaml_path, overrides);
+  if (!config.one_frame.one_frame_preset || OpenStreamingSource(config, dataset)->size() != 1) return config;
+  spdlog::info("one frame: config/one_frame.yaml's values apply where the config file and --set leave them "
+               "(input.one_frame_preset: false keeps the stream defaults)");
+  return LoadConfig(yaml_path, overrides, OneFramePresetYaml());
+}
+
 StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request) {
   const RunOdometry odometry = PrepareOdometry(config, request.dataset);
   auto source = OpenStreamingSource(config, request.dataset);

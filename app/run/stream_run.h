@@ -2,8 +2,10 @@
 // LCM, progress), and optionally evaluated afterwards.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "app/config/config.h"
 #include "engine/pipeline/pipeline.h"
@@ -30,6 +32,13 @@ enum class StreamRunOutcome {
   kStopped,        // a fatal stage error stopped the run (logged); what was mapped so far is written
   kNothingMapped,  // every frame failed: no map at all (the warnings and errors.jsonl say why)
 };
+
+// The config of `semap run DATASET`: LoadConfig(yaml_path, overrides), and, for a run of exactly one frame
+// (the sequence, or input.first_frame / input.max_frames, selects one) with input.one_frame_preset on, the
+// same with OneFramePresetYaml() under the file and the overrides (logged). Throws what LoadConfig and
+// opening the sequence throw.
+Config LoadStreamRunConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides,
+                           const std::string& dataset);
 
 // Opens the sequence and the sinks (an unusable output folder or LCM URL throws before any work is done),
 // runs the pipeline, logs the run's figures and what it wrote. Throws what opening the sequence or a sink,

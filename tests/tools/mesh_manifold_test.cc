@@ -91,14 +91,16 @@ TEST(WrittenMeshes, TheSameFramesGiveTheSameMeshFileRunAfterRun) {
   }
 }
 
-// A one-frame map of a real stereo pair (a pinched vertex before), and the first frames of the real KITTI
-// odometry drive with finalisation forced early.
+// A one-frame map of a real stereo pair with the stream defaults (a pinched vertex before; the one-frame
+// preset's map is checked in one_frame_preset_test.cc), and the first frames of the real KITTI odometry drive
+// with finalisation forced early.
 TEST(WrittenMeshes, RealKittiFramesAreManifold) {
   SEMAP_REQUIRE_SHARED("data/kitti_stereo2015_subset");
   SEMAP_REQUIRE_SHARED("data/kitti_odometry_04");
   const fs::path one = test::TempDir() / "stereo2015";
   CliRun r = RunSemap("run " + (test::SharedDir() / "data/kitti_stereo2015_subset").string() +
-                      " --set input.first_frame=2 --frames 1 --method O --progress-interval 0 --out " + one.string());
+                      " --set input.first_frame=2 --frames 1 --set input.one_frame_preset=false --method O"
+                      " --progress-interval 0 --out " + one.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ExpectWrittenMeshesManifold(one);
 

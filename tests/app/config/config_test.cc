@@ -204,5 +204,32 @@ TEST(Config, TheOneFramePresetLoads) {
   EXPECT_EQ(c.map.disparity_sigma_px, Config{}.map.disparity_sigma_px) << "a key the preset leaves alone";
 }
 
+// The preset built into the program is config/one_frame.yaml as it is now, and it loads under the config
+// file and the --set overrides: what a run of one frame gets (input.one_frame_preset).
+TEST(Config, TheOneFramePresetGoesUnderTheFileAndTheOverrides) {
+  std::ifstream file(test::SourceDir() / "config" / "one_frame.yaml");
+  std::stringstream committed;
+  committed << file.rdbuf();
+  EXPECT_EQ(OneFramePresetYaml(), committed.str()) << "the built-in preset is stale: rebuild";
+  const Config preset_only = LoadConfig("", {}, OneFramePresetYaml());
+  EXPECT_EQ(preset_only.depth.max_points_per_frame, 0);
+  EXPECT_EQ(preset_only.map.seen_noise_sigmas, 1.0);
+  const Config overridden = LoadConfig("", {"map.seen_noise_sigmas=0.5"}, OneFramePresetYaml());
+  EXPECT_EQ(overridden.map.seen_noise_sigmas, 0.5);
+  EXPECT_EQ(overridden.depth.max_points_per_frame, 0);
+  const auto yaml = test::TempDir() / "budget.yaml";
+  std::ofstream(yaml) << "depth:\n  max_points_per_frame: 5000\n";
+  const Config from_file = LoadConfig(yaml, {}, OneFramePresetYaml());
+  EXPECT_EQ(from_file.depth.max_points_per_frame, 5000);
+  EXPECT_EQ(from_file.map.seen_noise_sigmas, 1.0);
+  try {
+    LoadConfig("", {}, "map:\n  no_such_key: 1\n");
+    ADD_FAILURE() << "an unknown key in a preset must throw";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("preset: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("map.no_such_key"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace semap::app
