@@ -15,6 +15,7 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(max_ray_length_m >= 0.0, "max_ray_length_m", max_ray_length_m, "must be >= 0");
   SEMAP_CHECK_OPTION(merge_distance_m >= 0.0, "merge_distance_m", merge_distance_m, "must be >= 0");
   SEMAP_CHECK_OPTION(vote_window_frames >= 1, "vote_window_frames", vote_window_frames, "must be >= 1");
+  SEMAP_CHECK_OPTION(seen_window_frames >= 1, "seen_window_frames", seen_window_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(std::isfinite(merge_radius_px) && merge_radius_px > 0.0, "merge_radius_px", merge_radius_px,
                      "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(merge_depth_fraction) && merge_depth_fraction >= 0.0 && merge_depth_fraction < 1.0,

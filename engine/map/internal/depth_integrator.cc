@@ -59,11 +59,14 @@ DepthIntegrator::DepthIntegrator(Delaunay* dt, const MapOptions& options)
     : dt_(dt),
       geometry_(options),
       window_frames_(std::size_t(options.vote_window_frames)),
+      seen_window_frames_(std::size_t(options.seen_window_frames)),
       track_seen_(options.drop_unseen_surface) {}
 
 void DepthIntegrator::AddFrame(const std::vector<std::shared_ptr<const DepthView>>& views) {
   for (const auto& view : views) views_.emplace_back(view);
   while (views_.size() > window_frames_ * std::max<std::size_t>(1, views.size())) views_.pop_front();
+  for (const auto& view : views) seen_views_.emplace_back(view);
+  while (seen_views_.size() > seen_window_frames_ * std::max<std::size_t>(1, views.size())) seen_views_.pop_front();
 }
 
 std::size_t DepthIntegrator::VoteCreatedCells(std::size_t created_count) {
@@ -92,44 +95,28 @@ std::size_t DepthIntegrator::VoteCreatedCells(std::size_t created_count) {
   std::sort(order.begin(), order.end(), [](const Scratch::Created& a, const Scratch::Created& b) {
     return a.key != b.key ? a.key < b.key : a.index < b.index;
   });
-  std::vector<std::uint8_t>& seen = scratch_.seen;
   std::vector<std::uint8_t>& touched = scratch_.touched;
   std::atomic<std::size_t> voted{0};
   ParallelFor(std::size_t(0), order.size(), kGrainCreatedCells, [&](std::size_t first, std::size_t last) {
     std::size_t voted_here = 0;
     std::array<std::array<Eigen::Vector3d, 4>, kGrainCreatedCells> vertices_block;
     std::array<VoteIncrement, kGrainCreatedCells> fresh_block;
-    std::array<std::uint8_t, kGrainCreatedCells> candidates_block;
     for (std::size_t begin = first; begin < last; begin += kGrainCreatedCells) {
       const std::size_t end = std::min(last, begin + kGrainCreatedCells);
       std::array<Eigen::Vector3d, 4>* vertices = vertices_block.data() - begin;
       VoteIncrement* fresh = fresh_block.data() - begin;
-      std::uint8_t* candidates = candidates_block.data() - begin;
       for (std::size_t j = begin; j != end; ++j) {
         fresh[j] = {};
-        // The facets to look for: every facet (the cell's carving is not known yet) no view saw yet. A facet
-        // between two created cells is looked for from the older one only (see LooksFromOtherSide).
         const CellHandle c = cells[order[j].index];
         for (int k = 0; k < 4; ++k) vertices[j][k] = ToEigen(c->vertex(k)->point());
-        candidates[j] = 0;
-        for (int k = 0; track_seen_ && k < 4; ++k) {
-          if (!FacetSeen(c, k) && !TouchesFrozen(c, k) && !LooksFromOtherSide(c, k)) {
-            candidates[j] |= std::uint8_t(1u << k);
-          }
-        }
       }
-      // Each view votes the block's cells and looks for their facets while its depth map's lines are in the
-      // cache (newest view first: one view seeing a facet is enough).
+      // Each view votes the block's cells while its depth map's lines are in the cache.
       for (auto view = views_.rbegin(); view != views_.rend(); ++view) {
         for (std::size_t j = begin; j != end; ++j) {
           if (j + kPrefetchDepthCells < end) PrefetchCellDepths(vertices[j + kPrefetchDepthCells], *view);
           const VoteIncrement v = VoteCell(vertices[j], *view, geometry_);
           fresh[j].free_q += v.free_q;
           fresh[j].matter_q += v.matter_q;
-          if (candidates[j] == 0) continue;
-          const std::uint8_t found = SeenFacets(vertices[j], candidates[j], *view, geometry_);
-          seen[order[j].index] |= found;
-          candidates[j] &= std::uint8_t(~found);
         }
       }
       for (std::size_t j = begin; j != end; ++j) {
@@ -165,6 +152,60 @@ void DepthIntegrator::CollectOldCellsInView(const VotingView& view, std::vector<
   }
 }
 
+std::size_t DepthIntegrator::MarkSeenSurface(const std::vector<CellHandle>& listed, std::uint32_t list_mark,
+                                             std::vector<CellHandle>* newly_seen) {
+  if (!track_seen_ || views_.empty() || dt_->dimension() < 3) return 0;
+  const auto looked_at = [&](CellHandle c) { return !dt_->is_infinite(c) && !c->info().IsSealed(); };
+  std::vector<CellHandle>& cells = scratch_.surface_cells;
+  cells.clear();
+  for (const CellHandle c : listed) {
+    if (!looked_at(c) || c->info().stamp == list_mark) continue;
+    c->info().stamp = list_mark;
+    cells.push_back(c);
+  }
+  std::vector<std::uint8_t>& seen = scratch_.seen;
+  seen.assign(cells.size(), 0);
+  ParallelFor(std::size_t(0), cells.size(), kGrainCreatedCells, [&](std::size_t first, std::size_t last) {
+    std::array<Eigen::Vector3d, 4> vertices;
+    for (std::size_t j = first; j != last; ++j) {
+      if (j + kPrefetchCells < last) PrefetchNeighbourRecords(cells[j + kPrefetchCells]);
+      const CellHandle c = cells[j];
+      std::uint8_t candidates = 0;
+      for (int k = 0; k < 4; ++k) {
+        const bool carved_here = c->info().carved;
+        const CellHandle n = c->neighbor(k);
+        if (carved_here == NeighbourCarved(c, k)) continue;  // not a surface facet
+        // A facet between two listed cells is looked for from its carved side only.
+        if (!carved_here && looked_at(n) && n->info().stamp == list_mark) continue;
+        if (!FacetSeen(c, k) && !TouchesFrozen(c, k)) candidates |= std::uint8_t(1u << k);
+      }
+      if (candidates == 0) continue;
+      for (int k = 0; k < 4; ++k) vertices[k] = ToEigen(c->vertex(k)->point());
+      for (auto view = seen_views_.rbegin(); view != seen_views_.rend() && candidates != 0; ++view) {
+        const std::uint8_t found = SeenFacets(vertices, candidates, *view, geometry_);
+        seen[j] |= found;
+        candidates &= std::uint8_t(~found);
+      }
+    }
+  });
+  // The seen bits go on both sides of a facet, so they are set in one thread.
+  std::vector<Stamped>& seen_stamped = scratch_.seen_stamped;
+  seen_stamped.clear();
+  std::size_t marked = 0;
+  for (std::size_t j = 0; j < cells.size(); ++j) {
+    if (seen[j] == 0) continue;
+    seen_stamped.push_back({cells[j]->time_stamp(), cells[j]});
+    for (int k = 0; k < 4; ++k) {
+      if ((seen[j] >> k) & 1) {
+        MarkFacetSeen(cells[j], k);
+        ++marked;
+      }
+    }
+  }
+  AppendInCreationOrder(&seen_stamped, newly_seen);
+  return marked;
+}
+
 bool DepthIntegrator::AddVotes(std::int64_t free_q, std::int64_t matter_q, CellInfo* info,
                                std::uint8_t* touched) const {
   const bool was_free = info->IsFree();
@@ -197,9 +238,9 @@ std::size_t DepthIntegrator::Integrate(const std::vector<CellHandle>& created, c
   const std::size_t first_old = cells.size();
   const VotingView& newest = views_.back();
   if (marks.newest_view) CollectOldCellsInView(newest, &cells);
-  // Facets seen as a surface (see SeenFacets): every facet of a new cell, in the window's views; on the rest
-  // of the map, the surface facets (from their carved side, as carved before this update) of the cells the
-  // newest view sees that no view saw yet, in that view.
+  // Facets seen as a surface (see SeenFacets): the surface facets (from their carved side, as carved before
+  // this update) of the old cells the newest view sees that no view saw yet, in that view. The created cells'
+  // surface facets are looked for after the carving (MarkSeenSurface).
   std::vector<std::uint8_t>& seen = scratch_.seen;
   seen.assign(track_seen_ ? cells.size() : 0, 0);
   // Each cell's votes go into its own record, by the thread that computes them: a vote reads the cell's

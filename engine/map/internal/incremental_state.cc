@@ -156,11 +156,19 @@ MapUpdateResult IncrementalState::Update(const LabelledCloud& frame, const std::
 void IncrementalState::CarveAndFinalise(MapUpdateResult* result, std::chrono::steady_clock::time_point* lap) {
   result->cells_uncarved += ShrinkNonFree();
   result->cells_carved = Regrow();
+  MarkSeenSurface();
   FillSeenHoles();
   result->carve_ms = Lap(lap);
   Finalise(result);
   TakeIrregular();
   result->finalise_ms = Lap(lap);
+}
+
+void IncrementalState::MarkSeenSurface() {
+  if (!Emit().drop_unseen) return;
+  std::vector<CellHandle> cells = touched_;
+  cells.insert(cells.end(), carve_changed_.begin(), carve_changed_.end());
+  integrator_.MarkSeenSurface(cells, NewMark(), &newly_seen_);
 }
 
 void IncrementalState::FillSeenHoles() {
@@ -495,10 +503,10 @@ void IncrementalState::UncarveBoundaryStars(std::vector<CellHandle>* uncarved) {
 }
 
 std::size_t IncrementalState::Regrow() {
+  carve_changed_.clear();
   if (options_.extraction == SurfaceExtraction::kCarveAndRepair) {
-    std::vector<CellHandle> changed;
     repair_later_.insert(repair_later_.end(), boundary_.begin(), boundary_.end());
-    const std::size_t carved = carver_.CarveAndRepair(touched_, &changed, repair_later_);
+    const std::size_t carved = carver_.CarveAndRepair(touched_, &carve_changed_, repair_later_);
     repair_later_.clear();
     return carved;
   }
@@ -515,7 +523,7 @@ std::size_t IncrementalState::Regrow() {
     }
   }
   if (seeds.empty() && best != CellHandle()) seeds.push_back(best);
-  return carver_.Grow(seeds);
+  return carver_.Grow(seeds, &carve_changed_);
 }
 
 }  // namespace semap::map_internal

@@ -145,8 +145,13 @@ class IncrementalState {
   // The greedy growth restarts around the re-triangulated region: uncarves the stars of boundary_ (appended
   // to `uncarved`). Carve-and-repair does not need it.
   void UncarveBoundaryStars(std::vector<CellHandle>* uncarved);
-  // Carves the free cells of touched_ and makes the manifold whole again around them and boundary_.
+  // Carves the free cells of touched_ and makes the manifold whole again around them and boundary_; lists in
+  // carve_changed_ the cells whose carving that changed beyond touched_.
   std::size_t Regrow();
+  // kDepth, map.drop_unseen_surface: the unseen surface facets of the cells this update created or changed
+  // the carving of (touched_, carve_changed_), looked for in the window's views (DepthIntegrator::
+  // MarkSeenSurface); the cells marked go to newly_seen_.
+  void MarkSeenSurface();
   void Finalise(MapUpdateResult* result);
   // The last steps of both updates (rays, depth) once the votes are in: uncarve the touched cells no longer
   // free, regrow, finalise, take the irregular vertices; carve_ms and finalise_ms timed from `lap`.
@@ -220,6 +225,7 @@ class IncrementalState {
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
   std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
   std::vector<CellHandle> newly_seen_;     // kDepth: cells the integrator marked facets of seen
+  std::vector<CellHandle> carve_changed_;  // Regrow: cells whose carving it changed (may repeat touched_)
 
   Mesher mesher_;  // the output: live surface, finalised triangles
   MapStatistics counters_;

@@ -135,7 +135,7 @@ bool ManifoldCarver::TryCarve(CellHandle cell) {
   return true;
 }
 
-std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
+std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates, std::vector<CellHandle>* carved_cells) {
   using Entry = std::pair<std::int64_t, CellHandle>;
   auto lower = [](const Entry& a, const Entry& b) { return a.first < b.first; };
   std::priority_queue<Entry, std::vector<Entry>, decltype(lower)> queue(lower);
@@ -160,6 +160,7 @@ std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates) {
         continue;
       }
       ++carved_in_pass;
+      if (carved_cells != nullptr) carved_cells->push_back(c);
       for (int i = 0; i < 4; ++i) push(c->neighbor(i));
     }
     carved += carved_in_pass;
@@ -331,7 +332,7 @@ std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
   }
   SortByPosition(&vertices);
   Repair(std::move(vertices), /*allow_fill=*/true, changed);
-  return carved + Grow(cells);
+  return carved + Grow(cells, changed);
 }
 
 void ManifoldCarver::UncarveStars(const std::vector<VertexHandle>& vertices,

@@ -34,8 +34,8 @@ class ManifoldCarver {
   // Region growing: repeatedly carves the free, uncarved cell with the highest free vote among the candidates
   // and the free neighbours of cells carved so far, when the boundary stays manifold. A cell that fails is
   // retried when one of its neighbours is carved later. Candidates need not be adjacent to the region (a
-  // seed is). Returns the number of cells carved.
-  std::size_t Grow(const std::vector<CellHandle>& candidates);
+  // seed is). Returns the number of cells carved, and appends them to `carved_cells` (when not null).
+  std::size_t Grow(const std::vector<CellHandle>& candidates, std::vector<CellHandle>* carved_cells = nullptr);
 
   // Makes every vertex of `vertices` regular again (and the vertices of the cells it changes), after carving
   // or uncarving cells without the manifold test. At a non-regular vertex v it applies the cheaper of
@@ -50,7 +50,8 @@ class ManifoldCarver {
 
   // Carves every free cell of `cells` at once, restores the manifold with Repair (fill allowed), then grows
   // from the free cells still uncarved (Grow). Far fewer free cells are left out than by growth alone, whose
-  // greedy order blocks itself (see MapOptions::extraction). Appends the cells Repair changed to `changed`.
+  // greedy order blocks itself (see MapOptions::extraction). Appends the cells Repair changed, and those the
+  // growth carved, to `changed`.
   // Returns the number of cells carved by the first step and by the growth.
   // `also_repair`: more vertices to make regular in the same repair (e.g. the boundary of a re-triangulated
   // region, whose new cells sit beside carved old ones).

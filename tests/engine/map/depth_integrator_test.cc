@@ -1,5 +1,6 @@
 // The depth integrator against a simple reference: every cell voted by each view of the window, one cell and
-// one view at a time (VoteCell, SeenFacets), without walks, blocks, spatial orders or threads.
+// one view at a time (VoteCell, SeenFacets), without walks, blocks, spatial orders or threads; the surface
+// facets looked for in the seen window's views, one facet and one view at a time.
 #include "engine/map/internal/depth_integrator.h"
 
 #include <gtest/gtest.h>
@@ -79,8 +80,8 @@ class DepthIntegratorTest : public ::testing::Test {
 };
 
 // The cells an update created get the votes of every view of the window instead of what they inherited (kept
-// where no view votes), every facet some view sees from the older of its two created cells is marked seen,
-// each created cell is listed touched, in creation order, and the cells facets were marked from are listed.
+// where no view votes), each created cell is listed touched, in creation order, and no facet of a created
+// cell is looked for yet (that is MarkSeenSurface's, after the carving).
 TEST_F(DepthIntegratorTest, CreatedCellsGetTheWindowsVotes) {
   DepthIntegrator integrator(&dt_, options_);
   for (const auto& view : views_) integrator.AddFrame({view});
@@ -110,28 +111,79 @@ TEST_F(DepthIntegratorTest, CreatedCellsGetTheWindowsVotes) {
     const Votes before{c->info().free_q, c->info().matter_q};
     expected[c] = fresh == Votes{} ? before : fresh;
     expected_voted += expected[c] == before ? 0 : 1;  // a vote: what the cell holds changed
-    for (int k = 0; k < 4; ++k) {
-      const CellHandle n = c->neighbor(k);
-      if (!dt_.is_infinite(n) && n->time_stamp() < c->time_stamp()) continue;  // looked for from n
-      bool seen = false;
-      for (const VotingView& view : window)
-        seen = seen || (SeenFacets(Vertices(c), 1u << k, view, geometry) != 0);
-      expected_seen[SortedFacet(c, k)] = expected_seen[SortedFacet(c, k)] || seen;
-    }
+    for (int k = 0; k < 4; ++k) expected_seen[SortedFacet(c, k)] = false;
   }
 
   std::vector<CellHandle> touched, newly_seen;
   const std::size_t voted =
       integrator.Integrate(created, {kCreated, /*touch=*/11, /*visit=*/13}, &touched, &newly_seen);
-  const std::size_t seen_facets = ExpectCells(expected, expected_seen);
+  EXPECT_EQ(ExpectCells(expected, expected_seen), 0u);
   EXPECT_EQ(voted, expected_voted);
   EXPECT_GT(voted, 1000u);
-  EXPECT_GT(seen_facets, 100u);
   ASSERT_EQ(touched.size(), expected.size()) << "every created cell is touched";
   for (std::size_t i = 1; i < touched.size(); ++i)
     EXPECT_LT(touched[i - 1]->time_stamp(), touched[i]->time_stamp());
+  EXPECT_TRUE(newly_seen.empty());
+}
+
+// After the carving: every surface facet (carved on one side only) of the listed cells that some view of the
+// seen window sees is marked seen, here a window one frame longer than the vote window's, so that the view
+// that left the votes still looks; no other facet is marked, and the cells marked from are listed, in
+// creation order. Facets already seen stay seen and facets of cells not listed are not looked at.
+TEST_F(DepthIntegratorTest, SurfaceFacetsAreLookedForInTheSeenWindow) {
+  options_.seen_window_frames = 3;
+  DepthIntegrator integrator(&dt_, options_);
+  for (const auto& view : views_) integrator.AddFrame({view});
+  ASSERT_EQ(integrator.views().size(), 2u) << "the vote window";
+  const DepthVoteGeometry geometry(options_);
+  std::vector<VotingView> seen_window;
+  for (const auto& view : views_) seen_window.emplace_back(view);
+
+  std::bernoulli_distribution carve(0.5), listed(0.8);
+  std::vector<CellHandle> cells;
+  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+    c->info().carved = carve(rng_);
+    if (listed(rng_)) cells.push_back(c);
+  }
+  std::set<CellHandle> in_list(cells.begin(), cells.end());
+  std::map<FacetHandles, bool> expected_seen;
+  std::size_t surface_facets = 0, seen_only_by_the_oldest_view = 0;
+  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+    for (int k = 0; k < 4; ++k) {
+      const FacetHandles f = SortedFacet(c, k);
+      const CellHandle n = c->neighbor(k);
+      const bool surface = c->info().carved != n->info().carved;
+      if (!surface || (!in_list.count(c) && (dt_.is_infinite(n) || !in_list.count(n)))) {
+        expected_seen.emplace(f, false);
+        continue;
+      }
+      ++surface_facets;
+      bool seen = false, seen_by_newer = false;
+      for (std::size_t w = 0; w < seen_window.size(); ++w) {
+        const bool here = SeenFacets(Vertices(c), 1u << k, seen_window[w], geometry) != 0;
+        seen = seen || here;
+        if (w > 0) seen_by_newer = seen_by_newer || here;
+      }
+      expected_seen[f] = seen;
+      seen_only_by_the_oldest_view += seen && !seen_by_newer ? 1 : 0;
+    }
+  }
+  std::vector<CellHandle> newly_seen;
+  const std::size_t marked = integrator.MarkSeenSurface(cells, /*list_mark=*/17, &newly_seen);
+  std::map<CellHandle, Votes> votes;
+  for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) votes[c] = {0, 0};
+  const std::size_t seen_facets = ExpectCells(votes, expected_seen);
+  EXPECT_GT(surface_facets, 1000u);
+  EXPECT_GT(seen_facets, 100u);
+  EXPECT_GT(seen_only_by_the_oldest_view, 0u) << "the test does not tell the seen window from the vote window";
+  EXPECT_EQ(2 * marked, seen_facets) << "each marked facet counted from both its cells";
+  for (std::size_t i = 1; i < newly_seen.size(); ++i)
+    EXPECT_LT(newly_seen[i - 1]->time_stamp(), newly_seen[i]->time_stamp());
   for (const CellHandle c : newly_seen) EXPECT_NE(c->info().seen_facets, 0);
-  EXPECT_FALSE(newly_seen.empty());
+  // Once seen, a facet is not looked for again: a second pass marks nothing.
+  std::vector<CellHandle> again;
+  EXPECT_EQ(integrator.MarkSeenSurface(cells, /*list_mark=*/19, &again), 0u);
+  EXPECT_TRUE(again.empty());
 }
 
 // An update that created nothing: the old cells get the newest view's votes added (every cell it votes is
