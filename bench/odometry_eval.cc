@@ -1,12 +1,14 @@
 // semap_odometry_eval: accuracy and cost of the stereo visual odometry on a sequence with poses (KITTI
 // odometry, KITTI raw, or one made by `semap synth`), the poses withheld from the odometry and used only to
 // score it. Prints the relative pose error over 10-frame windows, the KITTI odometry metric (segments of
-// 100-800 m where the drive is that long), the ATE after alignment, the end-point error, a diagnostic (the fixed
-// rotation between the poses' camera frame and the odometry's that explains most of the 10-frame error, and
-// that error with it taken out), and the odometry's CPU time per frame on one core (cv::setNumThreads(1); the calling thread's CPU time, not wall time).
+// 100-800 m where the drive is that long), the ATE after alignment, the end-point error, a diagnostic (the
+// fixed rotation between the poses' camera frame and the odometry's that explains most of the 10-frame error,
+// and that error with it taken out), and the odometry's CPU time per frame on one core (cv::setNumThreads(1);
+// the calling thread's CPU time, not wall time).
 //
-// With --synth PRESET instead of a dataset, the frames of `semap synth --preset PRESET --frames N` (its scene,
-// drive, turns and exposure) are rendered in memory, without the Velodyne scans and without writing them.
+// With --synth PRESET instead of a dataset, the frames of `semap synth --preset PRESET --frames N` (its
+// scene, drive, turns and exposure) are rendered in memory, without the Velodyne scans and without writing
+// them.
 //
 // Usage: semap_odometry_eval DATASET|--synth urban|vegetated|mixed [--config FILE] [--set key=value ...]
 //                            [--frames N] [--poses-out FILE]
@@ -197,11 +199,12 @@ int main(int argc, char** argv) {
   // A diagnostic fitted on the poses (not a score): how much of the 10-frame error one fixed rotation between
   // the poses' camera frame and the odometry's explains (engine/eval/trajectory_metrics.h).
   const auto frame_fit = semap::FitFrameRotation(truth, estimate, 10);
-  std::printf("fixed frame rotation that best maps the estimate's 10-frame directions onto the poses': "
-              "(%+.3f, %+.3f, %+.3f) deg about the camera's x, y, z; RPE with it taken out: %.3f %% translation, "
-              "%.5f deg/m rotation (diagnostic, fitted on the poses)\n",
-              frame_fit.angles_deg.x(), frame_fit.angles_deg.y(), frame_fit.angles_deg.z(),
-              frame_fit.relative.drift.translation_percent, frame_fit.relative.drift.rotation_deg_per_m);
+  std::printf(
+      "fixed frame rotation that best maps the estimate's 10-frame directions onto the poses': "
+      "(%+.3f, %+.3f, %+.3f) deg about the camera's x, y, z; RPE with it taken out: %.3f %% translation, "
+      "%.5f deg/m rotation (diagnostic, fitted on the poses)\n",
+      frame_fit.angles_deg.x(), frame_fit.angles_deg.y(), frame_fit.angles_deg.z(),
+      frame_fit.relative.drift.translation_percent, frame_fit.relative.drift.rotation_deg_per_m);
   if (odometry && config.odometry.estimate_disparity_offset != semap::OffsetEstimate::kOff) {
     std::printf("disparity offset at the end: %+.3f px, per row %+.3f px\n", estimate_offset_at_end.constant_px,
                 estimate_offset_at_end.per_row_px);

@@ -49,8 +49,8 @@ struct Config {
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).
 std::vector<io::Section> BindSections(Config& config);
 
-// Loads the defaults, then `preset` (YAML text, if not empty: a preset such as OneFramePresetYaml()), then the
-// YAML file (if not empty), then each "section.key=value" override, then runs every section's Check().
+// Loads the defaults, then `preset` (YAML text, if not empty: a preset such as OneFramePresetYaml()), then
+// the YAML file (if not empty), then each "section.key=value" override, then runs every section's Check().
 // Unknown sections/keys, malformed values and out-of-range values throw ConfigError naming the file (or the
 // preset) and the key.
 Config LoadConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides = {},

@@ -18,8 +18,9 @@ Config LoadStreamRunConfig(const std::filesystem::path& yaml_path, const std::ve
                            const std::string& dataset) {
   const Config config = LoadConfig(yaml_path, overrides);
   if (!config.one_frame.one_frame_preset || OpenStreamingSource(config, dataset)->size() != 1) return config;
-  spdlog::info("one frame: config/one_frame.yaml's values apply where the config file and --set leave them "
-               "(input.one_frame_preset: false keeps the stream defaults)");
+  spdlog::info(
+      "one frame: config/one_frame.yaml's values apply where the config file and --set leave them "
+      "(input.one_frame_preset: false keeps the stream defaults)");
   return LoadConfig(yaml_path, overrides, OneFramePresetYaml());
 }
 

@@ -137,7 +137,8 @@ FrameRotationFit FitFrameRotation(const std::vector<Pose3d>& truth, const std::v
     const Pose3d estimate_motion = estimate[a].inverse() * estimate[b];
     if (truth_motion.translation().norm() == 0.0 || estimate_motion.translation().norm() == 0.0) continue;
     cross += truth_motion.translation().normalized() * estimate_motion.translation().normalized().transpose();
-    const Eigen::AngleAxisd truth_rotation(truth_motion.linear()), estimate_rotation(estimate_motion.linear());
+    const Eigen::AngleAxisd truth_rotation(truth_motion.linear()),
+        estimate_rotation(estimate_motion.linear());
     cross += (truth_rotation.angle() / kRotationUnitRad * truth_rotation.axis()) *
              (estimate_rotation.angle() / kRotationUnitRad * estimate_rotation.axis()).transpose();
     ++windows;

@@ -49,12 +49,14 @@ RelativePoseError RelativeError(const std::vector<Pose3d>& truth, const std::vec
 // from the estimate's (an extrinsic calibration between the pose source and the camera off by R, or a camera
 // model that sees the motion in a rotated frame). R maps each window's estimated translation direction and
 // rotation vector onto the truth's (windows of `delta_frames`; Kabsch/Wahba in closed form), with a weak pull
-// towards the identity so that a straight drive, which cannot tell a roll about its direction, gets none. `relative` is the relative pose error with R taken out: truth_i · R against the estimate. A drift
-// that one fixed R explains is a frame disagreement, not an error that accumulates along the drive.
+// towards the identity so that a straight drive, which cannot tell a roll about its direction, gets none.
+// `relative` is the relative pose error with R taken out: truth_i · R against the estimate. A drift that one
+// fixed R explains is a frame disagreement, not an error that accumulates along the drive.
 struct FrameRotationFit {
   Eigen::Matrix3d truth_cam_from_estimate_cam = Eigen::Matrix3d::Identity();  // R
-  Eigen::Vector3d angles_deg = Eigen::Vector3d::Zero();  // R as a rotation vector, degrees (x, y, z of the camera)
-  RelativePoseError relative;                            // with R taken out
+  // R as a rotation vector, degrees (about the camera's x, y, z).
+  Eigen::Vector3d angles_deg = Eigen::Vector3d::Zero();
+  RelativePoseError relative;  // with R taken out
 };
 FrameRotationFit FitFrameRotation(const std::vector<Pose3d>& truth, const std::vector<Pose3d>& estimate,
                                   int delta_frames, double min_length_m = 0.5);

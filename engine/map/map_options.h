@@ -185,9 +185,10 @@ struct MapOptions {
     // it: the older views see it. 200 urban frames, PS: 8 / 12 / 16 / 24 frames give strict RMSE vs Velodyne
     // 3.32 / 2.92 / 2.84 / 2.79 m for 81.6 / 80.4 / 79.9 / 78.9 % of the area within 0.2 m (bench/RESULTS.md,
     // 2026-11-28).
-    v.Field("seen_window_frames", &seen_window_frames,
-            "depth: a facet that becomes a surface is looked for as seen in the views of this many last frames "
-            "(>= 1; their depth maps are kept)");
+    v.Field(
+        "seen_window_frames", &seen_window_frames,
+        "depth: a facet that becomes a surface is looked for as seen in the views of this many last frames "
+        "(>= 1; their depth maps are kept)");
     // A wider tolerance keeps more of the far, noisy surface and more guesses with it (80 urban frames, PS: σ
     // multiples 0 / 0.5 / 1 / 3 put 1.7 / 3.3 / 4.4 / 6.2 % of the area farther than 2 m from the truth;
     // bench/RESULTS.md).

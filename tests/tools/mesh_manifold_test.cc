@@ -100,7 +100,8 @@ TEST(WrittenMeshes, RealKittiFramesAreManifold) {
   const fs::path one = test::TempDir() / "stereo2015";
   CliRun r = RunSemap("run " + (test::SharedDir() / "data/kitti_stereo2015_subset").string() +
                       " --set input.first_frame=2 --frames 1 --set input.one_frame_preset=false --method O"
-                      " --progress-interval 0 --out " + one.string());
+                      " --progress-interval 0 --out " +
+                      one.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ExpectWrittenMeshesManifold(one);
 

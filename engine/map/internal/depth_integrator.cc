@@ -66,7 +66,8 @@ void DepthIntegrator::AddFrame(const std::vector<std::shared_ptr<const DepthView
   for (const auto& view : views) views_.emplace_back(view);
   while (views_.size() > window_frames_ * std::max<std::size_t>(1, views.size())) views_.pop_front();
   for (const auto& view : views) seen_views_.emplace_back(view);
-  while (seen_views_.size() > seen_window_frames_ * std::max<std::size_t>(1, views.size())) seen_views_.pop_front();
+  while (seen_views_.size() > seen_window_frames_ * std::max<std::size_t>(1, views.size()))
+    seen_views_.pop_front();
 }
 
 std::size_t DepthIntegrator::VoteCreatedCells(std::size_t created_count) {
@@ -170,9 +171,9 @@ std::size_t DepthIntegrator::MarkSeenSurface(const std::vector<CellHandle>& list
     for (std::size_t j = first; j != last; ++j) {
       if (j + kPrefetchCells < last) PrefetchNeighbourRecords(cells[j + kPrefetchCells]);
       const CellHandle c = cells[j];
+      const bool carved_here = c->info().carved;
       std::uint8_t candidates = 0;
       for (int k = 0; k < 4; ++k) {
-        const bool carved_here = c->info().carved;
         const CellHandle n = c->neighbor(k);
         if (carved_here == NeighbourCarved(c, k)) continue;  // not a surface facet
         // A facet between two listed cells is looked for from its carved side only.

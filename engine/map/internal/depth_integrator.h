@@ -53,11 +53,12 @@ class DepthIntegrator {
   // triangulation). A cell of `created` (cells this update created, each marked `marks.created`) gets the
   // votes of every view of the window instead of those it inherited, unless none of them sees it.
   // With map.drop_unseen_surface, marks the facets the newest view sees as a surface (SeenFacets) among the
-  // surface facets no view saw yet of the old cells it sees (carved as before this update); the created cells'
-  // facets are looked for after the carving (MarkSeenSurface). Appends to `touched` (stamped `marks.touch`)
-  // the cells the carving must look at again (created now, changed sides, or free and still outside the
-  // carved region), and to `newly_seen` the cells it marked facets of seen, both in creation order. Returns
-  // the number of cells that got a vote. The votes are integers: the result does not depend on the threads.
+  // surface facets no view saw yet of the old cells it sees (carved as before this update); the created
+  // cells' facets are looked for after the carving (MarkSeenSurface). Appends to `touched` (stamped
+  // `marks.touch`) the cells the carving must look at again (created now, changed sides, or free and still
+  // outside the carved region), and to `newly_seen` the cells it marked facets of seen, both in creation
+  // order. Returns the number of cells that got a vote. The votes are integers: the result does not depend on
+  // the threads.
   std::size_t Integrate(const std::vector<CellHandle>& created, const Marks& marks,
                         std::vector<CellHandle>* touched, std::vector<CellHandle>* newly_seen);
 

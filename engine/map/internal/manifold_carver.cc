@@ -135,7 +135,8 @@ bool ManifoldCarver::TryCarve(CellHandle cell) {
   return true;
 }
 
-std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates, std::vector<CellHandle>* carved_cells) {
+std::size_t ManifoldCarver::Grow(const std::vector<CellHandle>& candidates,
+                                 std::vector<CellHandle>* carved_cells) {
   using Entry = std::pair<std::int64_t, CellHandle>;
   auto lower = [](const Entry& a, const Entry& b) { return a.first < b.first; };
   std::priority_queue<Entry, std::vector<Entry>, decltype(lower)> queue(lower);

@@ -35,7 +35,8 @@ class ManifoldCarver {
   // and the free neighbours of cells carved so far, when the boundary stays manifold. A cell that fails is
   // retried when one of its neighbours is carved later. Candidates need not be adjacent to the region (a
   // seed is). Returns the number of cells carved, and appends them to `carved_cells` (when not null).
-  std::size_t Grow(const std::vector<CellHandle>& candidates, std::vector<CellHandle>* carved_cells = nullptr);
+  std::size_t Grow(const std::vector<CellHandle>& candidates,
+                   std::vector<CellHandle>* carved_cells = nullptr);
 
   // Makes every vertex of `vertices` regular again (and the vertices of the cells it changes), after carving
   // or uncarving cells without the manifold test. At a non-regular vertex v it applies the cheaper of

@@ -93,8 +93,8 @@ TEST(TrajectoryMetrics, ShortOrStandingDrives) {
   EXPECT_EQ(AbsoluteError({}, {}).rmse_m, 0.0);
 }
 
-// A drive whose heading and slope change along it (a turn that tightens and eases, a climb that comes and goes),
-// so that its windows' directions span the camera frame's x–z plane and more.
+// A drive whose heading and slope change along it (a turn that tightens and eases, a climb that comes and
+// goes), so that its windows' directions span the camera frame's x–z plane and more.
 std::vector<Pose3d> WindingDrive(int frames) {
   std::vector<Pose3d> out;
   Pose3d p = Pose3d::Identity();

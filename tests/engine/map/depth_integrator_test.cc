@@ -175,7 +175,8 @@ TEST_F(DepthIntegratorTest, SurfaceFacetsAreLookedForInTheSeenWindow) {
   const std::size_t seen_facets = ExpectCells(votes, expected_seen);
   EXPECT_GT(surface_facets, 1000u);
   EXPECT_GT(seen_facets, 100u);
-  EXPECT_GT(seen_only_by_the_oldest_view, 0u) << "the test does not tell the seen window from the vote window";
+  EXPECT_GT(seen_only_by_the_oldest_view, 0u)
+      << "the test does not tell the seen window from the vote window";
   EXPECT_EQ(2 * marked, seen_facets) << "each marked facet counted from both its cells";
   for (std::size_t i = 1; i < newly_seen.size(); ++i)
     EXPECT_LT(newly_seen[i - 1]->time_stamp(), newly_seen[i]->time_stamp());
