@@ -7,23 +7,29 @@
 // that a map of what stays is not judged by objects that left. The class of a pixel is the frame's own:
 // its label image, or with semantics.source: enet the segmenter's labels of the frame (every frame); only
 // without either, the label of the mesh triangle hit (which cannot tell a car that left: the mesh shows
-// the road behind it there). A third table judges the static scene on the pixels both depth maps cover, so that
-// neither is judged on pixels the other leaves out (the mesh covers more, and harder, pixels). A fourth
+// the road behind it there). A third table judges the static scene on the pixels both depth maps cover, so
+// that neither is judged on pixels the other leaves out (the mesh covers more, and harder, pixels). A fourth
 // splits those pixels by the angle between the pixel's ray and the normal of the mesh triangle it hits
 // (0° = the surface faces the camera, 90° = seen edge-on): a surface seen at a grazing angle turns a small
 // error across it into a large one along the ray, 1 / cos of that angle. Beside the depth figures it gives
 // each side's median distance to the reference point across the surface: |depth error| · |ray| / z ·
-// cos(angle), the depth error with that magnification taken out.
+// cos(angle), the depth error with that magnification taken out. A fifth splits the static pixels by the
+// frame's class of the pixel and reference-depth bin, with each row's share of the mesh's squared error
+// (which classes make the strict RMSE), and --per-frame adds each frame's static RMSE, all depths and 20-40 m
+// (which frames make it).
 //
-// Usage: semap_fusion_table SEQUENCE --mesh MESH.ply [--frames N] [--config FILE] [--set key=value ...]
+// Usage: semap_fusion_table SEQUENCE --mesh MESH.ply [--frames N] [--per-frame] [--config FILE]
+//        [--set key=value ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -216,6 +222,96 @@ class IncidenceTable {
   std::array<std::array<Bin, std::size(kAngleEdgesDeg) - 1>, std::size(kRangeEdgesM) - 1> bins_;
 };
 
+// The static pixels (within the strict depth range) by the frame's class of the pixel and reference-depth
+// bin: each depth map's RMSE on the pixels it covers, and the row's share of the mesh's squared error.
+class ClassTable {
+ public:
+  explicit ClassTable(const DepthAccuracyOptions& strict) : strict_(strict) {}
+  void Add(const cv::Mat& static_reference, const cv::Mat& classes, const cv::Mat& input,
+           const cv::Mat& mesh) {
+    const cv::Mat* depth[2] = {&input, &mesh};
+    for (int v = 0; v < static_reference.rows; ++v) {
+      for (int u = 0; u < static_reference.cols; ++u) {
+        const double z = static_reference.at<float>(v, u);
+        if (!(z >= strict_.min_depth_m && z <= strict_.max_depth_m)) continue;
+        const int b = semap::bench::BinOf(kBinEdgesM, z);
+        if (b < 0) continue;
+        Row& row = rows_[{classes.at<int>(v, u), b}];
+        for (int side = 0; side < 2; ++side) {
+          const float zs = depth[side]->at<float>(v, u);
+          if (!(std::isfinite(zs) && zs > 0.0f)) continue;
+          const double e = double(zs) - z;
+          row.sq[side] += e * e;
+          ++row.n[side];
+        }
+      }
+    }
+  }
+  void Print(const std::string& title, const semap::ClassMap& class_map) const {
+    std::printf("\n%s\n\n", title.c_str());
+    std::printf(
+        "| class | reference depth | SGBM pixels | SGBM RMSE (m) | mesh pixels | mesh RMSE (m) | share of "
+        "the mesh's "
+        "squared error |\n|---|---|---|---|---|---|---|\n");
+    double total_sq = 0.0;
+    for (const auto& [key, row] : rows_) total_sq += row.sq[1];
+    for (const auto& [key, row] : rows_) {
+      if (row.n[1] == 0 || row.sq[1] < kMinShareShown * total_sq) continue;
+      const auto [label, b] = key;
+      const std::string name = label >= 0 && class_map.Contains(semap::Label(label))
+                                   ? class_map.Get(semap::Label(label)).name
+                                   : "none";
+      std::printf("| %s | %.0f-%.0f m | %lld | %.3f | %lld | %.3f | %.1f %% |\n", name.c_str(), kBinEdgesM[b],
+                  kBinEdgesM[b + 1], static_cast<long long>(row.n[0]),
+                  row.n[0] > 0 ? std::sqrt(row.sq[0] / double(row.n[0])) : 0.0,
+                  static_cast<long long>(row.n[1]), std::sqrt(row.sq[1] / double(row.n[1])),
+                  100.0 * row.sq[1] / total_sq);
+    }
+    std::printf("(rows under %.0f %% of the mesh's squared error left out)\n", 100.0 * kMinShareShown);
+  }
+
+ private:
+  static constexpr double kBinEdgesM[] = {0.0, 10.0, 20.0, 30.0, 40.0};
+  static constexpr double kMinShareShown = 0.01;
+  struct Row {
+    double sq[2] = {0.0, 0.0};
+    std::int64_t n[2] = {0, 0};
+  };
+  DepthAccuracyOptions strict_;
+  std::map<std::pair<int, int>, Row> rows_;
+};
+
+// One table row per frame: the static scene's RMSE of each depth map over the strict range and over 20-40 m.
+std::string FrameRow(std::int64_t frame_id, const cv::Mat& static_reference, const cv::Mat& input,
+                     const cv::Mat& mesh, const DepthAccuracyOptions& strict) {
+  constexpr double kFarFromM = 20.0;
+  double sq[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+  std::int64_t n[2][2] = {{0, 0}, {0, 0}};
+  const cv::Mat* depth[2] = {&input, &mesh};
+  for (int v = 0; v < static_reference.rows; ++v) {
+    for (int u = 0; u < static_reference.cols; ++u) {
+      const double z = static_reference.at<float>(v, u);
+      if (!(z >= strict.min_depth_m && z <= strict.max_depth_m)) continue;
+      for (int side = 0; side < 2; ++side) {
+        const float zs = depth[side]->at<float>(v, u);
+        if (!(std::isfinite(zs) && zs > 0.0f)) continue;
+        const double e = double(zs) - z;
+        for (int far = 0; far < (z >= kFarFromM ? 2 : 1); ++far) {
+          sq[side][far] += e * e;
+          ++n[side][far];
+        }
+      }
+    }
+  }
+  const auto rmse = [&](int side, int far) {
+    return n[side][far] > 0 ? std::sqrt(sq[side][far] / double(n[side][far])) : 0.0;
+  };
+  char row[128];
+  std::snprintf(row, sizeof(row), "| %lld | %.3f | %.3f | %.3f | %.3f |\n", static_cast<long long>(frame_id),
+                rmse(0, 0), rmse(1, 0), rmse(0, 1), rmse(1, 1));
+  return row;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -224,6 +320,9 @@ int main(int argc, char** argv) {
   std::string mesh_path;
   args.AddTo(app, "sequence with Velodyne scans or exact depth (KITTI, generated)");
   app.add_option("--mesh", mesh_path, "the mesh of `semap run` on that sequence (.ply or .off)")->required();
+  bool per_frame = false;
+  app.add_flag("--per-frame", per_frame,
+               "also print each frame's static RMSE against the Velodyne (all depths, 20-40 m)");
   CLI11_PARSE(app, argc, argv);
   try {
     const semap::app::Config config = args.LoadConfig();
@@ -244,6 +343,8 @@ int main(int argc, char** argv) {
     const DepthAccuracyOptions strict = config.eval;
     ReferenceTables lidar_tables(strict), exact_tables(strict);
     IncidenceTable lidar_incidence(strict), exact_incidence(strict);
+    ClassTable lidar_classes(strict);
+    std::string frame_rows;
     int with_lidar = 0, with_exact = 0;
     while (auto frame = source->Next()) {
       if (!frame->world_from_cam) continue;
@@ -261,6 +362,8 @@ int main(int argc, char** argv) {
         lidar_tables.Add(lidar, lidar_static, stereo, rendered.depth);
         lidar_incidence.Add(lidar_static, stereo, rendered.depth, rendered.triangle, mesh, frame->calibration,
                             *frame->world_from_cam);
+        lidar_classes.Add(lidar_static, classes, stereo, rendered.depth);
+        if (per_frame) frame_rows += FrameRow(frame->id, lidar_static, stereo, rendered.depth, strict);
         ++with_lidar;
       }
       if (exact_path) {
@@ -279,6 +382,14 @@ int main(int argc, char** argv) {
     if (with_lidar > 0) {
       lidar_tables.Print("Velodyne", with_lidar);
       lidar_incidence.Print("Velodyne" + incidence_title);
+      lidar_classes.Print("Velodyne, static scene, by the frame's class of the pixel", source->class_map());
+      if (per_frame) {
+        std::printf(
+            "\nVelodyne, static scene, each frame\n\n| frame | SGBM RMSE (m) | mesh RMSE (m) | SGBM RMSE "
+            "20-40 m (m) | "
+            "mesh RMSE 20-40 m (m) |\n|---|---|---|---|---|\n%s",
+            frame_rows.c_str());
+      }
     }
     if (with_exact > 0) {
       exact_tables.Print("Exact depth", with_exact);
