@@ -52,7 +52,7 @@ using semap::DepthAccuracyAccumulator;
 using semap::DepthAccuracyOptions;
 
 // The bins' edges (m) of reference depth.
-const std::vector<double> kEdgesM{0.0, 10.0, 20.0, 30.0, 40.0};
+constexpr double kEdgesM[] = {0.0, 10.0, 20.0, 30.0, 40.0};
 const std::vector<std::string> kMovableClasses{"person", "rider",     "car",    "truck",
                                                "bus",    "train",     "motorcycle", "bicycle"};
 
@@ -61,7 +61,7 @@ struct Table {
   explicit Table(const DepthAccuracyOptions& strict) {
     for (int side = 0; side < 2; ++side) {
       total[side].emplace_back(strict);
-      for (std::size_t b = 0; b + 1 < kEdgesM.size(); ++b) {
+      for (std::size_t b = 0; b + 1 < std::size(kEdgesM); ++b) {
         DepthAccuracyOptions o = strict;
         o.min_depth_m = std::max(strict.min_depth_m, kEdgesM[b]);
         o.max_depth_m = std::min(strict.max_depth_m, kEdgesM[b + 1]);
@@ -234,7 +234,7 @@ class ClassTable {
       for (int u = 0; u < static_reference.cols; ++u) {
         const double z = static_reference.at<float>(v, u);
         if (!(z >= strict_.min_depth_m && z <= strict_.max_depth_m)) continue;
-        const int b = semap::bench::BinOf(kBinEdgesM, z);
+        const int b = semap::bench::BinOf(kEdgesM, z);
         if (b < 0) continue;
         Row& row = rows_[{classes.at<int>(v, u), b}];
         for (int side = 0; side < 2; ++side) {
@@ -250,9 +250,8 @@ class ClassTable {
   void Print(const std::string& title, const semap::ClassMap& class_map) const {
     std::printf("\n%s\n\n", title.c_str());
     std::printf(
-        "| class | reference depth | SGBM pixels | SGBM RMSE (m) | mesh pixels | mesh RMSE (m) | share of "
-        "the mesh's "
-        "squared error |\n|---|---|---|---|---|---|---|\n");
+        "| class | reference depth | SGBM pixels | SGBM RMSE (m) | mesh pixels | mesh RMSE (m) | "
+        "share of the mesh's squared error |\n|---|---|---|---|---|---|---|\n");
     double total_sq = 0.0;
     for (const auto& [key, row] : rows_) total_sq += row.sq[1];
     for (const auto& [key, row] : rows_) {
@@ -261,8 +260,8 @@ class ClassTable {
       const std::string name = label >= 0 && class_map.Contains(semap::Label(label))
                                    ? class_map.Get(semap::Label(label)).name
                                    : "none";
-      std::printf("| %s | %.0f-%.0f m | %lld | %.3f | %lld | %.3f | %.1f %% |\n", name.c_str(), kBinEdgesM[b],
-                  kBinEdgesM[b + 1], static_cast<long long>(row.n[0]),
+      std::printf("| %s | %.0f-%.0f m | %lld | %.3f | %lld | %.3f | %.1f %% |\n", name.c_str(), kEdgesM[b],
+                  kEdgesM[b + 1], static_cast<long long>(row.n[0]),
                   row.n[0] > 0 ? std::sqrt(row.sq[0] / double(row.n[0])) : 0.0,
                   static_cast<long long>(row.n[1]), std::sqrt(row.sq[1] / double(row.n[1])),
                   100.0 * row.sq[1] / total_sq);
@@ -271,7 +270,6 @@ class ClassTable {
   }
 
  private:
-  static constexpr double kBinEdgesM[] = {0.0, 10.0, 20.0, 30.0, 40.0};
   static constexpr double kMinShareShown = 0.01;
   struct Row {
     double sq[2] = {0.0, 0.0};
