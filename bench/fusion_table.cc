@@ -53,8 +53,6 @@ using semap::DepthAccuracyOptions;
 
 // The bins' edges (m) of reference depth.
 constexpr double kEdgesM[] = {0.0, 10.0, 20.0, 30.0, 40.0};
-const std::vector<std::string> kMovableClasses{"person", "rider",     "car",    "truck",
-                                               "bus",    "train",     "motorcycle", "bicycle"};
 
 // The accumulators of one reference and one pixel selection: per bin and in total, input and mesh.
 struct Table {
@@ -328,11 +326,7 @@ int main(int argc, char** argv) {
     const semap::io::FrameSourceOptions input = args.Input(config, true);
     const semap::io::SequenceInfo info = semap::io::DescribeDataset(sequence, input);
     auto source = semap::io::OpenFrameSource(sequence, input);
-    std::vector<int> movable;
-    for (const std::string& name : kMovableClasses) {
-      const int id = source->class_map().FindByName(name);
-      if (id >= 0) movable.push_back(id);
-    }
+    const std::vector<int> movable = semap::MovableClassIds(source->class_map());
     const semap::Mesh mesh = semap::io::ReadMesh(mesh_path);
     const std::vector<int> triangle_labels = semap::TriangleLabels(mesh);
     const semap::StereoDepth depth(config.depth);

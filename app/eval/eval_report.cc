@@ -37,12 +37,29 @@ std::string Fixed(const char* format, double value) {
 
 // One protocol's row of the summary table.
 std::string ProtocolRow(const char* protocol, const char* reference, const DepthAccuracy& a,
-                        const DepthAccuracyOptions& filters) {
-  return std::string("| ") + protocol + " | " + reference + " | " + ProtocolFilters(filters) + " | " +
-         Fixed("%.4f", a.rmse_m) + " | " + Fixed("%.4f", a.mae_m) + " | " + Fixed("%.4f", a.median_abs_m) +
-         " | " + Fixed("%+.4f", a.mean_error_m) + " | " + Fixed("%.1f %%", 100.0 * a.completeness) + " | " +
+                        const DepthAccuracyOptions& filters, const std::string& filters_text = "") {
+  return std::string("| ") + protocol + " | " + reference + " | " +
+         (filters_text.empty() ? ProtocolFilters(filters) : filters_text) + " | " + Fixed("%.4f", a.rmse_m) +
+         " | " + Fixed("%.4f", a.mae_m) + " | " + Fixed("%.4f", a.median_abs_m) + " | " +
+         Fixed("%+.4f", a.mean_error_m) + " | " + Fixed("%.1f %%", 100.0 * a.completeness) + " | " +
          std::to_string(a.compared_pixels - a.excluded_pixels) + " | " + std::to_string(a.excluded_pixels) +
          " |\n";
+}
+
+// The static protocol's filters: the strict ones without the pixels of movable classes.
+std::string StaticFilters(const MeshEvaluation& e) {
+  return ProtocolFilters(e.strict_options) + ", movable classes left out (the frames' own labels, " +
+         std::to_string(e.frames_with_labels) + " frames)";
+}
+
+void PrintStatic(const DepthAccuracy& a, const MeshEvaluation& e) {
+  std::printf(
+      "  static      RMSE %.4f m  MAE %.4f m  median %.4f m  bias %+.4f m  completeness %.1f %% (%lld of "
+      "%lld px)"
+      "  [static: %s]\n",
+      a.rmse_m, a.mae_m, a.median_abs_m, a.mean_error_m, 100.0 * a.completeness,
+      static_cast<long long>(a.compared_pixels), static_cast<long long>(a.reference_pixels),
+      StaticFilters(e).c_str());
 }
 
 std::string BinsMarkdown(const char* what, const std::vector<ErrorBin>& bins, bool completeness,
@@ -196,6 +213,12 @@ nlohmann::json ToJson(const MeshEvaluation& e, bool per_frame) {
     paper["exact_depth"]["excluded_pixels"] = e.exact_depth_paper->excluded_pixels;
   }
   j["protocols"] = {{"strict", strict}, {"paper", paper}};
+  if (e.lidar_static || e.exact_depth_static) {
+    nlohmann::json static_scene{{"filters", StaticFilters(e)}, {"frames_with_labels", e.frames_with_labels}};
+    if (e.lidar_static) static_scene["lidar"] = ToJson(*e.lidar_static);
+    if (e.exact_depth_static) static_scene["exact_depth"] = ToJson(*e.exact_depth_static);
+    j["protocols"]["static"] = static_scene;
+  }
   nlohmann::json breakdown{{"class_source", e.class_source}};
   if (e.lidar_breakdown) breakdown["lidar"] = ToJson(*e.lidar_breakdown);
   if (e.exact_depth_breakdown) breakdown["exact_depth"] = ToJson(*e.exact_depth_breakdown);
@@ -225,9 +248,11 @@ void PrintEvaluation(const MeshEvaluation& e) {
   if (e.frames_with_lidar > 0) {
     Print("vs Velodyne", e.lidar, "strict", e.strict_options);
     Print("  paper", e.lidar_paper, "paper", e.paper_options);
+    if (e.lidar_static) PrintStatic(*e.lidar_static, e);
   }
   if (e.exact_depth) Print("vs exact depth", *e.exact_depth, "strict", e.strict_options);
   if (e.exact_depth_paper) Print("  paper", *e.exact_depth_paper, "paper", e.paper_options);
+  if (e.exact_depth_static) PrintStatic(*e.exact_depth_static, e);
   if (e.scene) {
     const SurfaceMetrics& s = *e.scene;
     std::printf("vs scene mesh accuracy %.1f %% of the area within tau = %.2f m (%.1f %% within %.2f m, %.1f %% beyond "
@@ -276,18 +301,23 @@ std::string EvaluationMarkdown(const MeshEvaluation& e) {
       "## Accuracy in two protocols\n\n"
       "*strict*: every error of every reference pixel in the configured depth range (eval.min_depth_m .. "
       "eval.max_depth_m); *paper*: the 2018 authors' evaluator, reference depth <= 15 m and errors beyond 2 "
-      "m "
-      "left out (their count is in the last column; they still count as covered for completeness). Error = "
-      "mesh "
+      "m left out (their count is in the last column; they still count as covered for completeness); "
+      "*static* (when the frames have labels): the strict protocol without the pixels of movable classes "
+      "(person, rider, car, truck, bus, train, motorcycle, bicycle) by the frames' own labels. Error = mesh "
       "depth - reference depth, camera-frame z on both sides.\n\n"
       "| protocol | reference | filters | RMSE (m) | MAE (m) | median abs (m) | bias (m) | completeness | "
       "pixels in figures | pixels left out |\n|---|---|---|---|---|---|---|---|---|---|\n";
   if (e.frames_with_lidar > 0) {
     md += ProtocolRow("strict", "Velodyne", e.lidar, e.strict_options);
     md += ProtocolRow("paper", "Velodyne", e.lidar_paper, e.paper_options);
+    if (e.lidar_static)
+      md += ProtocolRow("static", "Velodyne", *e.lidar_static, e.strict_options, StaticFilters(e));
   }
   if (e.exact_depth) md += ProtocolRow("strict", "exact depth", *e.exact_depth, e.strict_options);
   if (e.exact_depth_paper) md += ProtocolRow("paper", "exact depth", *e.exact_depth_paper, e.paper_options);
+  if (e.exact_depth_static) {
+    md += ProtocolRow("static", "exact depth", *e.exact_depth_static, e.strict_options, StaticFilters(e));
+  }
   if (e.scene) {
     const SurfaceMetrics& s = *e.scene;
     md += "\nAgainst the exact scene mesh, by area: " + Fixed("%.1f %%", 100.0 * s.accuracy) + " within " +

@@ -1,10 +1,13 @@
 #include "app/eval/eval_run.h"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
 
 #include "app/eval/eval_report.h"
 #include "app/eval/mesh_evaluation.h"
+#include "engine/semantics/segmenter.h"
 #include "io/atomic_file.h"
 #include "io/mesh/ply_off.h"
 
@@ -15,6 +18,13 @@ bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
   // A mesh without faces has no surface to measure: an RMSE of 0 would read as perfect.
   if (mesh.num_triangles() == 0) throw io::FileError(request.mesh, "mesh has no faces: nothing to evaluate");
   MeshEvaluationOptions options;
+  // With semantics.source: enet the frames without label images are labelled as a run labels them, for the
+  // static scene and the by-class breakdown.
+  std::unique_ptr<Segmenter> segmenter;
+  if (config.semantics.source == LabelSource::kEnet) {
+    segmenter = MakeSegmenter(config.semantics);
+    options.segmenter = segmenter.get();
+  }
   if (!request.out.empty()) {
     options.error_images = request.error_images;
     options.error_image_frames = request.error_frames;

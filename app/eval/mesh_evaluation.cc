@@ -59,6 +59,9 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
   const DepthAccuracyOptions paper = PaperProtocol(accuracy);
   DepthAccuracyAccumulator lidar(accuracy), lidar_paper(paper);
   DepthAccuracyAccumulator exact(accuracy), exact_paper(paper);
+  DepthAccuracyAccumulator lidar_static(accuracy), exact_static(accuracy);
+  const std::vector<int> movable = MovableClassIds(source->class_map());
+  std::int64_t static_lidar_frames = 0, static_exact_frames = 0;
   ErrorBreakdownAccumulator lidar_breakdown(accuracy, options.breakdown);
   ErrorBreakdownAccumulator exact_breakdown(accuracy, options.breakdown);
   const std::vector<double> triangle_areas = TriangleAreas(mesh);
@@ -66,7 +69,7 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
   const std::set<std::int64_t> image_frames = ErrorImageFrames(options, info);
   ErrorImageOptions sparse_image = options.image, dense_image = options.image;
   dense_image.point_radius_px = 0;
-  bool classes_from_images = false, classes_from_mesh = false;
+  bool classes_from_images = false, classes_from_segmenter = false, classes_from_mesh = false;
   std::vector<Eigen::Vector3d> truth_samples;  // the exact depth maps' points, in the world frame
   std::vector<double> truth_sample_depths_m;   // and the depth each was seen at
   MeshEvaluation result;
@@ -91,9 +94,13 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     const DepthAndTriangles rendered =
         RenderDepthAndTriangles(mesh, frame->calibration, *frame->world_from_cam);
     const cv::Mat& mesh_depth = rendered.depth;
-    const bool frame_labels = !frame->labels.empty() && frame->labels.size() == mesh_depth.size();
+    const bool segmented = options.segmenter != nullptr && frame->labels.empty();
+    if (segmented) frame->labels = options.segmenter->Segment(frame->left);
+    const bool frame_labels =
+        !frame->labels.empty() && frame->labels.size() == mesh_depth.size() && frame->labels.type() == CV_8U;
     if (frame_labels) {
-      classes_from_images = true;
+      ++result.frames_with_labels;
+      (segmented ? classes_from_segmenter : classes_from_images) = true;
     } else if (!triangle_labels.empty()) {
       classes_from_mesh = true;
     }
@@ -122,12 +129,20 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
       const cv::Mat lidar_depth = LidarDepthImage(*frame->velodyne, frame->calibration, accuracy);
       frame_accuracy.lidar =
           add_reference(lidar_depth, "lidar", "Velodyne", sparse_image, &lidar, &lidar_paper, &lidar_breakdown);
+      if (frame_labels) {
+        lidar_static.Add(WithoutMovable(lidar_depth, frame->labels, movable), mesh_depth);
+        ++static_lidar_frames;
+      }
       ++result.frames_with_lidar;
     }
     if (const auto path = ExactDepthPath(info, frame->id)) {
       const cv::Mat exact_depth = ReadDepthPngMm(*path);
       frame_accuracy.exact_depth = add_reference(exact_depth, "exact_depth", "exact depth", dense_image, &exact,
                                                  &exact_paper, &exact_breakdown);
+      if (frame_labels) {
+        exact_static.Add(WithoutMovable(exact_depth, frame->labels, movable), mesh_depth);
+        ++static_exact_frames;
+      }
       const int stride = accuracy.surface_pixel_stride;
       for (int v = stride / 2; v < exact_depth.rows; v += stride) {
         for (int u = stride / 2; u < exact_depth.cols; u += stride) {
@@ -151,10 +166,14 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     result.exact_depth_paper = exact_paper.Result();
     result.exact_depth_breakdown = exact_breakdown.Result(class_map);
   }
-  if (classes_from_images || classes_from_mesh) {
-    result.class_source = classes_from_images && classes_from_mesh ? "label images and mesh labels"
-                          : classes_from_images                    ? "label images"
-                                                                   : "mesh labels";
+  if (static_lidar_frames > 0) result.lidar_static = lidar_static.Result();
+  if (static_exact_frames > 0) result.exact_depth_static = exact_static.Result();
+  std::vector<std::string> sources;
+  if (classes_from_images) sources.push_back("label images");
+  if (classes_from_segmenter) sources.push_back("segmenter labels");
+  if (classes_from_mesh) sources.push_back("mesh labels");
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    result.class_source = k == 0 ? sources[k] : result.class_source + " and " + sources[k];
   }
   const auto scene_mesh = info.root / "scene_mesh.ply";
   if (result.frames_with_exact_depth > 0 && std::filesystem::is_regular_file(scene_mesh)) {

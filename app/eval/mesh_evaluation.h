@@ -15,6 +15,7 @@
 #include "engine/eval/error_breakdown.h"
 #include "engine/eval/error_image.h"
 #include "engine/eval/surface_metrics.h"
+#include "engine/semantics/segmenter.h"
 #include "io/frame_source.h"
 
 namespace semap::app {
@@ -37,6 +38,10 @@ struct MeshEvaluationOptions {
   // The colour scale and legend of the images; the point size is chosen per reference (Velodyne points
   // drawn as squares of radius point_radius_px, exact depth maps one pixel each).
   ErrorImageOptions image;
+  // Labels the frames that have no label images (e.g. ENet with semantics.source: enet), for the static
+  // scene and the by-class breakdown; not owned, may be null (then such frames use the mesh's labels, and
+  // have no static-scene figures).
+  Segmenter* segmenter = nullptr;
   void Check() const;
 };
 
@@ -65,11 +70,18 @@ struct MeshEvaluation {
   DepthAccuracyOptions paper_options;
   DepthAccuracy lidar_paper;
   std::optional<DepthAccuracy> exact_depth_paper;
+  // The static scene: the strict protocol without the pixels of movable classes (MovableClassIds) by each
+  // frame's own labels (label images, input.labels_dir, or MeshEvaluationOptions::segmenter's). Only the
+  // frames with labels count; unset when none had them (the mesh's labels cannot tell a car that drove on:
+  // they show the road behind it).
+  std::int64_t frames_with_labels = 0;
+  std::optional<DepthAccuracy> lidar_static;
+  std::optional<DepthAccuracy> exact_depth_static;
   // Where the errors come from (strict protocol, all frames): by class, reference distance, triangle area.
   std::optional<ErrorBreakdown> lidar_breakdown;
   std::optional<ErrorBreakdown> exact_depth_breakdown;
-  // Where the pixels' classes came from: "label images", "mesh labels", "label images and mesh labels" or
-  // "none".
+  // Where the pixels' classes came from: "label images", "segmenter labels", "mesh labels", two or three of
+  // them joined by " and ", or "none".
   std::string class_source = "none";
   std::vector<FrameErrorImage> error_images;  // as MeshEvaluationOptions asked, in frame order
   // Generated sequences with scene_mesh.ply: accuracy (by area, and per vertex) / completeness in the MVS

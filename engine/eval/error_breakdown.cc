@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -80,6 +81,36 @@ cv::Mat PixelClasses(const cv::Mat& frame_labels, const cv::Mat& triangle,
     }
   }
   return classes;
+}
+
+std::vector<int> MovableClassIds(const ClassMap& class_map) {
+  static const char* const kMovable[] = {"person", "rider", "car",        "truck",
+                                         "bus",    "train", "motorcycle", "bicycle"};
+  std::vector<int> ids;
+  for (const char* name : kMovable) {
+    const int id = class_map.FindByName(name);
+    if (id >= 0) ids.push_back(id);
+  }
+  return ids;
+}
+
+cv::Mat WithoutMovable(const cv::Mat& reference, const cv::Mat& frame_labels,
+                       const std::vector<int>& movable) {
+  SEMAP_ASSERT(reference.type() == CV_32F && frame_labels.type() == CV_8U &&
+               frame_labels.size() == reference.size());
+  std::array<bool, 256> is_movable{};
+  for (const int id : movable) {
+    if (id >= 0 && id < 256) is_movable[std::size_t(id)] = true;
+  }
+  cv::Mat out = reference.clone();
+  for (int y = 0; y < out.rows; ++y) {
+    const std::uint8_t* label = frame_labels.ptr<std::uint8_t>(y);
+    float* z = out.ptr<float>(y);
+    for (int x = 0; x < out.cols; ++x) {
+      if (is_movable[label[x]]) z[x] = 0.0f;
+    }
+  }
+  return out;
 }
 
 ErrorBreakdownAccumulator::ErrorBreakdownAccumulator(const DepthAccuracyOptions& accuracy,

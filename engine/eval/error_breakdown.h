@@ -74,6 +74,15 @@ std::vector<int> TriangleLabels(const Mesh& mesh);
 cv::Mat PixelClasses(const cv::Mat& frame_labels, const cv::Mat& triangle,
                      const std::vector<int>& triangle_labels);
 
+// The classes of objects that move on a street, by name (person, rider, car, truck, bus, train, motorcycle,
+// bicycle, as Cityscapes and the generated sequences name them): the ids `class_map` has of them.
+std::vector<int> MovableClassIds(const ClassMap& class_map);
+
+// `reference` (CV_32F depth, 0 = none) without the pixels whose own label (`frame_labels`, CV_8U of its size)
+// is in `movable`: the static scene, so that a map of what stays is not judged by objects that moved on.
+cv::Mat WithoutMovable(const cv::Mat& reference, const cv::Mat& frame_labels,
+                       const std::vector<int>& movable);
+
 // Accumulates the breakdown over pixels and frames. Not thread-safe.
 class ErrorBreakdownAccumulator {
  public:

@@ -1,15 +1,15 @@
 // `semap run --eval` and `semap eval --json` (app/eval/eval_report): per-frame accuracy files a user can plot.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <string>
-
-#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
+#include "engine/core/class_map.h"
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
@@ -183,6 +183,10 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   EXPECT_TRUE(eval.Has("[strict: reference depth 1-40 m, every error]")) << eval.output;
   EXPECT_TRUE(eval.Has("[paper: reference depth 1-15 m, |error| <= 2 m;")) << eval.output;
+  EXPECT_TRUE(
+      eval.Has("[static: reference depth 1-40 m, every error, movable classes left out (the frames' own "
+               "labels, 5 frames)]"))
+      << eval.output;
 
   // eval.json: both protocols, and breakdowns whose bins add up to the strict totals.
   const auto j = nlohmann::json::parse(std::ifstream(out / "eval.json"));
@@ -193,9 +197,27 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
   EXPECT_LE(paper["lidar"]["reference_pixels"].get<std::int64_t>(),
             strict["lidar"]["reference_pixels"].get<std::int64_t>());
   EXPECT_EQ(j["breakdown"]["class_source"], "label images");  // a generated sequence has label images
+  const auto& static_scene = j["protocols"]["static"];
+  EXPECT_EQ(static_scene["frames_with_labels"], 5);
   for (const char* reference : {"lidar", "exact_depth"}) {
     SCOPED_TRACE(reference);
     const auto& b = j["breakdown"][reference];
+    // The static scene is the strict one less the pixels of the movable classes, as the by-class breakdown
+    // (the frames' label images) counts them (these five small frames show no car: the same figures).
+    std::int64_t movable_reference = 0, movable_compared = 0;
+    for (const auto& bin : b["by_class"]) {
+      const std::string name = bin["name"];
+      for (const char* movable :
+           {"Person", "Rider", "Car", "Truck", "Bus", "Train", "Motorcycle", "Bicycle"}) {
+        if (name != movable) continue;
+        movable_reference += bin["reference_pixels"].get<std::int64_t>();
+        movable_compared += bin["compared_pixels"].get<std::int64_t>();
+      }
+    }
+    EXPECT_EQ(static_scene[reference]["reference_pixels"].get<std::int64_t>(),
+              strict[reference]["reference_pixels"].get<std::int64_t>() - movable_reference);
+    EXPECT_EQ(static_scene[reference]["compared_pixels"].get<std::int64_t>(),
+              strict[reference]["compared_pixels"].get<std::int64_t>() - movable_compared);
     const std::int64_t compared = strict[reference]["compared_pixels"].get<std::int64_t>();
     ASSERT_GT(compared, 1000);
     EXPECT_EQ(Compared(b["by_class"]), compared);
@@ -214,6 +236,7 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
   for (const char* text :
        {"| strict | Velodyne | reference depth 1-40 m, every error |",
         "| paper | Velodyne | reference depth 1-15 m, |error| <= 2 m |", "| strict | exact depth |",
+        "| static | Velodyne | reference depth 1-40 m, every error, movable classes left out",
         "By class of the pixel (classes from: label images)", "| 5-10 m |", "By area of the mesh triangle",
         "| 0.01-0.1 m2 |", "error_lidar_000000.png"}) {
     EXPECT_NE(md.find(text), std::string::npos) << text << "\n" << md;
@@ -248,6 +271,58 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_TRUE(fs::exists(named / "error_lidar_000001.png"));
   EXPECT_FALSE(fs::exists(named / "error_lidar_000000.png"));
+}
+
+TEST(SemapEval, TheStaticSceneLeavesOutThePixelsOfMovableClassesByTheFramesLabels) {
+  const fs::path seq = test::SmallGeneratedSequence(5);
+  const fs::path tmp = test::TempDir();  // emptied on each call: called once
+  const CliRun run = RunSemap("run " + seq.string() + " --method PS --progress-interval 100 --out " +
+                              (tmp / "run").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // The sequence's own labels with the left half of every frame painted "car" (these frames show no car).
+  const int car = ClassMap::Cityscapes().FindByName("car");
+  ASSERT_GE(car, 0);
+  const fs::path labels = tmp / "labels";
+  fs::create_directories(labels);
+  int painted = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(seq)) {
+    const fs::path& path = entry.path();
+    if (path.extension() != ".png" || path.parent_path().filename() != "data" ||
+        path.parent_path().parent_path().filename() != "semantic") {
+      continue;
+    }
+    cv::Mat label = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(label.type(), CV_8UC1) << path;
+    label.colRange(0, label.cols / 2).setTo(car);
+    ASSERT_TRUE(cv::imwrite((labels / path.filename()).string(), label));
+    ++painted;
+  }
+  ASSERT_EQ(painted, 5);
+  const fs::path json = tmp / "eval.json";
+  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (tmp / "run" / "mesh.ply").string() +
+                               " --set input.labels_dir=" + labels.string() + " --json " + json.string());
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  const auto j = nlohmann::json::parse(std::ifstream(json));
+  const auto& strict = j["protocols"]["strict"];
+  const auto& static_scene = j["protocols"]["static"];
+  EXPECT_EQ(static_scene["frames_with_labels"], 5);
+  for (const char* reference : {"lidar", "exact_depth"}) {
+    SCOPED_TRACE(reference);
+    // An independent count: the by-class breakdown's "Car" bin (the same labels, counted by other code).
+    std::int64_t car_reference = -1, car_compared = -1;
+    for (const auto& bin : j["breakdown"][reference]["by_class"]) {
+      if (bin["name"] != "Car") continue;
+      car_reference = bin["reference_pixels"].get<std::int64_t>();
+      car_compared = bin["compared_pixels"].get<std::int64_t>();
+    }
+    // About half of the reference pixels are the car's now; the static scene is the rest.
+    const std::int64_t all = strict[reference]["reference_pixels"].get<std::int64_t>();
+    ASSERT_GT(car_reference, all / 5);
+    ASSERT_LT(car_reference, all - all / 5);
+    EXPECT_EQ(static_scene[reference]["reference_pixels"].get<std::int64_t>(), all - car_reference);
+    EXPECT_EQ(static_scene[reference]["compared_pixels"].get<std::int64_t>(),
+              strict[reference]["compared_pixels"].get<std::int64_t>() - car_compared);
+  }
 }
 
 }  // namespace

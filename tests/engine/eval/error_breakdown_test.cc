@@ -225,6 +225,26 @@ TEST(ErrorBreakdown, FrameLabelsWinOverTheMeshAndUnknownPixelsAreNoClass) {
   EXPECT_NEAR(b.by_class[1].mean_error_m, 1.75, 1e-9);
 }
 
+TEST(ErrorBreakdown, MovablePixelsLeaveTheStaticReference) {
+  const ClassMap cityscapes = ClassMap::Cityscapes();
+  const std::vector<int> movable = MovableClassIds(cityscapes);
+  const int car = cityscapes.FindByName("car"), road = cityscapes.FindByName("road");
+  const int person = cityscapes.FindByName("person"), bicycle = cityscapes.FindByName("bicycle");
+  ASSERT_GE(car, 0);
+  ASSERT_GE(road, 0);
+  EXPECT_EQ(movable.size(), 8u);  // person, rider, car, truck, bus, train, motorcycle, bicycle
+  for (const int id : {car, person, bicycle})
+    EXPECT_NE(std::find(movable.begin(), movable.end(), id), movable.end());
+  EXPECT_EQ(std::find(movable.begin(), movable.end(), road), movable.end());
+  // A 2×3 reference: the car's pixels go, the road's and the unlabelled one stay, depths untouched.
+  const cv::Mat reference = (cv::Mat_<float>(2, 3) << 5.0f, 6.0f, 0.0f, 7.0f, 8.0f, 9.0f);
+  const cv::Mat labels = (cv::Mat_<std::uint8_t>(2, 3) << road, car, car, 0, car, road);
+  const cv::Mat out = WithoutMovable(reference, labels, movable);
+  const cv::Mat expected = (cv::Mat_<float>(2, 3) << 5.0f, 0.0f, 0.0f, 7.0f, 0.0f, 9.0f);
+  EXPECT_EQ(cv::countNonZero(out != expected), 0);
+  EXPECT_EQ(reference.at<float>(0, 1), 6.0f);  // the input is not changed
+}
+
 TEST(ErrorBreakdown, BadOptionsAreNamed) {
   ErrorBreakdownOptions o;
   o.distance_edges_m = {0.0, 10.0, 5.0};
