@@ -54,9 +54,8 @@ std::string StaticFilters(const MeshEvaluation& e) {
 
 void PrintStatic(const DepthAccuracy& a, const MeshEvaluation& e) {
   std::printf(
-      "  static      RMSE %.4f m  MAE %.4f m  median %.4f m  bias %+.4f m  completeness %.1f %% (%lld of "
-      "%lld px)"
-      "  [static: %s]\n",
+      "  static      RMSE %.4f m  MAE %.4f m  median %.4f m  bias %+.4f m  completeness %.1f %% "
+      "(%lld of %lld px)  [static: %s]\n",
       a.rmse_m, a.mae_m, a.median_abs_m, a.mean_error_m, 100.0 * a.completeness,
       static_cast<long long>(a.compared_pixels), static_cast<long long>(a.reference_pixels),
       StaticFilters(e).c_str());
@@ -298,7 +297,7 @@ std::string EvaluationMarkdown(const MeshEvaluation& e) {
         std::to_string(e.frames_with_lidar) + " with Velodyne, " + std::to_string(e.frames_with_exact_depth) +
         " with exact depth).\n\n";
   md +=
-      "## Accuracy in two protocols\n\n"
+      "## Accuracy by protocol\n\n"
       "*strict*: every error of every reference pixel in the configured depth range (eval.min_depth_m .. "
       "eval.max_depth_m); *paper*: the 2018 authors' evaluator, reference depth <= 15 m and errors beyond 2 "
       "m left out (their count is in the last column; they still count as covered for completeness); "

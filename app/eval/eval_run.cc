@@ -1,9 +1,9 @@
 #include "app/eval/eval_run.h"
 
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <memory>
-#include <nlohmann/json.hpp>
 
 #include "app/eval/eval_report.h"
 #include "app/eval/mesh_evaluation.h"
