@@ -1,13 +1,12 @@
 #include "app/eval/eval_run.h"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "app/eval/eval_report.h"
 #include "app/eval/mesh_evaluation.h"
-#include "engine/semantics/segmenter.h"
 #include "io/atomic_file.h"
 #include "io/mesh/ply_off.h"
 
@@ -20,11 +19,8 @@ bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
   MeshEvaluationOptions options;
   // With semantics.source: enet the frames without label images are labelled as a run labels them, for the
   // static scene and the by-class breakdown.
-  std::unique_ptr<Segmenter> segmenter;
-  if (config.semantics.source == LabelSource::kEnet) {
-    segmenter = MakeSegmenter(config.semantics);
-    options.segmenter = segmenter.get();
-  }
+  const std::unique_ptr<Segmenter> segmenter = EvaluationSegmenter(config.semantics);
+  options.segmenter = segmenter.get();
   if (!request.out.empty()) {
     options.error_images = request.error_images;
     options.error_image_frames = request.error_frames;

@@ -36,6 +36,11 @@ std::string ErrorImageTitle(std::int64_t frame_id, const char* reference) {
 
 }  // namespace
 
+std::unique_ptr<Segmenter> EvaluationSegmenter(const SemanticsOptions& semantics) {
+  if (semantics.source != LabelSource::kEnet) return nullptr;
+  return MakeSegmenter(semantics);
+}
+
 std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info, std::int64_t id) {
   char name[32];
   std::snprintf(name, sizeof(name), "%010lld.png", static_cast<long long>(id));

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -94,6 +95,10 @@ struct MeshEvaluation {
   std::vector<Eigen::Vector3d> camera_centers;
   Eigen::Vector3d camera_up = Eigen::Vector3d::Zero();
 };
+
+// What labels the frames that have no label images in an evaluation (MeshEvaluationOptions::segmenter): ENet
+// when `semantics.source` is enet (as the run labelled them), else none.
+std::unique_ptr<Segmenter> EvaluationSegmenter(const SemanticsOptions& semantics);
 
 // The exact depth map of frame `id` of a generated sequence (depth/data/%010d.png beside image_02), if any.
 std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info, std::int64_t id);
