@@ -377,9 +377,9 @@ int main(int argc, char** argv) {
       lidar_classes.Print("Velodyne, static scene, by the frame's class of the pixel", source->class_map());
       if (per_frame) {
         std::printf(
-            "\nVelodyne, static scene, each frame\n\n| frame | SGBM RMSE (m) | mesh RMSE (m) | SGBM RMSE "
-            "20-40 m (m) | "
-            "mesh RMSE 20-40 m (m) |\n|---|---|---|---|---|\n%s",
+            "\nVelodyne, static scene, each frame\n\n"
+            "| frame | SGBM RMSE (m) | mesh RMSE (m) | SGBM RMSE 20-40 m (m) | mesh RMSE 20-40 m (m) |\n"
+            "|---|---|---|---|---|\n%s",
             frame_rows.c_str());
       }
     }

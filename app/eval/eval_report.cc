@@ -15,14 +15,15 @@
 namespace semap::app {
 namespace {
 
+// One protocol's line: its figures and filters (ProtocolFilters, then `filters_suffix`).
 void Print(const char* what, const DepthAccuracy& a, const char* protocol,
-           const DepthAccuracyOptions& filters) {
+           const DepthAccuracyOptions& filters, const std::string& filters_suffix = "") {
   std::printf(
       "%-13s RMSE %.4f m  MAE %.4f m  median %.4f m  bias %+.4f m  completeness %.1f %% (%lld of %lld px)"
       "  [%s: %s",
       what, a.rmse_m, a.mae_m, a.median_abs_m, a.mean_error_m, 100.0 * a.completeness,
       static_cast<long long>(a.compared_pixels), static_cast<long long>(a.reference_pixels), protocol,
-      ProtocolFilters(filters).c_str());
+      (ProtocolFilters(filters) + filters_suffix).c_str());
   if (filters.max_abs_error_m > 0.0) {
     std::printf("; %lld px beyond left out", static_cast<long long>(a.excluded_pixels));
   }
@@ -35,30 +36,21 @@ std::string Fixed(const char* format, double value) {
   return text;
 }
 
-// One protocol's row of the summary table.
+// One protocol's row of the summary table (filters as Print's).
 std::string ProtocolRow(const char* protocol, const char* reference, const DepthAccuracy& a,
-                        const DepthAccuracyOptions& filters, const std::string& filters_text = "") {
-  return std::string("| ") + protocol + " | " + reference + " | " +
-         (filters_text.empty() ? ProtocolFilters(filters) : filters_text) + " | " + Fixed("%.4f", a.rmse_m) +
-         " | " + Fixed("%.4f", a.mae_m) + " | " + Fixed("%.4f", a.median_abs_m) + " | " +
-         Fixed("%+.4f", a.mean_error_m) + " | " + Fixed("%.1f %%", 100.0 * a.completeness) + " | " +
+                        const DepthAccuracyOptions& filters, const std::string& filters_suffix = "") {
+  return std::string("| ") + protocol + " | " + reference + " | " + ProtocolFilters(filters) +
+         filters_suffix + " | " + Fixed("%.4f", a.rmse_m) + " | " + Fixed("%.4f", a.mae_m) + " | " +
+         Fixed("%.4f", a.median_abs_m) + " | " + Fixed("%+.4f", a.mean_error_m) + " | " +
+         Fixed("%.1f %%", 100.0 * a.completeness) + " | " +
          std::to_string(a.compared_pixels - a.excluded_pixels) + " | " + std::to_string(a.excluded_pixels) +
          " |\n";
 }
 
-// The static protocol's filters: the strict ones without the pixels of movable classes.
-std::string StaticFilters(const MeshEvaluation& e) {
-  return ProtocolFilters(e.strict_options) + ", movable classes left out (the frames' own labels, " +
-         std::to_string(e.frames_with_labels) + " frames)";
-}
-
-void PrintStatic(const DepthAccuracy& a, const MeshEvaluation& e) {
-  std::printf(
-      "  static      RMSE %.4f m  MAE %.4f m  median %.4f m  bias %+.4f m  completeness %.1f %% "
-      "(%lld of %lld px)  [static: %s]\n",
-      a.rmse_m, a.mae_m, a.median_abs_m, a.mean_error_m, 100.0 * a.completeness,
-      static_cast<long long>(a.compared_pixels), static_cast<long long>(a.reference_pixels),
-      StaticFilters(e).c_str());
+// What the static protocol adds to the strict filters: the pixels of movable classes left out.
+std::string StaticSuffix(const MeshEvaluation& e) {
+  return ", movable classes left out (the frames' own labels, " + std::to_string(e.frames_with_labels) +
+         " frames)";
 }
 
 std::string BinsMarkdown(const char* what, const std::vector<ErrorBin>& bins, bool completeness,
@@ -213,7 +205,8 @@ nlohmann::json ToJson(const MeshEvaluation& e, bool per_frame) {
   }
   j["protocols"] = {{"strict", strict}, {"paper", paper}};
   if (e.lidar_static || e.exact_depth_static) {
-    nlohmann::json static_scene{{"filters", StaticFilters(e)}, {"frames_with_labels", e.frames_with_labels}};
+    nlohmann::json static_scene{{"filters", ProtocolFilters(e.strict_options) + StaticSuffix(e)},
+                                {"frames_with_labels", e.frames_with_labels}};
     if (e.lidar_static) static_scene["lidar"] = ToJson(*e.lidar_static);
     if (e.exact_depth_static) static_scene["exact_depth"] = ToJson(*e.exact_depth_static);
     j["protocols"]["static"] = static_scene;
@@ -247,11 +240,12 @@ void PrintEvaluation(const MeshEvaluation& e) {
   if (e.frames_with_lidar > 0) {
     Print("vs Velodyne", e.lidar, "strict", e.strict_options);
     Print("  paper", e.lidar_paper, "paper", e.paper_options);
-    if (e.lidar_static) PrintStatic(*e.lidar_static, e);
+    if (e.lidar_static) Print("  static", *e.lidar_static, "static", e.strict_options, StaticSuffix(e));
   }
   if (e.exact_depth) Print("vs exact depth", *e.exact_depth, "strict", e.strict_options);
   if (e.exact_depth_paper) Print("  paper", *e.exact_depth_paper, "paper", e.paper_options);
-  if (e.exact_depth_static) PrintStatic(*e.exact_depth_static, e);
+  if (e.exact_depth_static)
+    Print("  static", *e.exact_depth_static, "static", e.strict_options, StaticSuffix(e));
   if (e.scene) {
     const SurfaceMetrics& s = *e.scene;
     std::printf("vs scene mesh accuracy %.1f %% of the area within tau = %.2f m (%.1f %% within %.2f m, %.1f %% beyond "
@@ -310,12 +304,12 @@ std::string EvaluationMarkdown(const MeshEvaluation& e) {
     md += ProtocolRow("strict", "Velodyne", e.lidar, e.strict_options);
     md += ProtocolRow("paper", "Velodyne", e.lidar_paper, e.paper_options);
     if (e.lidar_static)
-      md += ProtocolRow("static", "Velodyne", *e.lidar_static, e.strict_options, StaticFilters(e));
+      md += ProtocolRow("static", "Velodyne", *e.lidar_static, e.strict_options, StaticSuffix(e));
   }
   if (e.exact_depth) md += ProtocolRow("strict", "exact depth", *e.exact_depth, e.strict_options);
   if (e.exact_depth_paper) md += ProtocolRow("paper", "exact depth", *e.exact_depth_paper, e.paper_options);
   if (e.exact_depth_static) {
-    md += ProtocolRow("static", "exact depth", *e.exact_depth_static, e.strict_options, StaticFilters(e));
+    md += ProtocolRow("static", "exact depth", *e.exact_depth_static, e.strict_options, StaticSuffix(e));
   }
   if (e.scene) {
     const SurfaceMetrics& s = *e.scene;
