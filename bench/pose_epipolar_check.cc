@@ -53,18 +53,21 @@ constexpr double kRansacThresholdPx = 0.5;
 // A window whose poses move less than this has no epipolar geometry to speak of.
 constexpr double kMinBaselineM = 0.5;
 
-std::vector<cv::Point2f> Track(const std::vector<cv::Mat>& images, std::size_t from, std::size_t to,
+// KLT tracks of `start` from image `from` to image `to` (either way), frame by frame; `ok` loses the points
+// KLT loses.
+std::vector<cv::Point2f> Track(const std::vector<cv::Mat>& images, int from, int to,
                                const std::vector<cv::Point2f>& start, std::vector<unsigned char>* ok) {
   const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
                               kKltEpsilonPx);
   std::vector<cv::Point2f> points = start;
   const int step = to > from ? 1 : -1;
-  for (std::size_t k = from; k != to; k += step) {
+  for (int k = from; k != to; k += step) {
     std::vector<cv::Point2f> next;
     std::vector<unsigned char> status;
     std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(images[k], images[k + step], points, next, status, error,
-                             cv::Size(kKltWindowPx, kKltWindowPx), kKltLevels, term);
+    cv::calcOpticalFlowPyrLK(images[static_cast<std::size_t>(k)], images[static_cast<std::size_t>(k + step)],
+                             points, next, status, error, cv::Size(kKltWindowPx, kKltWindowPx), kKltLevels,
+                             term);
     for (std::size_t i = 0; i < points.size(); ++i) (*ok)[i] = (*ok)[i] && status[i];
     points = std::move(next);
   }
@@ -122,21 +125,21 @@ int main(int argc, char** argv) {
                    window);
       return 1;
     }
-    std::vector<semap::TrackWindow> windows;
-    std::vector<double> own_distances;
-    double own_sum = 0.0;
+    // The windows with the poses' motions, and the same tracks with each window's own essential matrix.
+    std::vector<semap::TrackWindow> windows, own_windows;
     const cv::Mat k = (cv::Mat_<double>(3, 3) << intrinsics->fx_px, 0.0, intrinsics->cx_px, 0.0,
                        intrinsics->fy_px, intrinsics->cy_px, 0.0, 0.0, 1.0);
-    for (std::size_t i = 0; i + w < images.size(); ++i) {
+    for (int i = 0; static_cast<std::size_t>(i) + w < images.size(); ++i) {
       semap::TrackWindow tw;
-      tw.b_from_a = poses[i + w].inverse() * poses[i];
+      tw.b_from_a = poses[static_cast<std::size_t>(i) + w].inverse() * poses[static_cast<std::size_t>(i)];
       if (tw.b_from_a.translation().norm() < kMinBaselineM) continue;
       std::vector<cv::Point2f> start;
-      cv::goodFeaturesToTrack(images[i], start, kMaxCorners, kCornerQuality, kCornerSpacingPx);
+      cv::goodFeaturesToTrack(images[static_cast<std::size_t>(i)], start, kMaxCorners, kCornerQuality,
+                              kCornerSpacingPx);
       if (start.empty()) continue;
       std::vector<unsigned char> ok(start.size(), 1);
-      const std::vector<cv::Point2f> end = Track(images, i, i + w, start, &ok);
-      const std::vector<cv::Point2f> back = Track(images, i + w, i, end, &ok);
+      const std::vector<cv::Point2f> end = Track(images, i, i + window, start, &ok);
+      const std::vector<cv::Point2f> back = Track(images, i + window, i, end, &ok);
       std::vector<cv::Point2f> a, b;
       for (std::size_t t = 0; t < start.size(); ++t) {
         if (!ok[t] || std::hypot(back[t].x - start[t].x, back[t].y - start[t].y) > kRoundTripPx) continue;
@@ -153,16 +156,12 @@ int main(int argc, char** argv) {
       if (e.rows == 3 && e.cols == 3) {
         cv::Mat r, t;
         cv::recoverPose(e, a, b, k, r, t, inliers);
-        semap::Pose3d own = semap::Pose3d::Identity();
+        semap::TrackWindow own = tw;
         for (int row = 0; row < 3; ++row) {
-          for (int col = 0; col < 3; ++col) own.linear()(row, col) = r.at<double>(row, col);
-          own.translation()[row] = t.at<double>(row);
+          for (int col = 0; col < 3; ++col) own.b_from_a.linear()(row, col) = r.at<double>(row, col);
+          own.b_from_a.translation()[row] = t.at<double>(row);
         }
-        for (std::size_t t2 = 0; t2 < a.size(); ++t2) {
-          const double d = semap::SampsonDistancePx(*intrinsics, own, tw.a_px[t2], tw.b_px[t2]);
-          own_distances.push_back(d);
-          own_sum += std::min(d, kCapPx);
-        }
+        own_windows.push_back(std::move(own));
       }
       windows.push_back(std::move(tw));
     }
@@ -174,14 +173,8 @@ int main(int argc, char** argv) {
     const semap::EpipolarAgreement as_given =
         semap::EpipolarAgreementOf(windows, *intrinsics, Eigen::Matrix3d::Identity(), kCapPx);
     const semap::EpipolarRotationFit fit = semap::FitEpipolarRotation(windows, *intrinsics, kCapPx);
-    semap::EpipolarAgreement own;
-    own.tracks = static_cast<int>(own_distances.size());
-    if (!own_distances.empty()) {
-      own.mean_px = own_sum / static_cast<double>(own_distances.size());
-      const auto middle = own_distances.begin() + static_cast<std::ptrdiff_t>(own_distances.size() / 2);
-      std::nth_element(own_distances.begin(), middle, own_distances.end());
-      own.median_px = *middle;
-    }
+    const semap::EpipolarAgreement own =
+        semap::EpipolarAgreementOf(own_windows, *intrinsics, Eigen::Matrix3d::Identity(), kCapPx);
     std::printf(
         "%s: %zu windows of %d frames, %d tracks (KLT there and back within %.1f px); Sampson distance "
         "of each track to the epipolar geometry, px (the mean caps each at %.0f px)\n\n",
