@@ -40,6 +40,8 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(outlier_sightings >= 0, "outlier_sightings", outlier_sightings, "must be >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(seen_noise_sigmas) && seen_noise_sigmas >= 0.0, "seen_noise_sigmas",
                      seen_noise_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(seen_halfway_min_radius_m) && seen_halfway_min_radius_m >= 0.0,
+                     "seen_halfway_min_radius_m", seen_halfway_min_radius_m, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(fill_unseen_holes_facets >= 0, "fill_unseen_holes_facets", fill_unseen_holes_facets,
                      "must be >= 0");
   SEMAP_CHECK_OPTION(grow_passes >= 1, "grow_passes", grow_passes, "must be >= 1");

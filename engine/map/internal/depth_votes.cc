@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 #include "engine/core/check.h"
 #include "engine/map/internal/vote_weights.h"
@@ -168,6 +169,27 @@ double DepthAt(const DepthView& v, const Eigen::Vector2d& uv) {
   return v.At(std::round(uv.x()), std::round(uv.y()));
 }
 
+// Whether the points the view saw through the points halfway from a facet's centroid to its corners (camera
+// frame) lie within the tolerance of its plane, where the view has depth there
+// (map.seen_halfway_min_radius_m).
+bool SeenHalfway(const DepthView& v, const VotingView& view, const DepthVoteGeometry& geometry,
+                 const Eigen::Vector3d& centroid, std::initializer_list<const Eigen::Vector3d*> corners,
+                 const Eigen::Vector3d& unit_normal) {
+  const Eigen::Vector3d& on_plane = **corners.begin();
+  for (const Eigen::Vector3d* corner : corners) {
+    const Eigen::Vector3d halfway = 0.5 * (centroid + *corner);
+    if (halfway.z() <= 0.0) continue;
+    const double depth_m = DepthAt(v, v.intrinsics.Project(halfway));
+    if (depth_m == 0.0 || depth_m == kFreeToFarRange) continue;
+    const Eigen::Vector3d seen_point = halfway * (depth_m / halfway.z());
+    const double tolerance_m =
+        geometry.ray.extension_m +
+        geometry.seen_noise_sigmas * view.DepthSigma(depth_m, geometry.disparity_sigma_px);
+    if (std::abs(unit_normal.dot(seen_point - on_plane)) > tolerance_m) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, std::uint8_t candidates,
@@ -198,7 +220,9 @@ std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, st
     const double noise_m = view.DepthSigma(depth_m, geometry.disparity_sigma_px);
     const double tolerance_m = geometry.ray.extension_m + geometry.seen_noise_sigmas * noise_m;
     if (std::abs(unit_normal.dot(seen_point - a)) <= tolerance_m &&
-        (seen_point - centroid).norm() <= radius_m + tolerance_m) {
+        (seen_point - centroid).norm() <= radius_m + tolerance_m &&
+        (geometry.seen_halfway_min_radius_m <= 0.0 || radius_m <= geometry.seen_halfway_min_radius_m ||
+         SeenHalfway(v, view, geometry, centroid, {&a, &b, &c}, unit_normal))) {
       seen |= std::uint8_t(1u << i);
     }
   }

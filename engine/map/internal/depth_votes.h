@@ -105,6 +105,7 @@ struct DepthVoteGeometry {
         disparity_sigma_px(options.disparity_sigma_px),
         matter_behind_sigmas(options.matter_behind_sigmas),
         seen_noise_sigmas(options.seen_noise_sigmas),
+        seen_halfway_min_radius_m(options.seen_halfway_min_radius_m),
         free_saturation_m(SaturationDistance(ray.sigma_free_m)) {}
   RayGeometry ray;
   // σ of the disparity (px): a pixel's depth z is uncertain by σ_z = z² · σ / (f·B). 0 = exact points.
@@ -114,6 +115,9 @@ struct DepthVoteGeometry {
   // A facet is seen as a surface where the point seen through its centroid lies within ray.extension_m +
   // seen_noise_sigmas · σ_z of its plane.
   double seen_noise_sigmas;
+  // A facet whose corners lie farther than this from its centroid is also tested halfway to each corner
+  // (0 = never).
+  double seen_halfway_min_radius_m;
   // Beyond this distance before its point a sample's free weight is 1 in fixed point (SaturationDistance).
   double free_saturation_m;
 };
@@ -148,7 +152,9 @@ inline void PrefetchCellDepths(const std::array<Eigen::Vector3d, 4>& vertices_wo
 // Of the facets of the cell with these vertices named by `candidates` (bit i: the facet opposite vertex i),
 // those the view sees as a surface: the point the view saw along the ray through the facet's centroid (depth
 // interpolated, not sky, not empty) lies within the tolerance (DepthVoteGeometry) of the facet's plane, and
-// no farther from its centroid than its vertices are (plus the tolerance). Thread-safe (reads only).
+// no farther from its centroid than its vertices are (plus the tolerance); and, for a facet wider than
+// seen_halfway_min_radius_m, the points the view saw halfway from the centroid to each corner lie within the
+// tolerance of its plane too, where the view has depth there. Thread-safe (reads only).
 std::uint8_t SeenFacets(const std::array<Eigen::Vector3d, 4>& vertices_world, std::uint8_t candidates,
                         const VotingView& view, const DepthVoteGeometry& geometry);
 

@@ -29,6 +29,9 @@ TEST(MapOptions, ChecksFields) {
   o = MapOptions();
   o.steiner_spacing_m = 0.1;  // smaller than twice the ray extension
   EXPECT_THROW(o.Check(), InvalidOption);
+  o = MapOptions();
+  o.seen_halfway_min_radius_m = -0.5;
+  EXPECT_THROW(o.Check(), InvalidOption);
 }
 
 // A wall of random points seen by a few cameras in front of it.

@@ -253,6 +253,34 @@ TEST(DepthVotes, AFacetIsSeenWhereItLiesAtItsPixelsDepth) {
   EXPECT_EQ(SeenFacets(aside, 0xF, view, PaperGeometry()), 0x0);
 }
 
+TEST(DepthVotes, AWideFacetIsSeenOnlyWhereItsHalfwayPointsAgreeTooWhenAsked) {
+  // A wall at 10 m whose left part (image columns < 70) lies 2 m farther back: a depth edge.
+  auto stepped = test::PinholeDepthView(kWidthPx, kHeightPx, kFocalPx, 40.0);
+  stepped->depth_m.setTo(10.0f);
+  stepped->depth_m.colRange(0, 70).setTo(12.0f);
+  const VotingView view(stepped);
+  // A facet on the near wall (the facet opposite vertex 3) whose centroid's pixel (column 80) sees the near
+  // wall, and which spans over the edge: the point halfway to its left corner is at column 60, where the view
+  // saw the far part. Its corners lie up to 4.2 m from its centroid.
+  const std::array<Eigen::Vector3d, 4> wide{Eigen::Vector3d(-4, -2, 10.05), Eigen::Vector3d(2, -2, 10.05),
+                                            Eigen::Vector3d(2, 2, 10.05), Eigen::Vector3d(0, 0, 8)};
+  DepthVoteGeometry geometry = PaperGeometry();
+  EXPECT_EQ(SeenFacets(wide, 0x8, view, geometry), 0x8) << "the centroid alone (the default)";
+  geometry.seen_halfway_min_radius_m = 1.0;
+  EXPECT_EQ(SeenFacets(wide, 0x8, view, geometry), 0x0)
+      << "halfway to the left corner the view saw 2 m beyond";
+  geometry.seen_halfway_min_radius_m = 5.0;
+  EXPECT_EQ(SeenFacets(wide, 0x8, view, geometry), 0x8) << "narrower than the radius: the centroid alone";
+  // The same facet in front of a flat wall: its halfway points agree.
+  geometry.seen_halfway_min_radius_m = 1.0;
+  EXPECT_EQ(SeenFacets(wide, 0x8, VotingView(WallView(10.0f)), geometry), 0x8);
+  // Where the view has no depth halfway (sky or none), the centroid decides.
+  auto holed = test::PinholeDepthView(kWidthPx, kHeightPx, kFocalPx, 40.0);
+  holed->depth_m.setTo(10.0f);
+  holed->depth_m.colRange(0, 70).setTo(kFreeToFarRange);
+  EXPECT_EQ(SeenFacets(wide, 0x8, VotingView(holed), geometry), 0x8);
+}
+
 // CellsInView against every cell: the cells a view votes or sees a facet of are all among those it walks to.
 TEST(CellsInView, HoldsEveryCellTheViewVotesOrSees) {
   std::mt19937 rng(17);
