@@ -97,17 +97,6 @@ void Print(const std::string& title, const Table& t) {
   PrintRow("all", t.total[0][0].Result(), t.total[1][0].Result());
 }
 
-// `reference` with the pixels of movable classes set to 0 (no reference there).
-cv::Mat StaticOnly(const cv::Mat& reference, const cv::Mat& classes, const std::vector<int>& movable) {
-  cv::Mat out = reference.clone();
-  for (int v = 0; v < out.rows; ++v) {
-    for (int u = 0; u < out.cols; ++u) {
-      if (std::find(movable.begin(), movable.end(), classes.at<int>(v, u)) != movable.end()) out.at<float>(v, u) = 0.0f;
-    }
-  }
-  return out;
-}
-
 // `reference` with only the pixels where both depth maps have a depth (> 0 and finite): the input and the
 // mesh judged on the same pixels, whatever each covers.
 cv::Mat WhereBothCover(const cv::Mat& reference, const cv::Mat& input, const cv::Mat& mesh) {
@@ -350,7 +339,7 @@ int main(int argc, char** argv) {
       const cv::Mat classes = semap::PixelClasses(frame->labels, rendered.triangle, triangle_labels);
       if (frame->velodyne) {
         const cv::Mat lidar = semap::LidarDepthImage(*frame->velodyne, frame->calibration, strict);
-        const cv::Mat lidar_static = StaticOnly(lidar, classes, movable);
+        const cv::Mat lidar_static = semap::WithoutMovable(lidar, classes, movable);
         lidar_tables.Add(lidar, lidar_static, stereo, rendered.depth);
         lidar_incidence.Add(lidar_static, stereo, rendered.depth, rendered.triangle, mesh, frame->calibration,
                             *frame->world_from_cam);
@@ -360,7 +349,7 @@ int main(int argc, char** argv) {
       }
       if (exact_path) {
         const cv::Mat exact = semap::io::ReadDepthPngMm(*exact_path);
-        const cv::Mat exact_static = StaticOnly(exact, classes, movable);
+        const cv::Mat exact_static = semap::WithoutMovable(exact, classes, movable);
         exact_tables.Add(exact, exact_static, stereo, rendered.depth);
         exact_incidence.Add(exact_static, stereo, rendered.depth, rendered.triangle, mesh, frame->calibration,
                             *frame->world_from_cam);

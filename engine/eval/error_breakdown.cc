@@ -94,20 +94,22 @@ std::vector<int> MovableClassIds(const ClassMap& class_map) {
   return ids;
 }
 
-cv::Mat WithoutMovable(const cv::Mat& reference, const cv::Mat& frame_labels,
-                       const std::vector<int>& movable) {
-  SEMAP_ASSERT(reference.type() == CV_32F && frame_labels.type() == CV_8U &&
-               frame_labels.size() == reference.size());
+cv::Mat WithoutMovable(const cv::Mat& reference, const cv::Mat& labels, const std::vector<int>& movable) {
+  SEMAP_ASSERT(reference.type() == CV_32F && (labels.type() == CV_8U || labels.type() == CV_32S) &&
+               labels.size() == reference.size());
   std::array<bool, 256> is_movable{};
   for (const int id : movable) {
     if (id >= 0 && id < 256) is_movable[std::size_t(id)] = true;
   }
+  const auto movable_at = [&](int y, int x) {
+    const int id = labels.type() == CV_8U ? int(labels.at<std::uint8_t>(y, x)) : labels.at<int>(y, x);
+    return id >= 0 && id < 256 && is_movable[std::size_t(id)];
+  };
   cv::Mat out = reference.clone();
   for (int y = 0; y < out.rows; ++y) {
-    const std::uint8_t* label = frame_labels.ptr<std::uint8_t>(y);
     float* z = out.ptr<float>(y);
     for (int x = 0; x < out.cols; ++x) {
-      if (is_movable[label[x]]) z[x] = 0.0f;
+      if (movable_at(y, x)) z[x] = 0.0f;
     }
   }
   return out;

@@ -78,10 +78,10 @@ cv::Mat PixelClasses(const cv::Mat& frame_labels, const cv::Mat& triangle,
 // bicycle, as Cityscapes and the generated sequences name them): the ids `class_map` has of them.
 std::vector<int> MovableClassIds(const ClassMap& class_map);
 
-// `reference` (CV_32F depth, 0 = none) without the pixels whose own label (`frame_labels`, CV_8U of its size)
-// is in `movable`: the static scene, so that a map of what stays is not judged by objects that moved on.
-cv::Mat WithoutMovable(const cv::Mat& reference, const cv::Mat& frame_labels,
-                       const std::vector<int>& movable);
+// `reference` (CV_32F depth, 0 = none) without the pixels whose label is in `movable`: the static scene, so
+// that a map of what stays is not judged by objects that moved on. `labels`, of the reference's size: a
+// frame's label image (CV_8U) or PixelClasses' classes (CV_32S, −1 = none).
+cv::Mat WithoutMovable(const cv::Mat& reference, const cv::Mat& labels, const std::vector<int>& movable);
 
 // Accumulates the breakdown over pixels and frames. Not thread-safe.
 class ErrorBreakdownAccumulator {

@@ -243,6 +243,9 @@ TEST(ErrorBreakdown, MovablePixelsLeaveTheStaticReference) {
   const cv::Mat expected = (cv::Mat_<float>(2, 3) << 5.0f, 0.0f, 0.0f, 7.0f, 0.0f, 9.0f);
   EXPECT_EQ(cv::countNonZero(out != expected), 0);
   EXPECT_EQ(reference.at<float>(0, 1), 6.0f);  // the input is not changed
+  // PixelClasses' classes (CV_32S, −1 = none) give the same.
+  const cv::Mat classes = (cv::Mat_<int>(2, 3) << road, car, car, -1, car, road);
+  EXPECT_EQ(cv::countNonZero(WithoutMovable(reference, classes, movable) != expected), 0);
 }
 
 TEST(ErrorBreakdown, BadOptionsAreNamed) {
