@@ -51,25 +51,48 @@ double SampsonDistancePx(const StereoCalibration& intrinsics, const Pose3d& b_fr
   return Sampson(Fundamental(k_inverse, b_from_a.rotation(), b_from_a.translation()), a_px, b_px);
 }
 
+namespace {
+
+// Calls f(distance) with the Sampson distance of every track of every window under the windows' motions seen
+// from a camera frame rotated by `truth_from_image`, in order.
+template <typename F>
+void ForEachDistance(const std::vector<TrackWindow>& windows, const StereoCalibration& intrinsics,
+                     const Eigen::Matrix3d& truth_from_image, F f) {
+  const Eigen::Matrix3d k_inverse = Intrinsics(intrinsics).inverse();
+  const Eigen::Matrix3d& r0 = truth_from_image;
+  for (const TrackWindow& w : windows) {
+    SEMAP_ASSERT(w.a_px.size() == w.b_px.size(), "a_px " << w.a_px.size() << ", b_px " << w.b_px.size());
+    // The motion seen from the images' camera frame: x_b' = Rᵀ(R_ba (R x_a') + t_ba).
+    const Eigen::Matrix3d fundamental = Fundamental(k_inverse, r0.transpose() * w.b_from_a.rotation() * r0,
+                                                    r0.transpose() * w.b_from_a.translation());
+    for (std::size_t i = 0; i < w.a_px.size(); ++i) f(Sampson(fundamental, w.a_px[i], w.b_px[i]));
+  }
+}
+
+// EpipolarAgreementOf(...).mean_px without the median (the rotation fit's objective).
+double CappedMeanPx(const std::vector<TrackWindow>& windows, const StereoCalibration& intrinsics,
+                    const Eigen::Matrix3d& truth_from_image, double cap_px) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  ForEachDistance(windows, intrinsics, truth_from_image, [&](double d) {
+    sum += std::min(d, cap_px);
+    ++n;
+  });
+  return n > 0 ? sum / static_cast<double>(n) : 0.0;
+}
+
+}  // namespace
+
 EpipolarAgreement EpipolarAgreementOf(const std::vector<TrackWindow>& windows,
                                       const StereoCalibration& intrinsics,
                                       const Eigen::Matrix3d& truth_from_image, double cap_px) {
   SEMAP_ASSERT(cap_px > 0.0, "cap_px " << cap_px);
-  const Eigen::Matrix3d k_inverse = Intrinsics(intrinsics).inverse();
-  const Eigen::Matrix3d& r0 = truth_from_image;
   std::vector<double> distances;
   double sum = 0.0;
-  for (const TrackWindow& w : windows) {
-    SEMAP_ASSERT(w.a_px.size() == w.b_px.size(), "a_px " << w.a_px.size() << ", b_px " << w.b_px.size());
-    // The motion seen from the images' camera frame: x_b' = Rᵀ(R_ba (R x_a') + t_ba).
-    const Eigen::Matrix3d f = Fundamental(k_inverse, r0.transpose() * w.b_from_a.rotation() * r0,
-                                          r0.transpose() * w.b_from_a.translation());
-    for (std::size_t i = 0; i < w.a_px.size(); ++i) {
-      const double d = Sampson(f, w.a_px[i], w.b_px[i]);
-      distances.push_back(d);
-      sum += std::min(d, cap_px);
-    }
-  }
+  ForEachDistance(windows, intrinsics, truth_from_image, [&](double d) {
+    distances.push_back(d);
+    sum += std::min(d, cap_px);
+  });
   EpipolarAgreement result;
   result.tracks = static_cast<int>(distances.size());
   if (distances.empty()) return result;
@@ -83,18 +106,18 @@ EpipolarAgreement EpipolarAgreementOf(const std::vector<TrackWindow>& windows,
 EpipolarRotationFit FitEpipolarRotation(const std::vector<TrackWindow>& windows,
                                         const StereoCalibration& intrinsics, double cap_px,
                                         double start_step_deg, double min_step_deg) {
+  SEMAP_ASSERT(cap_px > 0.0, "cap_px " << cap_px);
   SEMAP_ASSERT(start_step_deg > 0.0 && min_step_deg > 0.0,
                "steps " << start_step_deg << ", " << min_step_deg);
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  double best = EpipolarAgreementOf(windows, intrinsics, Eigen::Matrix3d::Identity(), cap_px).mean_px;
+  double best = CappedMeanPx(windows, intrinsics, Eigen::Matrix3d::Identity(), cap_px);
   for (double step = start_step_deg; step >= min_step_deg;) {
     bool improved = false;
     for (int axis = 0; axis < 3; ++axis) {
       for (const double sign : {1.0, -1.0}) {
         Eigen::Vector3d y = x;
         y[axis] += sign * step;
-        const double value =
-            EpipolarAgreementOf(windows, intrinsics, FromRotationVectorDeg(y), cap_px).mean_px;
+        const double value = CappedMeanPx(windows, intrinsics, FromRotationVectorDeg(y), cap_px);
         if (value < best) {
           best = value;
           x = y;
