@@ -1,50 +1,57 @@
 #include "engine/pipeline/pipeline.h"
 
-#include <pthread.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
 #include <sched.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <array>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <future>
 #include <map>
 #include <mutex>
 #include <thread>
 
-#include <opencv2/core/utility.hpp>
-
 #include "engine/core/check.h"
-#include "engine/core/parallel.h"
 #include "engine/pipeline/bounded_queue.h"
-#include "engine/pipeline/timing_stats.h"
+#include "engine/pipeline/internal/admission_queue.h"
+#include "engine/pipeline/internal/frame_pacer.h"
+#include "engine/pipeline/internal/frame_reporter.h"
+#include "engine/pipeline/internal/frame_tokens.h"
+#include "engine/pipeline/internal/item.h"
+#include "engine/pipeline/internal/pose_check.h"
+#include "engine/pipeline/internal/threads.h"
 
 namespace semap {
 
-namespace {
-
-// "0-3, 6" for the CPUs in `set`.
-std::string AvailableCpus(const cpu_set_t& set) {
-  std::string out;
-  for (int c = 0; c < CPU_SETSIZE; ++c) {
-    if (!CPU_ISSET(c, &set)) continue;
-    int last = c;
-    while (last + 1 < CPU_SETSIZE && CPU_ISSET(last + 1, &set)) ++last;
-    out += (out.empty() ? "" : ", ") + std::to_string(c) + (last > c ? "-" + std::to_string(last) : "");
-    c = last;
-  }
-  return out;
-}
-
-}  // namespace
+using pipeline_internal::AcceptedPose;
+using pipeline_internal::AdmissionQueue;
+using pipeline_internal::BoundedQueue;
+using pipeline_internal::Clock;
+using pipeline_internal::FramePacer;
+using pipeline_internal::Item;
+using pipeline_internal::kNumDropReasons;
+using pipeline_internal::kStageNames;
+using pipeline_internal::kSegmentStageName;
+using pipeline_internal::kDepth;
+using pipeline_internal::kMap;
+using pipeline_internal::kRead;
+using pipeline_internal::kSimplify;
+using pipeline_internal::MsBetween;
+using pipeline_internal::SegmentJob;
+using pipeline_internal::SegmentResult;
+using pipeline_internal::SideEvent;
+using pipeline_internal::PinCurrentThread;
+using pipeline_internal::SetUpThread;
 
 void PipelineOptions::Check() const {
   SEMAP_CHECK_OPTION(realtime_rate_hz > 0.0, "realtime_rate_hz", realtime_rate_hz, "must be > 0");
+  SEMAP_CHECK_OPTION(realtime_speed > 0.0 && std::isfinite(realtime_speed), "realtime_speed", realtime_speed,
+                     "must be > 0");
+  SEMAP_CHECK_OPTION(realtime_frames_in_flight >= 1, "realtime_frames_in_flight", realtime_frames_in_flight,
+                     "must be >= 1");
   SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers, "must be in [1, 64]");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
   SEMAP_CHECK_OPTION(mesh_every_frames >= 1, "mesh_every_frames", mesh_every_frames, "must be >= 1");
@@ -59,8 +66,13 @@ void PipelineOptions::Check() const {
     SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu, "CPU ids must be in [0, CPU_SETSIZE)");
     // Pinning to a CPU this process may not run on would be silently ignored by the kernel.
     SEMAP_CHECK_OPTION(!known || CPU_ISSET(cpu, &available), "cpu_affinity", cpu,
-                       "no such CPU available to this process (it may use " + AvailableCpus(available) + ")");
+                       "no such CPU available to this process (it may use " +
+                           pipeline_internal::AvailableCpus(available) + ")");
   }
+}
+
+int PipelineOptions::QueueCapacity() const {
+  return mode == Mode::kRealtime ? realtime_frames_in_flight : queue_capacity;
 }
 
 double CurrentRssMb() {
@@ -79,157 +91,64 @@ double ProcessCpuSeconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+const char* DropReasonName(DropReason reason) {
+  switch (reason) {
+    case DropReason::kBehind:
+      return "behind";
+    case DropReason::kNoKeyframeLabels:
+      return "no_keyframe_labels";
+  }
+  return "unknown";
+}
+
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-enum StageIndex { kRead, kDepth, kSimplify, kMap, kNumStages };
-constexpr std::array<const char*, kNumStages> kStageNames = {"read", "depth", "simplify", "map"};
 // A reader that fails this many times in a row (e.g. the dataset vanished) ends the run.
 constexpr int kMaxConsecutiveReadFailures = 100;
-
-double MsBetween(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-// A keyframe's labels as the segment thread hands them over, with the segmenter's time.
-struct SegmentResult {
-  std::shared_ptr<const KeyframeLabels> labels;
-  double ms = 0.0;
-};
-
-// A keyframe queued to the segment thread: its left image and pose (shared with the frame's item, never
-// modified), and the promise its frames wait on.
-struct SegmentJob {
-  Frame keyframe;
-  std::promise<SegmentResult> labels;
-};
-
-// "segment": the keyframes' segmentation; "depth.label_wait": a depth worker waiting for it.
-constexpr const char* kSegmentStageName = "segment";
-constexpr const char* kLabelWaitStepName = "depth.label_wait";
-
-// One frame travelling through the stages.
-struct Item {
-  std::int64_t frame_id = -1;
-  double timestamp_s = 0.0;
-  std::int64_t seq = 0;  // position in the stream of frames that entered the pipeline
-  std::unique_ptr<Frame> frame;  // until the depth stage
-  // With a segment stage: the labels of this frame's keyframe (until the depth stage), whether the frame is
-  // a keyframe itself, the segmenter's time on it and the depth worker's wait for the labels.
-  std::shared_future<SegmentResult> keyframe_labels;
-  bool keyframe = false;
-  double segment_ms = 0.0;
-  double label_wait_ms = 0.0;
-  std::optional<Pose3d> world_from_cam;
-  LabelledCloud cloud;
-  std::vector<ClassPointCount> counts;
-  std::int64_t points_in = 0;
-  MapUpdate update;
-  bool final = false;  // the map's Finish() output
-  std::string error_stage;
-  std::string error;
-  std::array<double, kNumStages> ms{};
-  bool failed() const { return !error.empty(); }
-};
-
-// Why a frame's pose cannot go into the map, or "" when it can: non-finite entries, a linear part that is
-// not a rotation, or (against the last accepted frame `last`) a speed above options.max_speed_mps.
-struct AcceptedPose {
-  std::int64_t frame_id = -1;
-  double timestamp_s = 0.0;
-  Eigen::Vector3d position;
-};
-std::string PoseProblem(const Pose3d& pose, double timestamp_s, const std::optional<AcceptedPose>& last,
-                        const PipelineOptions& options) {
-  if (!pose.matrix().allFinite()) return "pose is not finite (NaN or inf)";
-  const Eigen::Matrix3d r = pose.linear();
-  const double orthogonality_error = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (orthogonality_error > 1e-3 || r.determinant() <= 0.0) {
-    return "pose rotation is not a rotation (|RᵀR - I| = " + std::to_string(orthogonality_error) +
-           ", det " + std::to_string(r.determinant()) + ")";
-  }
-  if (!last || options.max_speed_mps <= 0.0) return "";
-  const double dt_s = std::max(timestamp_s - last->timestamp_s, 1.0 / options.realtime_rate_hz);
-  const double moved_m = (pose.translation() - last->position).norm();
-  if (moved_m <= options.max_speed_mps * dt_s) return "";
-  char text[256];
-  std::snprintf(text, sizeof(text),
-                "pose jumps %.1f m in %.2f s since frame %lld (%.0f m/s > max_speed_mps %.0f)", moved_m, dt_s,
-                static_cast<long long>(last->frame_id), moved_m / dt_s, options.max_speed_mps);
-  return text;
-}
-
-void PinCurrentThread(const std::vector<int>& cpus) {
-  if (cpus.empty()) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  for (int c : cpus) CPU_SET(c, &set);
-  pthread_setaffinity_np(pthread_self(), sizeof(set), &set);  // best effort: unknown CPUs are ignored
-}
-
-// Names the calling pipeline thread (as `top -H` and gdb show it; at most 15 characters), pins it, and makes
-// it `nicer` steps nicer than it is (best effort: a nice value is per thread on Linux).
-void SetUpThread(const char* name, const std::vector<int>& cpus, int nicer = 0) {
-  pthread_setname_np(pthread_self(), name);
-  PinCurrentThread(cpus);
-  if (nicer > 0) {
-    const auto tid = static_cast<id_t>(syscall(SYS_gettid));
-    errno = 0;
-    const int nice = getpriority(PRIO_PROCESS, tid);
-    if (errno == 0) setpriority(PRIO_PROCESS, tid, nice + nicer);
-  }
-}
-
-// Starts TBB's worker threads from the calling thread. A thread takes its nice value (and CPU affinity) from
-// the thread that starts it, and TBB starts its workers on first demand: started by a niced feeder (OpenCV's
-// SGBM runs on TBB), they would run the map's parallel votes at the feeders' priority. Best effort: a worker
-// that does not start within the wait starts later, from whichever thread needs it.
-void StartTbbWorkers() {
-  constexpr auto kMaxWait = std::chrono::milliseconds(200);
-  OnEveryThread(kMaxWait, [] {});
-}
-
-// OpenCV's thread count (process-wide) for a scope, restored when it ends; 0 leaves it as it is.
-class OpenCvThreads {
- public:
-  explicit OpenCvThreads(int threads) : previous_(cv::getNumThreads()), set_(threads > 0) {
-    if (set_) cv::setNumThreads(threads);
-  }
-  ~OpenCvThreads() {
-    if (set_) cv::setNumThreads(previous_);
-  }
-  OpenCvThreads(const OpenCvThreads&) = delete;
-  OpenCvThreads& operator=(const OpenCvThreads&) = delete;
-
- private:
-  int previous_;
-  bool set_;
-};
-
+// Realtime: the input queue holds the newest frame, and the segment queue the newest keyframe (a keyframe
+// that finds it full is not taken: the labels follow what ENet has time for).
+constexpr int kRealtimeInputFrames = 1;
+constexpr int kRealtimeSegmentFrames = 1;
 }  // namespace
 
 struct Pipeline::Impl {
+  // The reader's state between frames.
+  struct ReadState {
+    std::int64_t last_id = -1;
+    int consecutive_failures = 0;
+    std::optional<AcceptedPose> last_pose;
+  };
+
   Pipeline& p;
-  pipeline_internal::BoundedQueue<SegmentJob> to_segment;
-  pipeline_internal::BoundedQueue<Item> to_depth;
-  pipeline_internal::BoundedQueue<Item> to_simplify;
-  pipeline_internal::BoundedQueue<Item> to_map;
-  pipeline_internal::BoundedQueue<Item> to_output;
+  PipelineClock& clock;
+  const bool realtime;
+  BoundedQueue<SegmentJob> to_segment;
+  AdmissionQueue<Item> to_depth;
+  BoundedQueue<Item> to_simplify;
+  BoundedQueue<Item> to_map;
+  BoundedQueue<Item> to_output;
+  pipeline_internal::FrameTokens tokens;  // realtime: frames between the input queue and the map's end
   std::atomic<bool> error_stop{false};
   std::mutex error_mutex;
   std::string fatal_error;
   std::atomic<std::int64_t> frames_read{0};
-  std::atomic<std::int64_t> frames_dropped{0};
+  std::mutex side_mutex;
+  std::vector<SideEvent> side_events;  // guarded by side_mutex
+  std::array<std::int64_t, kNumDropReasons> dropped_by_reason{};  // guarded by side_mutex
   Clock::time_point start;
+  double start_s = 0.0;  // `start` on the pipeline's clock
+  ReadState state;                 // the reader thread's (first read before it starts)
+  std::optional<Item> first_item;  // realtime: read before the clock started
 
   explicit Impl(Pipeline& pipeline)
       : p(pipeline),
-        to_segment(pipeline.options_.queue_capacity),
-        to_depth(pipeline.options_.queue_capacity),
-        to_simplify(pipeline.options_.queue_capacity),
-        to_map(pipeline.options_.queue_capacity),
-        to_output(pipeline.options_.queue_capacity) {}
+        clock(*pipeline.clock_),
+        realtime(pipeline.options_.mode == PipelineOptions::Mode::kRealtime),
+        to_segment(realtime ? kRealtimeSegmentFrames : pipeline.options_.QueueCapacity()),
+        to_depth(realtime ? kRealtimeInputFrames : pipeline.options_.QueueCapacity()),
+        to_simplify(pipeline.options_.QueueCapacity()),
+        to_map(pipeline.options_.QueueCapacity()),
+        to_output(pipeline.options_.QueueCapacity()),
+        tokens(realtime ? pipeline.options_.realtime_frames_in_flight : 0) {}
 
   bool Stopping() const { return p.stop_requested_.load() || error_stop.load(); }
 
@@ -259,80 +178,131 @@ struct Pipeline::Impl {
     }
   }
 
+  // A frame that leaves the pipeline before the stages: dropped for `reason`, or, when it had failed to be
+  // read already, failed as it was.
+  void LeaveEarly(const Item& item, DropReason reason) {
+    SideEvent e{item.frame_id, item.timestamp_s, std::nullopt, item.error_stage, item.error};
+    std::lock_guard<std::mutex> lock(side_mutex);
+    if (!item.failed()) {
+      e.dropped = reason;
+      ++dropped_by_reason[static_cast<int>(reason)];
+    }
+    side_events.push_back(std::move(e));
+  }
+
+
+  // Reads the next frame into `item` (a failed read or an unusable pose is recorded on it); false at the end
+  // of the sequence.
+  bool ReadOne(Item* item, ReadState* state) {
+    try {
+      std::optional<Frame> frame = p.reader_->Next();
+      if (!frame) return false;
+      item->frame_id = frame->id;
+      item->timestamp_s = frame->timestamp_s;
+      item->world_from_cam = frame->world_from_cam;
+      state->last_id = item->frame_id;
+      const std::string pose_problem =
+          frame->world_from_cam
+              ? pipeline_internal::PoseProblem(*frame->world_from_cam, frame->timestamp_s, state->last_pose,
+                                               p.options_.max_speed_mps, 1.0 / p.options_.realtime_rate_hz)
+              : std::string();
+      if (pose_problem.empty()) {
+        state->consecutive_failures = 0;
+        if (frame->world_from_cam) {
+          state->last_pose = AcceptedPose{frame->id, frame->timestamp_s, frame->world_from_cam->translation()};
+        }
+        item->frame = std::make_unique<Frame>(std::move(*frame));
+      } else {
+        item->world_from_cam.reset();
+        FailRead(*item, "pose", "frame " + std::to_string(item->frame_id) + ": " + pose_problem,
+                 &state->consecutive_failures);
+      }
+    } catch (const std::exception& e) {
+      item->frame_id = state->last_id + 1;
+      state->last_id = item->frame_id;
+      FailRead(*item, kStageNames[kRead], e.what(), &state->consecutive_failures);
+    }
+    return true;
+  }
+
+  // ReadOne, timed and counted.
+  bool ReadTimed(Item* item, ReadState* state) {
+    const auto t0 = Clock::now();
+    if (!ReadOne(item, state)) return false;
+    item->ms[kRead] = MsBetween(t0, Clock::now());
+    ++frames_read;
+    return true;
+  }
+
+  // Realtime: reads the first frame before the clock starts and lets the stages prepare on it (ENet's first
+  // forward pass allocates its layers), as a camera driver starts once its node is ready.
+  void ReadFirstAndPrepare(const std::vector<std::unique_ptr<DepthStage>>& depth_stages) {
+    Item item;
+    if (!ReadTimed(&item, &state)) return;
+    if (item.frame) {
+      if (p.segment_) p.segment_->Prepare(*item.frame);
+      for (const auto& stage : depth_stages) stage->Prepare(*item.frame);
+    }
+    first_item = std::move(item);
+  }
+
+  // Realtime: waits until `item` is due (its pixels exist from then on, as a camera delivers them); false
+  // when the run is asked to stop meanwhile.
+  bool WaitUntilDue(Item* item, FramePacer* pacer) {
+    item->times.due_s = pacer->NextDueS(item->timestamp_s);
+    clock.SleepUntilS(item->times.due_s, [this] { return Stopping(); });
+    return !Stopping();
+  }
+
   void ReadLoop() {
     // In realtime mode the reader is the sensor's clock: it keeps the map's priority.
-    const bool realtime = p.options_.mode == PipelineOptions::Mode::kRealtime;
     SetUpThread("semap-read", p.options_.cpu_affinity, realtime ? 0 : p.options_.feeder_nice);
-    std::int64_t seq = 0;
-    std::int64_t last_id = -1;
-    int consecutive_failures = 0;
-    std::optional<double> first_timestamp;
-    std::optional<AcceptedPose> last_pose;
-    std::int64_t paced = 0;
+    FramePacer pacer(start_s, p.options_.realtime_rate_hz, p.options_.realtime_speed);
     KeyframeSchedule schedule(p.keyframe_every_frames_);
-    std::shared_future<SegmentResult> current_keyframe;
+    Keyframes keyframes;
     while (!Stopping()) {
       Item item;
-      const auto t0 = Clock::now();
-      try {
-        std::optional<Frame> frame = p.reader_->Next();
-        if (!frame) break;
-        item.frame_id = frame->id;
-        item.timestamp_s = frame->timestamp_s;
-        item.world_from_cam = frame->world_from_cam;
-        last_id = item.frame_id;
-        const std::string pose_problem =
-            frame->world_from_cam ? PoseProblem(*frame->world_from_cam, frame->timestamp_s, last_pose, p.options_)
-                                  : std::string();
-        if (pose_problem.empty()) {
-          consecutive_failures = 0;
-          if (frame->world_from_cam) {
-            last_pose = AcceptedPose{frame->id, frame->timestamp_s, frame->world_from_cam->translation()};
-          }
-          item.frame = std::make_unique<Frame>(std::move(*frame));
-        } else {
-          item.world_from_cam.reset();
-          FailRead(item, "pose", "frame " + std::to_string(item.frame_id) + ": " + pose_problem,
-                   &consecutive_failures);
-        }
-      } catch (const std::exception& e) {
-        item.frame_id = last_id + 1;
-        last_id = item.frame_id;
-        FailRead(item, kStageNames[kRead], e.what(), &consecutive_failures);
+      if (first_item) {
+        item = std::move(*first_item);
+        first_item.reset();
+      } else if (!ReadTimed(&item, &state)) {
+        break;
       }
-      item.ms[kRead] = MsBetween(t0, Clock::now());
-      ++frames_read;
-      if (p.segment_ && item.frame && !AttachKeyframe(item, realtime, &schedule, &current_keyframe)) {
-        ++frames_dropped;  // realtime: no keyframe labels yet (the segment queue was full)
+      if (realtime && !WaitUntilDue(&item, &pacer)) break;
+      item.times.sensor_s = realtime ? item.times.due_s : clock.NowS();
+      if (p.segment_ && item.frame && !AttachKeyframe(item, &schedule, &keyframes)) {
+        LeaveEarly(item, DropReason::kNoKeyframeLabels);  // realtime: the segment queue was full
         continue;
       }
-      if (realtime) {
-        // Sensor rate: the frame's own timestamp when the sequence has increasing ones, else the rate.
-        double due_s = static_cast<double>(paced++) / p.options_.realtime_rate_hz;
-        if (!first_timestamp) first_timestamp = item.timestamp_s;
-        if (item.timestamp_s > *first_timestamp) due_s = item.timestamp_s - *first_timestamp;
-        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                  std::chrono::duration<double>(due_s)));
-        item.seq = seq;
-        if (!to_depth.TryPush(std::move(item))) {
-          ++frames_dropped;  // counted, never silent
-          continue;
-        }
-        ++seq;
-      } else {
-        item.seq = seq++;
-        to_depth.Push(std::move(item));
+      item.times.entered_s = clock.NowS();
+      if (!realtime) {
+        to_depth.PushWaiting(std::move(item));
+      } else if (std::optional<Item> evicted = to_depth.PushEvictingOldest(std::move(item))) {
+        LeaveEarly(*evicted, DropReason::kBehind);  // counted, never silent
       }
     }
     if (p.segment_) to_segment.PushEnd();
     for (int w = 0; w < p.options_.depth_workers; ++w) to_depth.PushEnd();
   }
 
+  // The keyframes whose labels the reader has handed out, newest last: the current one, and in realtime mode
+  // the newest whose labels were ready (the reader thread's).
+  struct Keyframes {
+    std::shared_future<SegmentResult> current;
+    std::deque<std::shared_future<SegmentResult>> pending;  // realtime: queued after `ready`, oldest first
+    std::shared_future<SegmentResult> ready;
+  };
+
+  static bool IsReady(const std::shared_future<SegmentResult>& f) {
+    return f.valid() && f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+  }
+
   // Gives `item` (a frame read with a usable pose, or none) the labels of its keyframe: the frame itself when
-  // it is due (its left image is queued to the segment thread), else the current keyframe. Returns false
+  // it is due (its left image is queued to the segment thread), else the current keyframe; in realtime mode
+  // also the newest keyframe whose labels are ready, for the depth worker to take when the current one's are
+  // not (ENet takes longer than a frame period: waiting would add it to every frame's latency). Returns false
   // when there is none: realtime mode, the segment queue full and no keyframe taken yet.
-  bool AttachKeyframe(Item& item, bool realtime, KeyframeSchedule* schedule,
-                      std::shared_future<SegmentResult>* current_keyframe) {
+  bool AttachKeyframe(Item& item, KeyframeSchedule* schedule, Keyframes* keyframes) {
     const Frame& f = *item.frame;
     const bool has_pose = f.world_from_cam.has_value();
     if (schedule->IsDue(f.id, has_pose)) {
@@ -351,12 +321,18 @@ struct Pipeline::Impl {
       }
       if (queued) {
         schedule->Record(f.id, has_pose);
-        *current_keyframe = std::move(labels);
+        keyframes->current = labels;
+        if (realtime) keyframes->pending.push_back(std::move(labels));
         item.keyframe = true;
       }
     }
-    if (!current_keyframe->valid()) return false;
-    item.keyframe_labels = *current_keyframe;
+    while (!keyframes->pending.empty() && IsReady(keyframes->pending.front())) {
+      keyframes->ready = std::move(keyframes->pending.front());
+      keyframes->pending.pop_front();
+    }
+    if (!keyframes->current.valid()) return false;
+    item.keyframe_labels = keyframes->current;
+    item.ready_labels = keyframes->ready;
     return true;
   }
 
@@ -379,33 +355,58 @@ struct Pipeline::Impl {
     }
   }
 
+  // The labels `item` takes: its keyframe's, waited for; in realtime mode, when those are not ready, the
+  // newest keyframe's that were ready when it was read. Rethrows the segmenter's error.
+  const SegmentResult& LabelsOf(const Item& item) const {
+    if (realtime && item.ready_labels.valid() && !IsReady(item.keyframe_labels)) return item.ready_labels.get();
+    return item.keyframe_labels.get();  // waits for the segment thread
+  }
+
+  // The depth stage on one frame, after its keyframe's labels when it has a keyframe.
+  void ComputeDepth(Item* item, DepthStage* stage) {
+    const auto t0 = Clock::now();
+    const SegmentResult* keyframe = nullptr;
+    if (item->keyframe_labels.valid()) {
+      try {
+        keyframe = &LabelsOf(*item);
+        // The segmenter's time on this keyframe, when these are its own labels.
+        if (item->keyframe && keyframe->labels && keyframe->labels->frame_id == item->frame_id) {
+          item->segment_ms = keyframe->ms;
+        }
+      } catch (const std::exception& e) {
+        Fail(*item, kSegmentStageName, e.what());
+      }
+      item->label_wait_ms = MsBetween(t0, Clock::now());
+      item->times.labels_s = clock.NowS();
+    }
+    if (!item->failed()) {
+      try {
+        item->cloud = stage->Process(*item->frame, keyframe != nullptr ? keyframe->labels.get() : nullptr);
+      } catch (const std::exception& e) {
+        Fail(*item, kStageNames[kDepth], e.what());
+      }
+    }
+    item->ms[kDepth] = MsBetween(t0, Clock::now());
+    item->times.depth_s = clock.NowS();
+    if (!item->keyframe_labels.valid()) item->times.labels_s = item->times.depth_s;  // labelled with the depth
+  }
+
   void DepthLoop(DepthStage* stage) {
     SetUpThread("semap-depth", p.options_.cpu_affinity, p.options_.feeder_nice);
-    while (auto item = to_depth.Pop()) {
-      if (!item->failed()) {
-        const auto t0 = Clock::now();
-        SegmentResult keyframe;
-        if (item->keyframe_labels.valid()) {
-          try {
-            keyframe = item->keyframe_labels.get();  // waits for the segment thread; rethrows its error
-            if (item->keyframe) item->segment_ms = keyframe.ms;
-          } catch (const std::exception& e) {
-            Fail(*item, kSegmentStageName, e.what());
-          }
-          item->label_wait_ms = MsBetween(t0, Clock::now());
-        }
-        if (!item->failed()) {
-          try {
-            item->cloud = stage->Process(*item->frame, keyframe.labels.get());
-          } catch (const std::exception& e) {
-            Fail(*item, kStageNames[kDepth], e.what());
-          }
-        }
-        item->ms[kDepth] = MsBetween(t0, Clock::now());
+    while (true) {
+      tokens.Acquire();
+      auto popped = to_depth.Pop();
+      if (!popped) {
+        tokens.Release();
+        break;
       }
-      item->frame.reset();  // images are not needed any more
-      item->keyframe_labels = {};  // nor the keyframe's labels
-      to_simplify.Push(std::move(*item));
+      Item& item = popped->item;
+      item.seq = popped->order;
+      if (!item.failed()) ComputeDepth(&item, stage);
+      item.frame.reset();  // images are not needed any more
+      item.keyframe_labels = {};  // nor the keyframes' labels
+      item.ready_labels = {};
+      to_simplify.Push(std::move(item));
     }
     to_simplify.PushEnd();
   }
@@ -455,8 +456,10 @@ struct Pipeline::Impl {
           Fail(*item, kStageNames[kMap], e.what());
         }
         item->ms[kMap] = MsBetween(t0, Clock::now());
+        item->times.map_s = clock.NowS();
       }
       item->cloud = LabelledCloud{};
+      tokens.Release();  // integrated (or failed): the next frame may go
       to_output.Push(std::move(*item));
     }
     Item last;
@@ -472,97 +475,20 @@ struct Pipeline::Impl {
     to_output.PushEnd();
   }
 
-  // A sink that throws (e.g. its output folder became unwritable) does not stop the run: the error is
-  // recorded in the summary and the sink is called again for the next frames.
-  template <typename Call>
-  void ForEachSink(PipelineSummary* summary, Call&& call) {
-    for (auto* s : p.sinks_) {
-      try {
-        call(*s);
-      } catch (const std::exception& e) {
-        ++summary->sink_errors;
-        if (summary->first_sink_error.empty()) summary->first_sink_error = e.what();
-      }
-    }
-  }
-
+  // The output thread: per-frame figures, mesh deltas and the sinks' calls (FrameReporter).
   void OutputLoop(PipelineSummary* summary) {
-    std::array<TimingStats, kNumStages> timing;
-    TimingStats segment_timing;                      // keyframes only
-    std::map<std::string, TimingStats> step_timing;  // "map.<step>"
-    FrameStats stats;
-    // The map's surface snapshots become the deltas the sinks receive here, not on the map's thread.
-    MeshPublisher publisher;
-    auto publish = [&](const MapUpdate& update) {
-      MeshDelta delta = publisher.Publish(update);
-      stats.mesh_triangles = publisher.published_triangles();
-      return delta;
-    };
-    // The run's totals as of now: frame rate, the map's sizes (from `update`; kept as they were without one),
-    // the process's memory and CPU.
-    auto take_totals = [&](const MapUpdate* update) {
-      stats.fps = stats.elapsed_s > 0 ? static_cast<double>(stats.frames_processed) / stats.elapsed_s : 0.0;
-      if (update != nullptr) {
-        stats.map_vertices = update->vertices;
-        stats.map_cells = update->cells;
-        stats.map_rays = update->rays;
-      }
-      stats.rss_mb = CurrentRssMb();
-      stats.cpu_s = ProcessCpuSeconds();
-    };
+    pipeline_internal::FrameReporter reporter(p.sinks_, clock, start, realtime, p.segment_ != nullptr, summary);
     while (auto item = to_output.Pop()) {
-      const auto now = Clock::now();
-      stats.elapsed_s = MsBetween(start, now) / 1000.0;
-      stats.frames_dropped = frames_dropped.load();
-      if (item->final) {
-        if (item->failed()) {
-          ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(-1, item->error_stage, item->error); });
-        }
-        // A failed finish carries no update: the map as of the last frame is what was published.
-        const MeshDelta delta = publish(item->update);
-        take_totals(item->failed() ? nullptr : &item->update);
-        ForEachSink(summary, [&](PipelineSink& s) { s.OnFinish(stats, delta); });
-        continue;
+      std::vector<SideEvent> events;
+      std::array<std::int64_t, kNumDropReasons> dropped{};
+      {
+        std::lock_guard<std::mutex> lock(side_mutex);
+        events.swap(side_events);
+        dropped = dropped_by_reason;
       }
-      if (item->failed()) {
-        ++stats.frames_failed;
-        ForEachSink(summary, [&](PipelineSink& s) { s.OnFrameError(item->frame_id, item->error_stage, item->error); });
-        continue;
-      }
-      ++stats.frames_processed;
-      stats.frame_id = item->frame_id;
-      stats.timestamp_s = item->timestamp_s;
-      const std::array<int, kNumStages> occupancy = {0, to_depth.size(), to_simplify.size(), to_map.size()};
-      stats.stages.clear();
-      auto add_step = [&](const std::string& name, double ms) {
-        TimingStats& t = step_timing[name];
-        t.Add(ms);
-        stats.stages.push_back({name, ms, t.mean(), t.Percentile(0.5), t.Percentile(0.95), t.max(), 0});
-      };
-      for (int s = 0; s < kNumStages; ++s) {
-        timing[s].Add(item->ms[s]);
-        stats.stages.push_back({kStageNames[s], item->ms[s], timing[s].mean(), timing[s].Percentile(0.5),
-                                timing[s].Percentile(0.95), timing[s].max(), occupancy[s]});
-        if (s == kRead && p.segment_) {
-          // The segmenter's time on this frame (0 unless it is a keyframe); the statistics are over keyframes.
-          if (item->keyframe) segment_timing.Add(item->segment_ms);
-          stats.stages.push_back({kSegmentStageName, item->segment_ms, segment_timing.mean(),
-                                  segment_timing.Percentile(0.5), segment_timing.Percentile(0.95),
-                                  segment_timing.max(), to_segment.size()});
-        }
-      }
-      if (p.segment_) add_step(kLabelWaitStepName, item->label_wait_ms);
-      for (const StepTime& step : item->update.steps) add_step(std::string(kStageNames[kMap]) + "." + step.name, step.ms);
-      stats.points_in = item->points_in;
-      stats.points_kept = 0;
-      for (const auto& c : item->counts) stats.points_kept += c.kept;
-      if (item->counts.empty()) stats.points_kept = stats.points_in;
-      stats.class_counts = item->counts;
-      const MeshDelta delta = publish(item->update);
-      take_totals(&item->update);
-      ForEachSink(summary, [&](PipelineSink& s) { s.OnFrame(stats, delta, item->world_from_cam); });
+      reporter.SideEvents(events, dropped);
+      reporter.Frame(*item, {to_segment.size(), to_depth.size(), to_simplify.size(), to_map.size()});
     }
-    summary->final_stats = stats;
   }
 };
 
@@ -593,9 +519,12 @@ PipelineSummary Pipeline::Run() {
   std::vector<std::unique_ptr<DepthStage>> depth_stages;
   for (int w = 0; w < options_.depth_workers; ++w) depth_stages.push_back(depth_factory_());
   PinCurrentThread(options_.cpu_affinity);
-  const OpenCvThreads opencv_threads(options_.opencv_threads);
-  if (options_.feeder_nice > 0) StartTbbWorkers();
+  const pipeline_internal::OpenCvThreads opencv_threads(options_.opencv_threads);
+  if (options_.feeder_nice > 0) pipeline_internal::StartTbbWorkers();
+  if (impl.realtime) impl.ReadFirstAndPrepare(depth_stages);
+  // Everything is set up: the first frame is due now.
   impl.start = Clock::now();
+  impl.start_s = clock_->NowS();
   std::vector<std::thread> threads;
   threads.emplace_back([&] { impl.ReadLoop(); });
   if (segment_) threads.emplace_back([&] { impl.SegmentLoop(); });

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/pipeline/clock.h"
 #include "engine/pipeline/stages.h"
 
 namespace semap {
@@ -15,13 +16,16 @@ namespace semap {
 struct PipelineOptions {
   enum class Mode {
     kExhaustive,  // every frame is processed; the reader blocks on a full queue (the paper's table)
-    kRealtime,    // frames are read at the sequence's rate; a frame that finds the queue full is dropped
+    kRealtime,    // frames enter when their time stamp comes due, whether or not the engine is ready for
+                  // them: the input queue keeps the newest frames, and a frame it has no room for is dropped
   };
   enum class OnError { kSkipFrame, kStop };
 
   // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   Mode mode = Mode::kExhaustive;
   double realtime_rate_hz = 10.0;  // KITTI: 10 Hz
+  double realtime_speed = 1.0;
+  int realtime_frames_in_flight = 2;
   int depth_workers = 2;
   int queue_capacity = 4;
   OnError on_error = OnError::kSkipFrame;
@@ -36,13 +40,23 @@ struct PipelineOptions {
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Enum("mode", &mode, {{"exhaustive", Mode::kExhaustive}, {"realtime", Mode::kRealtime}},
-           "exhaustive: every frame processed (the paper's table); realtime: read at sensor rate, drop when "
-           "behind");
+           "exhaustive: every frame processed (the paper's table); realtime: frames enter at their time "
+           "stamps, as a camera delivers them, and the oldest waiting frame is dropped when the engine is behind");
     v.Field("realtime_rate_hz", &realtime_rate_hz,
-            "realtime mode: frames are read at their timestamps, or at this rate when the sequence has none");
+            "realtime mode: frames are due at their time stamps, or at this rate when the sequence has none");
+    v.Field("realtime_speed", &realtime_speed,
+            "realtime mode: frames are played at this multiple of the sensor's rate (2 = twice as fast)");
+    // Each frame ahead of a frame on its way to the map adds the map's time per frame to its latency; the
+    // input queue meanwhile keeps the newest frame only. More frames in flight keep both depth workers busy
+    // when the map is faster than the depth; fewer make the published mesh younger.
+    v.Field("realtime_frames_in_flight", &realtime_frames_in_flight,
+            "realtime mode: frames taken from the input queue and not yet integrated, at most (1 = a frame's "
+            "depth starts once the map has integrated the one before)");
     v.Field("depth_workers", &depth_workers,
             "threads running SGBM depth, the heaviest per-frame stage (frames are reordered after them)");
-    v.Field("queue_capacity", &queue_capacity, "frames each queue between stages holds at most");
+    v.Field("queue_capacity", &queue_capacity,
+            "exhaustive mode: frames each queue between stages holds at most (realtime mode: the input queue "
+            "holds the newest frame only)");
     v.Enum("on_error", &on_error, {{"skip", OnError::kSkipFrame}, {"stop", OnError::kStop}},
            "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
     // The time between the frames is taken as at least 1 / realtime_rate_hz, so repeated timestamps do not
@@ -77,7 +91,17 @@ struct PipelineOptions {
   }
 
   void Check() const;
+  // The capacity of each queue behind the input queue in this mode (realtime_frames_in_flight or
+  // queue_capacity).
+  int QueueCapacity() const;
 };
+
+// Why a frame was read but never integrated (realtime mode; FrameStats::dropped_by_reason names them).
+enum class DropReason {
+  kBehind,            // a newer frame took its place in the full input queue
+  kNoKeyframeLabels,  // no keyframe had been taken for labels yet (the segment queue was full)
+};
+const char* DropReasonName(DropReason reason);
 
 using DepthStageFactory = std::function<std::unique_ptr<DepthStage>()>;
 
@@ -102,6 +126,10 @@ class Pipeline {
 
   // Sinks are not owned and must outlive Run().
   void AddSink(PipelineSink* sink) { sinks_.push_back(sink); }
+
+  // Optional, before Run(): the clock frames are paced and latencies measured by (not owned; must outlive
+  // Run()). SteadyClock otherwise.
+  void SetClock(PipelineClock* clock) { clock_ = clock; }
 
   // Optional, before Run(): labels from `segment` on its own thread, on keyframes only (KeyframeSchedule with
   // `keyframe_every_frames`, decided by the reader in frame order: deterministic). A keyframe's left image is
@@ -130,6 +158,8 @@ class Pipeline {
   std::unique_ptr<SegmentStage> segment_;  // optional
   int keyframe_every_frames_ = 1;
   std::vector<PipelineSink*> sinks_;
+  SteadyClock steady_clock_;
+  PipelineClock* clock_ = &steady_clock_;
   std::atomic<bool> stop_requested_{false};
 };
 

@@ -17,11 +17,19 @@ StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOpt
       sky_label_(SkyLabel(class_map_)),
       segmenter_(labels_from_keyframes ? nullptr : MakeSegmenter(semantics)) {}
 
+void StereoLabelStage::Prepare(const Frame& first_frame) {
+  if (segmenter_ && !first_frame.left.empty()) segmenter_->Segment(first_frame.left);
+}
+
 SegmenterStage::SegmenterStage(const SemanticsOptions& semantics) : segmenter_(MakeSegmenter(semantics)) {
   SEMAP_ASSERT(segmenter_ != nullptr, "semantics.source " << LabelSourceName(semantics.source) << " has no segmenter");
 }
 
 cv::Mat SegmenterStage::Process(const Frame& keyframe) { return segmenter_->Segment(keyframe.left); }
+
+void SegmenterStage::Prepare(const Frame& first_frame) {
+  if (!first_frame.left.empty()) segmenter_->Segment(first_frame.left);
+}
 
 namespace {
 
@@ -139,8 +147,11 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   const MapUpdateResult r = map_.Update(cloud);
   last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
   const auto t0 = std::chrono::steady_clock::now();
-  const bool with_mesh = ++frames_since_mesh_ >= mesh_every_frames_;
-  if (with_mesh) frames_since_mesh_ = 0;
+  // Every mesh_every_frames frames of the sequence, whether or not the frames between were integrated (a
+  // realtime run's drops do not slow the mesh's cadence down).
+  if (!next_mesh_frame_id_) next_mesh_frame_id_ = last_frame_id_ + mesh_every_frames_ - 1;
+  const bool with_mesh = last_frame_id_ >= *next_mesh_frame_id_;
+  if (with_mesh) next_mesh_frame_id_ = last_frame_id_ + mesh_every_frames_;
   MapUpdate u = Report(with_mesh);
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"votes", r.trace_ms},

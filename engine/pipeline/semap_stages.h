@@ -51,6 +51,8 @@ class StereoLabelStage : public DepthStage {
   StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map,
                    bool labels_from_keyframes = false);
   LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) override;
+  // With its own segmenter: runs it once on the first frame (its first forward pass sets the network up).
+  void Prepare(const Frame& first_frame) override;
 
  private:
   StereoDepth depth_;
@@ -66,6 +68,8 @@ class SegmenterStage : public SegmentStage {
  public:
   explicit SegmenterStage(const SemanticsOptions& semantics);
   cv::Mat Process(const Frame& keyframe) override;
+  // Runs the segmenter once on the first frame (its first forward pass sets the network up).
+  void Prepare(const Frame& first_frame) override;
 
  private:
   std::unique_ptr<Segmenter> segmenter_;
@@ -82,8 +86,9 @@ class WindowedSimplifyStage : public SimplifyStage {
 };
 
 // The incremental Delaunay map: each frame's kept points with their camera update the map, and every
-// `mesh_every_frames` frames (PipelineOptions::mesh_every_frames) and at the end its surface goes out as a
-// snapshot (live surface + regions finalised since the last one); the frames between give none.
+// `mesh_every_frames` frames of the sequence (PipelineOptions::mesh_every_frames: frame ids, so frames not
+// integrated count too) and at the end its surface goes out as a snapshot (live surface + regions finalised
+// since the last one); the frames between give none.
 class IncrementalMapStage : public MapStage {
  public:
   // mesh_every_frames: PipelineOptions::mesh_every_frames (≥ 1).
@@ -98,7 +103,7 @@ class IncrementalMapStage : public MapStage {
   MapUpdate Report(bool with_mesh);
   IncrementalMap map_;
   int mesh_every_frames_;
-  std::int64_t frames_since_mesh_ = 0;
+  std::optional<std::int64_t> next_mesh_frame_id_;  // the first frame id whose update extracts the surface
   std::int64_t last_frame_id_ = -1;
 };
 

@@ -34,6 +34,9 @@ class DepthStage {
   // frame itself, or the nearest earlier keyframe), to label the frame from; nullptr otherwise (the stage
   // labels the frame by itself).
   virtual LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) = 0;
+  // Realtime mode, once, before the first frame is due: whatever would make the first frames late (a
+  // network's first forward pass), done on the sequence's first frame. Its result is not used.
+  virtual void Prepare(const Frame& first_frame) {}
 };
 
 // Per-pixel labels of keyframes (a slow segmenter, ENet), on the pipeline's own segment thread, concurrently
@@ -44,6 +47,8 @@ class SegmentStage {
   // The label image of `keyframe`'s left image (CV_8UC1, ClassMap ids, the image's size). Throws (any
   // std::exception) when it cannot: the frames that take their labels from this keyframe fail.
   virtual cv::Mat Process(const Frame& keyframe) = 0;
+  // As DepthStage::Prepare.
+  virtual void Prepare(const Frame& first_frame) {}
 };
 
 // Windowed simplification: called once per frame, in frame order, from one thread.
@@ -115,6 +120,9 @@ class PipelineSink {
   virtual void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& world_from_cam) = 0;
   // A frame that failed in `stage` (read, depth, simplify, map) and was skipped or stopped the run.
   virtual void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) {}
+  // A frame read but never integrated because the engine was behind (realtime mode): `reason` is one of
+  // FrameStats::dropped_by_reason's names.
+  virtual void OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string& reason) {}
   // The end of the run: `final_delta` completes the mesh; `stats` is the final accounting.
   virtual void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) {}
 };
