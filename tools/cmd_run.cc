@@ -2,6 +2,8 @@
 // incremental Delaunay map) and write / publish the mesh (app/run/stream_run.h does the run).
 #include <atomic>
 #include <csignal>
+#include <optional>
+#include <string>
 
 #include "app/run/stream_run.h"
 #include "engine/pipeline/pipeline.h"
@@ -30,6 +32,8 @@ struct RunArgs {
   std::string out;
   std::string method;
   std::string mode;
+  // --realtime [SPEED]: given with no value, the sensor's own rate.
+  std::optional<std::string> realtime_speed;
   std::string lcm_url;
   int frames = -1;
   double progress_s = 1.0;
@@ -42,6 +46,10 @@ std::vector<std::string> Overrides(const RunArgs& a) {
   if (!a.out.empty()) o.push_back("output.dir=" + a.out);
   if (!a.method.empty()) o.push_back("simplify.method=" + a.method);
   if (!a.mode.empty()) o.push_back("pipeline.mode=" + a.mode);
+  if (a.realtime_speed) {
+    o.push_back("pipeline.mode=realtime");
+    o.push_back("pipeline.realtime_speed=" + (a.realtime_speed->empty() ? std::string("1") : *a.realtime_speed));
+  }
   if (a.frames >= 0) o.push_back("input.max_frames=" + std::to_string(a.frames));
   if (!a.lcm_url.empty()) {
     o.push_back("lcm.enabled=true");
@@ -84,6 +92,12 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--out", args->out, "output folder (output.dir)");
   cmd->add_option("--method", args->method, "simplification method, e.g. PS or O (simplify.method)");
   cmd->add_option("--mode", args->mode, "exhaustive | realtime (pipeline.mode)");
+  cmd->add_option("--realtime", args->realtime_speed,
+                  "play the frames at their time stamps, SPEED times the sensor's rate (1 when no SPEED is given), "
+                  "as a camera delivers them: the engine drops the oldest waiting frame when it falls behind "
+                  "(pipeline.mode=realtime, pipeline.realtime_speed)")
+      ->expected(0, 1)
+      ->type_name("[SPEED]");
   cmd->add_option("--frames", args->frames, "frames to process, 0 = all (input.max_frames)")
       ->check(FrameCountCheck());
   cmd->add_option("--lcm-url", args->lcm_url,

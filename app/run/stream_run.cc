@@ -29,9 +29,11 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   const RunOdometry odometry = PrepareOdometry(config, request.dataset);
   auto source = OpenStreamingSource(config, request.dataset);
   const std::int64_t total = source->size();
-  spdlog::info("{}: {} frames ({}), method {}, {} mode, {} depth workers, {}", request.dataset, total,
+  spdlog::info("{}: {} frames ({}), method {}, {}, {} depth workers, {}", request.dataset, total,
                io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
-               config.pipeline.mode == PipelineOptions::Mode::kRealtime ? "realtime" : "exhaustive",
+               config.pipeline.mode == PipelineOptions::Mode::kRealtime
+                   ? fmt::format("realtime mode at {:g}x the sensor's rate", config.pipeline.realtime_speed)
+                   : std::string("exhaustive mode"),
                config.pipeline.depth_workers, request.start_note);
 
   // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
@@ -56,6 +58,9 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   const FrameStats& s = summary.final_stats;
   spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
                s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps, summary.stopped_early ? " (stopped early)" : "");
+  for (const auto& l : s.latencies) {
+    spdlog::info("  latency to {:<10} p50 {:8.1f} ms  p95 {:8.1f}  max {:8.1f}", l.name, l.p50_ms, l.p95_ms, l.max_ms);
+  }
   for (const auto& st : s.stages) {
     spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
                  st.p95_ms, st.max_ms);

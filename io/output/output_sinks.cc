@@ -41,6 +41,21 @@ nlohmann::json StatsJson(const FrameStats& s) {
   j["mesh_triangles"] = s.mesh_triangles;
   j["rss_mb"] = s.rss_mb;
   j["cpu_s"] = s.cpu_s;
+  j["latency_ms"] = {{"late", s.latency.late_ms},
+                     {"depth", s.latency.depth_ms},
+                     {"labels", s.latency.labels_ms},
+                     {"map", s.latency.map_ms},
+                     {"published", s.latency.published_ms}};
+  for (const auto& [reason, count] : s.dropped_by_reason) j["dropped_by_reason"][reason] = count;
+  return j;
+}
+
+// The run's latency per step over its frames: p50, p95 (over the last frames, TimingStats' window), max.
+nlohmann::json LatencySummaryJson(const FrameStats& s) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& l : s.latencies) {
+    j[l.name] = {{"mean", l.mean_ms}, {"p50", l.p50_ms}, {"p95", l.p95_ms}, {"max", l.max_ms}};
+  }
   return j;
 }
 
@@ -175,6 +190,14 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
       csv_ << "," << f.name;
       figure_columns_.push_back(f.name);
     }
+    // The frame's latency from its sensor time per step, how late it entered, and the frames dropped so far
+    // by reason (each dropped frame is a line of errors.jsonl).
+    for (const char* step : kLatencyStepNames) csv_ << ",latency_" << step << "_ms";
+    csv_ << ",late_ms";
+    for (const auto& [reason, count] : s.dropped_by_reason) {
+      csv_ << ",dropped_" << reason;
+      drop_columns_.push_back(reason);
+    }
     csv_ << '\n';
     header_written_ = true;
   }
@@ -190,6 +213,13 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
     csv_ << ',';
     const auto it = std::find_if(figures.begin(), figures.end(), [&](const FrameFigure& f) { return f.name == name; });
     if (it != figures.end()) csv_ << it->value;  // empty when this frame lacks it
+  }
+  const FrameLatency& l = s.latency;
+  csv_ << ',' << l.depth_ms << ',' << l.labels_ms << ',' << l.map_ms << ',' << l.published_ms << ',' << l.late_ms;
+  for (const auto& reason : drop_columns_) {
+    const auto it = std::find_if(s.dropped_by_reason.begin(), s.dropped_by_reason.end(),
+                                 [&](const auto& d) { return d.first == reason; });
+    csv_ << ',' << (it != s.dropped_by_reason.end() ? it->second : 0);
   }
   csv_ << '\n';
   nlohmann::json line = StatsJson(s);
@@ -210,6 +240,13 @@ void StatsFileSink::OnFrameError(std::int64_t frame_id, const std::string& stage
   if (!errors_) throw FileError(dir_ / "errors.jsonl", "write failed");
 }
 
+void StatsFileSink::OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string& reason) {
+  OpenOnce();
+  errors_ << nlohmann::json{{"frame_id", frame_id}, {"timestamp_s", timestamp_s}, {"dropped", reason}}.dump() << '\n';
+  errors_.flush();
+  if (!errors_) throw FileError(dir_ / "errors.jsonl", "write failed");
+}
+
 void StatsFileSink::OnFinish(const FrameStats& stats, const MeshDelta&) {
   OpenOnce();
   csv_.flush();
@@ -218,7 +255,13 @@ void StatsFileSink::OnFinish(const FrameStats& stats, const MeshDelta&) {
   WriteFileAtomically(dir_ / "summary.json", SummaryJson(stats) + "\n");
 }
 
-std::string SummaryJson(const FrameStats& stats) { return StatsJson(stats).dump(2); }
+std::string SummaryJson(const FrameStats& stats) {
+  nlohmann::json j = StatsJson(stats);
+  j.erase("latency_ms");  // the last frame's: the run's figures follow
+  j["latency_ms"] = LatencySummaryJson(stats);
+  j["frames_integrated"] = stats.frames_processed;
+  return j.dump(2);
+}
 
 void LcmSink::OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) {
   publisher_->PublishMeshDelta(delta);

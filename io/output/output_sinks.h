@@ -86,8 +86,9 @@ struct FrameFigure {
 // sink's thread: the source must be safe to call from there while the frames are read.
 using FrameFigureSource = std::function<std::vector<FrameFigure>(std::int64_t frame_id)>;
 
-// frames.csv + frames.jsonl (one line per processed frame) and summary.json at the end; frame errors go
-// to errors.jsonl. The constructor checks that the folder is writable (throws FileError naming it); the
+// frames.csv + frames.jsonl (one line per integrated frame: its figures, its latency per step, the drops so
+// far by reason) and summary.json at the end (with the run's latency per step: mean, p50, p95, max); frames
+// that failed or were dropped go to errors.jsonl, a line each. The constructor checks that the folder is writable (throws FileError naming it); the
 // per-frame files are opened (and a previous run's files replaced) at the first frame, so that a run that
 // fails to start leaves them alone. They are written in place and flushed every frame (they can be followed
 // live and keep every frame when the process dies); summary.json is written last, atomically, and removed
@@ -97,6 +98,7 @@ class StatsFileSink : public PipelineSink {
   explicit StatsFileSink(const OutputOptions& options);
   void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override;
   void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) override;
+  void OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string& reason) override;
   void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) override;
   // Adds the figures of `source` to each frame's line (columns named by the first frame's figures); before
   // the first frame.
@@ -113,6 +115,7 @@ class StatsFileSink : public PipelineSink {
   bool header_written_ = false;
   FrameFigureSource figure_source_;
   std::vector<std::string> figure_columns_;  // the figures named in the header
+  std::vector<std::string> drop_columns_;    // the drop reasons named in the header
 };
 
 // Publishes every mesh delta, frame stats and camera pose. Never blocks (see LcmPublisher).

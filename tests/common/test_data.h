@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +24,10 @@ const std::filesystem::path& ProcessTempRoot();
 std::filesystem::path TempDir();
 // The whole content of a file, byte for byte ("" when it cannot be read): a log, a report, a written mesh.
 std::string ReadFile(const std::filesystem::path& path);
+// A text file's non-empty lines (none when it cannot be read): frames.csv's rows, errors.jsonl's records.
+std::vector<std::string> NonEmptyLines(const std::filesystem::path& path);
+// The comma-separated cells of a CSV line without quoting (frames.csv's), empty ones included.
+std::vector<std::string> CsvCells(const std::string& line);
 
 }  // namespace semap::test
 

@@ -15,6 +15,12 @@ struct CliRun {
   bool Has(const std::string& text) const { return output.find(text) != std::string::npos; }
 };
 
+// `semap synth` settings for a small generated sequence that a run streams in seconds: small images, a
+// sparse scanner.
+inline const std::string kSmallSynth =
+    " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
+    " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256";
+
 // Runs `command` through the shell, stderr merged into the output.
 inline CliRun RunShell(const std::string& command) {
   CliRun r;

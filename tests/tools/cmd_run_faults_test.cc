@@ -32,9 +32,7 @@ using test::CliRun;
 constexpr int kFrames = 8;
 // Small images and few map points keep each run to seconds; one depth worker keeps the load of a parallel
 // ctest low.
-const std::string kSmall =
-    " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
-    " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256";
+const std::string& kSmall = test::kSmallSynth;
 const std::string kFast = " --set depth.max_points_per_frame=1500 --set pipeline.depth_workers=1";
 constexpr int kRunTimeoutS = 300;
 
