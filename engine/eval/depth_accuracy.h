@@ -55,7 +55,7 @@ struct DepthAccuracyOptions {
   void Check() const;
 };
 
-// Two protocols are reported side by side (issue #21):
+// Two protocols are reported side by side:
 // - strict: the options as configured (eval.*): reference depths in [min_depth_m, max_depth_m], every error
 //   (max_abs_error_m = 0 by default);
 // - paper: the 2018 authors' evaluator (shared/PRIOR_ART.md): reference depth ≤ 15 m and |error| ≤ 2 m only.

@@ -1,4 +1,4 @@
-// Where the large depth errors come from (issue #21): the per-pixel errors of the accuracy measure
+// Where the large depth errors come from: the per-pixel errors of the accuracy measure
 // (engine/eval/depth_accuracy.h: same reference pixels, same depth range, error = mesh depth − reference
 // depth) split three ways:
 // - by class: the semantic class of the pixel (the dataset's label image when the frame has one, else

@@ -1,4 +1,4 @@
-// A per-pixel picture of the depth error of one frame, for reports (issue #21: where the large errors are,
+// A per-pixel picture of the depth error of one frame, for reports (where the large errors are,
 // shown rather than guessed): at each reference pixel (engine/eval/depth_accuracy.h: reference depth in the
 // options' range) the colour of |mesh depth − reference depth| on a fixed scale (turbo colour map, 0 = dark
 // blue, at and beyond max_error_m = dark red); black where the reference has a depth and the mesh none (a

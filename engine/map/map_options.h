@@ -26,7 +26,7 @@ enum class Visibility {
   // against it (engine/map/internal/depth_votes.h); cells created by an insertion are voted from the views
   // of the last vote_window_frames frames. No per-ray records: nothing is retraced. Needs a depth view per
   // camera (LabelledCloud::camera_views). Default: about 5× faster than kRays with a 4× smaller mesh
-  // (bench/RESULTS.md, "Dense votes from depth maps").
+  // (bench/results/map-accuracy.md, "Dense votes from depth maps").
   kDepth,
   // One exact walk per point ray through the triangulation (the paper's votes, the reference): rays are
   // recorded in the cells they cross and retraced when those cells change. Any input (SfM tracks too).
@@ -107,8 +107,9 @@ struct MapOptions {
             "combined) of the vertex's depth is a sighting of it, fused into its position by inverse variance; "
             "0 = vertices stay where their first sighting placed them");
     // Each move re-triangulates the vertex's star and re-votes its cells: a smaller threshold follows the
-    // estimate more closely at a higher cost. On KITTI 04 (2026-11-27) 1σ moved 35,000 vertices in 51 frames
-    // (the map's thread +110 ms a frame) for a median 0.008 m lower; 3σ moves 7,600 (its locate step +35 ms).
+    // estimate more closely at a higher cost. On KITTI 04 1σ moved 35,000 vertices in 51 frames (the map's
+    // thread +110 ms a frame) for a median 0.008 m lower; 3σ moves 7,600 (its locate step +35 ms)
+    // (bench/results/map-accuracy.md, "vertices move at 3σ").
     v.Field("fuse_move_sigmas", &fuse_move_sigmas,
             "depth: a vertex moves to its fused estimate once that lies farther than this many of the "
             "estimate's σ from it (>= 0)");
@@ -126,7 +127,8 @@ struct MapOptions {
     // is the farthest and noisiest (σ_z grows with z²). Off by default: on 80 urban frames (PS) ratio 0.75
     // with a 6 σ band puts 75.5 % of the area within 0.2 m of the truth instead of 73.3 %, the paper's RMSE
     // falls 6 % and the mesh 14 %, but the strict RMSE rises 3 % and the frame rate falls 14 %; KITTI 04:
-    // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/RESULTS.md, 2026-11-25).
+    // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/results/map-accuracy.md, "Vertices seen
+    // again from nearer").
     v.Field("refine_depth_ratio", &refine_depth_ratio,
             "depth: a live vertex that a view sees again from less than this fraction of the depth of the "
             "sighting that placed it, within refine_noise_sigmas of that sighting's depth σ, is removed where "
@@ -136,10 +138,10 @@ struct MapOptions {
             "that refine it");
     // A far sighting is noisy (σ_z = z²σ/(f·B): 0.5 m at 20 m, 1.2 m at 30 m on KITTI), and a vertex keeps
     // the position it was placed at; SGBM's outliers at range seldom repeat. 80 frames, PS, 20 m and 3
-    // frames against 0 (bench/RESULTS.md, 2026-11-25): area within 0.2 m of the truth 73.3 → 77.9 % (urban),
-    // 71.1 → 73.8 % (vegetated); strict RMSE vs Velodyne −1.7 % / −6.1 %, KITTI 04 −13 %; truth completeness
-    // −0.6 / −0.5 points, Velodyne pixels covered −0.1 point; fewer vertices, a faster map. The default since
-    // dd6974d (bench/RESULTS.md, "Far points confirmed by a second sighting").
+    // frames against 0: area within 0.2 m of the truth 73.3 → 77.9 % (urban), 71.1 → 73.8 % (vegetated);
+    // strict RMSE vs Velodyne −1.7 % / −6.1 %, KITTI 04 −13 %; truth completeness −0.6 / −0.5 points,
+    // Velodyne pixels covered −0.1 point; fewer vertices, a faster map (bench/results/map-accuracy.md, "Far
+    // points confirmed by a second sighting").
     v.Field("confirm_beyond_m", &confirm_beyond_m,
             "depth: a point farther than this (camera-frame depth, m) that no live vertex explains becomes a "
             "vertex only when a point of a later frame lands on it (within merge_radius_px and "
@@ -184,15 +186,15 @@ struct MapOptions {
     // A facet is looked for when it becomes a surface (engine/map/internal/depth_integrator.h,
     // MarkSeenSurface), often a few frames after its cells were made, when the newest views have driven past
     // it: the older views see it. 200 urban frames, PS: 8 / 12 / 16 / 24 frames give strict RMSE vs Velodyne
-    // 3.32 / 2.92 / 2.84 / 2.79 m for 81.6 / 80.4 / 79.9 / 78.9 % of the area within 0.2 m (bench/RESULTS.md,
-    // 2026-11-28).
+    // 3.32 / 2.92 / 2.84 / 2.79 m for 81.6 / 80.4 / 79.9 / 78.9 % of the area within 0.2 m
+    // (bench/results/map-accuracy.md, "surface facets looked for when they become one").
     v.Field(
         "seen_window_frames", &seen_window_frames,
         "depth: a facet that becomes a surface is looked for as seen in the views of this many last frames "
         "(>= 1; their depth maps are kept)");
     // A wider tolerance keeps more of the far, noisy surface and more guesses with it (80 urban frames, PS: σ
     // multiples 0 / 0.5 / 1 / 3 put 1.7 / 3.3 / 4.4 / 6.2 % of the area farther than 2 m from the truth;
-    // bench/RESULTS.md).
+    // bench/results/map-accuracy.md, "The map shows only what was seen").
     v.Field(
         "seen_noise_sigmas", &seen_noise_sigmas,
         "depth: a triangle is seen as a surface when the point a view saw through its centroid lies within "
@@ -201,14 +203,15 @@ struct MapOptions {
     // views saw a surface all around (a facade mapped from afar, seen closer later). Lids and ceilings are
     // large unseen regions and stay out (engine/map/internal/seen_holes.h). The default fills single facets
     // whose three neighbours were seen: 200 urban frames, PS: strict RMSE vs Velodyne 3.89 → 3.45 m for 1
-    // point less area within 0.2 m of the truth; 4 facets: 2.99 m for 4.8 points less (bench/RESULTS.md,
-    // 89c8e2f).
+    // point less area within 0.2 m of the truth; 4 facets: 2.99 m for 4.8 points less
+    // (bench/results/map-accuracy.md, "Holes in what was seen").
     // A trade between the area that lies near the truth and the truth that is covered: large facets are
     // mostly far ones, seen at their centroid only, some spanning depth gaps. 200 urban frames, PS: 0 / 1 /
     // 0.7 / 0.5 m put 80.4 / 82.0 / 83.6 / 85.9 % of the area within 0.2 m of the truth, for a truth
     // completeness of 95.1 / 94.9 / 94.7 / 94.1 % and a strict RMSE vs exact depth of 3.76 / 3.75 / 3.89
     // / 4.50 m (the holes they leave are seen through); KITTI 04 strict RMSE 3.07 / 2.99 / 2.91 / 2.86 m at a
-    // completeness of 94.4 / 93.8 / 93.0 / 91.5 % (bench/RESULTS.md, 2026-11-29).
+    // completeness of 94.4 / 93.8 / 93.0 / 91.5 % (bench/results/map-accuracy.md, "Tried and not kept: map
+    // accuracy and fusion").
     v.Field(
         "seen_halfway_min_radius_m", &seen_halfway_min_radius_m,
         "depth: a triangle whose corners lie farther than this from its centroid is seen only where the view "
@@ -219,8 +222,8 @@ struct MapOptions {
             "ones, counts as seen; 0 = never");
     // Finalising emits the triangles touching a point once, then releases its rays, cells and vertices. By
     // distance by default: finalising by age cut regions still in view (a drive that turns into a street it
-    // saw from afar lost half its surface there; bench/RESULTS.md), while beyond the depth range behind the
-    // camera nothing changes any more.
+    // saw from afar lost half its surface there; bench/results/map-accuracy.md, "finalising by distance"),
+    // while beyond the depth range behind the camera nothing changes any more.
     v.Field(
         "finalise_age_frames", &finalise_age_frames,
         "finalise (emit once, then release) points older than this many frames, counted from a point's last "

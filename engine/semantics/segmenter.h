@@ -57,8 +57,8 @@ struct SemanticsOptions {
     v.Field("enet_threads", &enet_threads,
             "OpenCV threads of ENet's forward pass (cv::setNumThreads is process-wide; 0 = unchanged)");
     // The default keeps a run with ENet labels near the frame rate of a run with label files at no measured
-    // loss of label accuracy (bench/RESULTS.md, "ENet off the critical path"). Outside the pipeline (compare
-    // --mode single-frame, depth, segment) every frame is segmented. See keyframe_labels.h.
+    // loss of label accuracy (bench/results/semantic-labels.md, "ENet off the critical path"). Outside the
+    // pipeline (compare --mode single-frame, depth, segment) every frame is segmented. See keyframe_labels.h.
     v.Field(
         "enet_every_frames", &enet_every_frames,
         "semap run: ENet on its own thread on keyframes only, the first frame then every enet_every_frames "

@@ -1,4 +1,4 @@
-// Failures that looked like success, end to end through the `semap` executable (issue #19): each must be an
+// Failures that looked like success, end to end through the `semap` executable: each must be an
 // error naming what is wrong, with a non-zero exit code.
 #include <filesystem>
 #include <string>

@@ -1,6 +1,7 @@
-// The user documentation holds together: every relative link in README.md, CHANGELOG.md, docs/*.md and
-// bench/RESULTS.md names a file that exists (and, with #anchor, a heading of it), and every `semap` command
-// written in README.md and docs/*.md names a subcommand and options that the built executable's --help knows.
+// The user documentation holds together: every relative link in README.md, CHANGELOG.md, docs/*.md,
+// bench/RESULTS.md and bench/results/*.md names a file that exists (and, with #anchor, a heading of it), and every
+// `semap` command written in README.md and docs/*.md names a subcommand and options that the built executable's
+// --help knows.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -258,18 +259,27 @@ const HelpText& SemapHelp() {
   return help;
 }
 
+// The .md files of one directory, sorted.
+std::vector<fs::path> MarkdownIn(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() == ".md") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// README.md and docs/*.md; with the results, also CHANGELOG.md, bench/RESULTS.md and its history files.
 std::vector<fs::path> DocFiles(bool with_results) {
   const fs::path root = test::SourceDir();
   std::vector<fs::path> files{root / "README.md"};
   if (with_results) {
     files.push_back(root / "CHANGELOG.md");
     files.push_back(root / "bench" / "RESULTS.md");
+    const auto history = MarkdownIn(root / "bench" / "results");
+    files.insert(files.end(), history.begin(), history.end());
   }
-  std::vector<fs::path> docs;
-  for (const auto& entry : fs::directory_iterator(root / "docs")) {
-    if (entry.path().extension() == ".md") docs.push_back(entry.path());
-  }
-  std::sort(docs.begin(), docs.end());
+  const auto docs = MarkdownIn(root / "docs");
   files.insert(files.end(), docs.begin(), docs.end());
   return files;
 }

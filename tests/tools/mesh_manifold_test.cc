@@ -66,8 +66,8 @@ TEST(WrittenMeshes, LongGeneratedDriveThatFinalisesIsManifold) {
 
 // Runs are reproducible: the same frames give the same mesh.ply, byte for byte, also where vertices are
 // removed (finalisation, map.refine_depth_ratio). CGAL orders handles inside its removal; by address, that
-// order followed where the allocator put the triangulation's blocks, and 2 of 4 runs of a looped drive gave
-// another mesh (before c088fef). This run finalises and refines all the time; without the time stamps of
+// order would follow where the allocator put the triangulation's blocks, and 2 of 4 runs of a looped drive
+// gave another mesh. This run finalises and refines all the time; without the time stamps of
 // engine/map/internal/triangulation.h it fails only some of the time, so a unit test in tests/engine/map
 // (Triangulation.HandlesCompareByCreationNotByAddress) checks the mechanism itself.
 TEST(WrittenMeshes, TheSameFramesGiveTheSameMeshFileRunAfterRun) {

@@ -1,4 +1,4 @@
-// No sky in the map (#24) on real frames: KITTI odometry 04 with ENet labels. ENet calls a good part of the
+// No sky in the map on real frames: KITTI odometry 04 with ENet labels. ENet calls a good part of the
 // upper image sky, and SGBM matches some of it; with semantics.drop_sky (the default) none of it reaches the
 // map, so no vertex of `semap run`'s mesh carries the sky label.
 #include <gtest/gtest.h>

@@ -27,8 +27,8 @@ constexpr double kMortonStepM = 0.25;
 constexpr double kMortonHalfExtentM = double(1u << 20) * kMortonStepM;
 // How many cells ahead the vote loops start fetching the depth map lines a cell's samples will read
 // (PrefetchCellDepths): 200 urban frames, PS, half resolution, five pairs against the loops without it:
-// map.votes 53.8 → 50.1 ms a frame, the same mesh (bench/RESULTS.md, 7dde175); 8 cells ahead measured no
-// better.
+// map.votes 53.8 → 50.1 ms a frame, the same mesh (bench/results/frame-rate.md, "Depth lines prefetched in
+// the vote loops"); 8 cells ahead measured no better.
 constexpr std::size_t kPrefetchDepthCells = 4;
 
 // Morton code of a point quantised to `step_m` from `origin` (21 bits per axis): nearby points get nearby
@@ -75,7 +75,8 @@ std::size_t DepthIntegrator::VoteCreatedCells(std::size_t created_count) {
   // up to 1.8 MB each, more than the caches hold. In cell order each cell read 8 maps at random places and
   // most reads missed the cache; here the cells are sorted in space and, in blocks of neighbours, voted one
   // view at a time, so that consecutive reads fall on the same lines (200 urban frames, PS, half
-  // resolution: map.votes 82–96 → 70–76 ms a frame, measured interleaved; bench/RESULTS.md, d999786).
+  // resolution: map.votes 82–96 → 70–76 ms a frame, measured interleaved; bench/results/frame-rate.md,
+  // "What changed, one commit at a time").
   // The sums are integers: the votes do not depend on the order, and the mesh is the same byte for byte.
   const std::vector<CellHandle>& cells = scratch_.cells;
   if (created_count == 0) return 0;

@@ -68,10 +68,11 @@ class DepthIntegrator {
   // whose carving it changed (duplicates, infinite and sealed cells are passed over). A facet becomes a
   // surface only when a cell beside it is created or changes sides, so every surface facet is looked for
   // when it becomes one (and later by each newest view that sees it, in Integrate), and only surface facets
-  // are. Before, every facet of every created cell was looked for in the vote window as the cell was voted:
+  // are: looking for every facet of every created cell in the vote window as the cell is voted would take
   // ~14 % of the map's CPU (KITTI 04, half resolution) for facets mostly never a surface. A facet often
   // becomes a surface a few frames after its cells were made, when the newest views have passed it: hence
-  // the longer window of older views (bench/RESULTS.md, 2026-11-28). Stamps the cells of `cells` with
+  // the longer window of older views (bench/results/map-accuracy.md, "surface facets looked for when they
+  // become one"). Stamps the cells of `cells` with
   // `list_mark` (a fresh mark); appends the cells it marked facets of to `newly_seen`, in creation order.
   // Returns the number of facets marked. Deterministic (threads compute, one thread marks).
   std::size_t MarkSeenSurface(const std::vector<CellHandle>& cells, std::uint32_t list_mark,

@@ -104,7 +104,8 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
   const Eigen::Vector3d centroid = 0.25 * (cam[0] + cam[1] + cam[2] + cam[3]);
   // The samples' depths are read first, all five before any is used: the reads miss the cache more often
   // than not, and issued together they wait for memory once instead of five times in a row (200 urban
-  // frames, PS, half resolution: bench/RESULTS.md, aecce04).
+  // frames, PS, half resolution: bench/results/frame-rate.md, "What changed (200 urban frames, PS, half
+  // resolution unless said)").
   std::array<Eigen::Vector3d, kSamplesPerCell> samples;
   std::array<float, kSamplesPerCell> depths;
   for (int s = 0; s < kSamplesPerCell; ++s) {

@@ -415,8 +415,8 @@ void IncrementalState::RemoveRefined(MapUpdateResult* result) {
   // later removal destroys was marked in vain; its slot, when reused, holds a new cell of that removal, marked
   // in its turn (tests/engine/map/triangulation_test.cc). One at a time, not CGAL's remove_cluster with a stamp
   // of the cells around the link before and a pass after: the map's CPU a frame −11 % on KITTI 04 at half
-  // resolution (bench/RESULTS.md, 2026-11-28). The seen bits of the holes' boundary facets live on in the
-  // outer cells.
+  // resolution (bench/results/frame-rate.md, "the map's removals one at a time"). The seen bits of the holes'
+  // boundary facets live on in the outer cells.
   const auto mark_created = boost::make_function_output_iterator(
       [this](CellHandle c) { c->info().created = created_mark_; });
   for (const VertexHandle v : removed) dt_.remove_and_give_new_cells(v, mark_created);

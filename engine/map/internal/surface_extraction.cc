@@ -59,7 +59,7 @@ void CollectSurface(const Delaunay& dt, const EmitRule& rule, std::vector<Surfac
   // with the neighbours of the cell kPrefetchCells ahead (and that cell's own neighbour list, twice as far)
   // already on their way: deciding whether a facet is on the surface reads the neighbour across it, and
   // those reads, scattered over ~10^5 carved cells, were where this pass spent 82 % of its time (200 urban
-  // frames; bench/RESULTS.md, aecce04).
+  // frames; bench/results/frame-rate.md, "What changed (200 urban frames, PS, half resolution unless said)").
   std::vector<CellHandle> candidates;
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
     if (c->info().CarvedAcrossAny() || std::binary_search(hull.begin(), hull.end(), CellHandle(c))) {

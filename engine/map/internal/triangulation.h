@@ -135,7 +135,8 @@ inline void MarkFacetSeen(CellHandle c, int i) {
 }
 
 // How far ahead of the cell it is at a loop over scattered cells fetches what it will read of them (8 cells:
-// the distance that hid the misses of the vote, surface and hole loops; bench/RESULTS.md, d999786 and aecce04).
+// the distance that hid the misses of the vote, surface and hole loops; bench/results/frame-rate.md, "What
+// changed (200 urban frames, PS, half resolution unless said)").
 inline constexpr std::size_t kPrefetchCells = 8;
 // Starts fetching the records of the neighbours of `c` (carving, sealing and seen bits, as NeighbourCarved,
 // AsCarvedFacet and FacetSeen read them): a loop over cells scattered over the map calls it for the cell

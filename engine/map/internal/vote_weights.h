@@ -32,7 +32,8 @@ inline double GaussianComplement(double d_m, double sigma_m) {
 // Φ(x), the standard normal distribution function, within 2e-9 of 0.5·erfc(−x/√2) everywhere: cubic Hermite
 // interpolation in a table of Φ and its density at steps of 1/32 over ±kNormalCdfLimit, 0 below and 1 above
 // (Φ(−8.5) is 1e-17). std::erfc in the depth votes took ~9 % of the map's CPU (KITTI 04, half resolution,
-// perf, 2026-11-28); this is a few multiplications. Thread-safe (the table is built once, on first use).
+// perf; bench/results/frame-rate.md, "the normal distribution function of the depth votes from a table");
+// this is a few multiplications. Thread-safe (the table is built once, on first use).
 inline constexpr double kNormalCdfLimit = 8.5;
 double StandardNormalCdf(double x);
 

@@ -447,7 +447,7 @@ TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
               << " mf " << table[0][1][1] << " mm " << table[0][0][1] << "; outside: ff " << table[1][1][0]
               << " fm " << table[1][0][0] << " mf " << table[0][1][0] << " mm " << table[0][0][0] << "), depth cells without votes " << unvoted << "\n";
     EXPECT_GT(both, 3000);
-    // Measured 95.8 % (the goal is 97 %). Most of the disagreement is where the reference is wrong:
+    // Measured 95.8 % (against an aim of 97 %). Most of the disagreement is where the reference is wrong:
     // cells in the street's air (truly free) that the depth map votes free and the rays leave matter (their
     // matter extension behind the points, their smaller cells along the walls and the ground).
     EXPECT_GT(double(agree) / both, 0.93);

@@ -46,7 +46,7 @@ TEST(Scene, ConsistentArraysChunksAndLabels) {
     covered += c.count;
   }
   EXPECT_EQ(covered, n);
-  // Every class the issue asks for is present.
+  // Every class a street needs is present.
   std::set<Label> labels(s.labels.begin(), s.labels.end());
   for (Label l : {label::kRoad, label::kSidewalk, label::kBuilding, label::kFence, label::kPole,
                   label::kTrafficSign, label::kVegetation, label::kTerrain, label::kCar}) {
