@@ -1,0 +1,359 @@
+#include "engine/depth/plane_sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "engine/core/check.h"
+
+namespace semap {
+namespace {
+
+constexpr int kWidth = 320;
+constexpr int kHeight = 240;
+constexpr double kFocalPx = 300.0;
+
+Eigen::Matrix3d TestK() {
+  Eigen::Matrix3d K;
+  K << kFocalPx, 0.0, kWidth / 2.0 - 0.5, 0.0, kFocalPx, kHeight / 2.0 + 0.5, 0.0, 0.0, 1.0;
+  return K;
+}
+
+// A textured planar rectangle: a random grey texture laid on the plane point + s · axis_s + t · axis_t.
+struct TexturedPlane {
+  Eigen::Vector3d point_world, axis_s, axis_t;  // axes orthonormal
+  cv::Mat texture;                              // CV_32F grey levels
+  double texels_per_m = 0.0;
+};
+
+cv::Mat RandomTexture(int size, std::uint64_t seed) {
+  cv::RNG rng(seed);
+  cv::Mat noise(size, size, CV_32F);
+  rng.fill(noise, cv::RNG::UNIFORM, 0.0, 255.0);
+  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.2);
+  cv::normalize(noise, noise, 20.0, 235.0, cv::NORM_MINMAX);
+  return noise;
+}
+
+// The test's own ray tracer: the nearest plane the ray from `centre` along `direction` (world) meets inside
+// its texture, as (distance along the direction, grey level); no hit: infinite distance.
+std::pair<double, double> Trace(const std::vector<TexturedPlane>& scene, const Eigen::Vector3d& centre,
+                                const Eigen::Vector3d& direction) {
+  std::pair<double, double> hit{std::numeric_limits<double>::infinity(), 0.0};
+  for (const TexturedPlane& p : scene) {
+    const Eigen::Vector3d normal = p.axis_s.cross(p.axis_t);
+    const double along = normal.dot(direction);
+    if (std::abs(along) < 1e-12) continue;
+    const double lambda = normal.dot(p.point_world - centre) / along;
+    if (!(lambda > 0.0) || lambda >= hit.first) continue;
+    const Eigen::Vector3d x = centre + lambda * direction - p.point_world;
+    const double tx = x.dot(p.axis_s) * p.texels_per_m, ty = x.dot(p.axis_t) * p.texels_per_m;
+    if (tx < 0.0 || ty < 0.0 || tx > p.texture.cols - 2 || ty > p.texture.rows - 2) continue;
+    const int x0 = int(tx), y0 = int(ty);
+    const double ax = tx - x0, ay = ty - y0;
+    const auto at = [&](int dy, int dx) { return double(p.texture.at<float>(y0 + dy, x0 + dx)); };
+    const double grey = (1 - ay) * ((1 - ax) * at(0, 0) + ax * at(0, 1)) + ay * ((1 - ax) * at(1, 0) + ax * at(1, 1));
+    hit = {lambda, grey};
+  }
+  return hit;
+}
+
+// A view of the scene (2 × 2 samples per pixel, 0 where nothing is hit) and, when asked, the depth of the ray
+// through each pixel's centre (camera-frame z; 0: no hit).
+PlaneSweepView Render(const std::vector<TexturedPlane>& scene, const Pose3d& world_from_cam,
+                      cv::Mat* depth_m = nullptr) {
+  PlaneSweepView view;
+  view.K = TestK();
+  view.world_from_cam = world_from_cam;
+  cv::Mat grey(kHeight, kWidth, CV_32F);
+  if (depth_m != nullptr) *depth_m = cv::Mat::zeros(kHeight, kWidth, CV_32F);
+  const Eigen::Matrix3d K_inverse = view.K.inverse();
+  const Eigen::Vector3d centre = world_from_cam.translation();
+  for (int v = 0; v < kHeight; ++v) {
+    for (int u = 0; u < kWidth; ++u) {
+      double sum = 0.0;
+      for (double dv : {-0.25, 0.25})
+        for (double du : {-0.25, 0.25})
+          sum += Trace(scene, centre, world_from_cam.linear() * (K_inverse * Eigen::Vector3d(u + du, v + dv, 1.0)))
+                     .second;
+      grey.at<float>(v, u) = float(sum / 4.0);
+      if (depth_m != nullptr) {
+        // The camera-frame ray K⁻¹ (u, v, 1) has z = 1: its distance parameter is the depth.
+        const double lambda =
+            Trace(scene, centre, world_from_cam.linear() * (K_inverse * Eigen::Vector3d(u, v, 1.0))).first;
+        if (std::isfinite(lambda)) depth_m->at<float>(v, u) = float(lambda);
+      }
+    }
+  }
+  grey.convertTo(view.image, CV_8UC1);
+  return view;
+}
+
+// A camera at `centre_world` looking at `target_world` (y of the camera roughly along world +y: down).
+Pose3d LookAt(const Eigen::Vector3d& centre_world, const Eigen::Vector3d& target_world) {
+  const Eigen::Vector3d z = (target_world - centre_world).normalized();
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitY().cross(z).normalized();
+  Pose3d world_from_cam = Pose3d::Identity();
+  world_from_cam.linear().col(0) = x;
+  world_from_cam.linear().col(1) = z.cross(x);
+  world_from_cam.linear().col(2) = z;
+  world_from_cam.translation() = centre_world;
+  return world_from_cam;
+}
+
+// The depth step between neighbouring fronto-parallel planes at depth z (num_planes uniform in 1/z).
+double PlaneStepM(double z, const DepthRange& r, int num_planes) {
+  return z * z * (1.0 / r.min_depth_m - 1.0 / r.max_depth_m) / (num_planes - 1);
+}
+
+struct Score {
+  double valid_share = 0.0;     // of the pixels with a true depth in the range (and inside `region`)
+  double median_error_m = 0.0;  // |depth − truth| over the valid ones
+  double p95_error_m = 0.0;
+  double accurate_share = 0.0;  // valid and within `tolerance` of the truth (relative to the truth's depth)
+};
+
+// The result against the true depth, over the pixels where `region` (CV_8UC1; empty: all) is set.
+Score Evaluate(const PlaneSweepResult& r, const cv::Mat& truth_m, double relative_tolerance,
+               const cv::Mat& region = cv::Mat()) {
+  std::vector<double> errors;
+  int considered = 0, accurate = 0;
+  for (int v = 0; v < kHeight; ++v) {
+    for (int u = 0; u < kWidth; ++u) {
+      if (!region.empty() && !region.at<std::uint8_t>(v, u)) continue;
+      const double truth = truth_m.at<float>(v, u);
+      if (!(truth >= r.range.min_depth_m && truth <= r.range.max_depth_m)) continue;
+      ++considered;
+      if (!r.valid.at<std::uint8_t>(v, u)) continue;
+      const double error = std::abs(r.depth_m.at<float>(v, u) - truth);
+      errors.push_back(error);
+      if (error <= relative_tolerance * truth) ++accurate;
+    }
+  }
+  Score s;
+  if (considered == 0) return s;
+  s.valid_share = double(errors.size()) / considered;
+  s.accurate_share = double(accurate) / considered;
+  if (errors.empty()) return s;
+  std::sort(errors.begin(), errors.end());
+  s.median_error_m = errors[errors.size() / 2];
+  s.p95_error_m = errors[std::min(errors.size() - 1, size_t(0.95 * double(errors.size())))];
+  return s;
+}
+
+std::ostream& operator<<(std::ostream& os, const Score& s) {
+  return os << "valid " << s.valid_share << ", median error " << s.median_error_m << " m, p95 " << s.p95_error_m
+            << " m, accurate " << s.accurate_share;
+}
+
+// A wall facing the reference camera (at the origin, looking along +z) at depth `depth_m`.
+TexturedPlane Wall(double depth_m, std::uint64_t seed) {
+  TexturedPlane p;
+  p.texture = RandomTexture(1024, seed);
+  p.texels_per_m = 60.0;
+  p.axis_s = Eigen::Vector3d::UnitX();
+  p.axis_t = Eigen::Vector3d::UnitY();
+  p.point_world = Eigen::Vector3d(-0.5 * p.texture.cols / p.texels_per_m, -0.5 * p.texture.rows / p.texels_per_m,
+                                  depth_m);
+  return p;
+}
+
+TEST(PlaneSweepOptions, DefaultsAreValid) { EXPECT_NO_THROW(PlaneSweepOptions{}.Check()); }
+
+TEST(PlaneSweepOptions, RejectsBadValuesNamingTheKey) {
+  auto expect_key = [](PlaneSweepOptions o, const std::string& key) {
+    try {
+      o.Check();
+      ADD_FAILURE() << "accepted a bad " << key;
+    } catch (const InvalidOption& e) {
+      EXPECT_EQ(e.field(), key);
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  PlaneSweepOptions o;
+  auto with = [&](auto change) {
+    PlaneSweepOptions changed = o;
+    change(changed);
+    return changed;
+  };
+  expect_key(with([](auto& x) { x.num_planes = 2; }), "num_planes");
+  expect_key(with([](auto& x) { x.min_depth_m = -1.0; x.max_depth_m = 10.0; }), "min_depth_m");
+  expect_key(with([](auto& x) { x.min_depth_m = 5.0; x.max_depth_m = 4.0; }), "max_depth_m");
+  expect_key(with([](auto& x) { x.min_depth_m = 0.0; x.max_depth_m = 4.0; }), "min_depth_m");
+  expect_key(with([](auto& x) { x.camera_range_factor = 1.0; }), "camera_range_factor");
+  expect_key(with([](auto& x) { x.window_px = 6; }), "window_px");
+  expect_key(with([](auto& x) { x.window_px = 1; }), "window_px");
+  expect_key(with([](auto& x) { x.min_window_stddev = 0.0; }), "min_window_stddev");
+  expect_key(with([](auto& x) { x.best_views = -1; }), "best_views");
+  expect_key(with([](auto& x) { x.min_views = 0; }), "min_views");
+  expect_key(with([](auto& x) { x.max_cost = 2.5; }), "max_cost");
+  expect_key(with([](auto& x) { x.min_confidence = std::nan(""); }), "min_confidence");
+  EXPECT_THROW(PlaneSweepDepth{with([](auto& x) { x.num_planes = 0; })}, InvalidOption);
+}
+
+TEST(PlaneSweep, RejectsBadViews) {
+  const PlaneSweepDepth sweep(PlaneSweepOptions{});
+  PlaneSweepView good;
+  good.image = cv::Mat(20, 20, CV_8UC1, cv::Scalar(0));
+  good.K = TestK();
+  EXPECT_THROW(sweep.Compute(good, {}), std::invalid_argument);
+  PlaneSweepView colour = good;
+  colour.image = cv::Mat(20, 20, CV_8UC3);
+  EXPECT_THROW(sweep.Compute(good, {colour}), std::invalid_argument);
+  PlaneSweepView skewed = good;
+  skewed.K(2, 0) = 0.1;
+  EXPECT_THROW(sweep.Compute(skewed, {good}), std::invalid_argument);
+}
+
+TEST(PlaneSweep, DepthRangeFromCamerasIsWhereTheAxesMeet) {
+  const Eigen::Vector3d target(0.3, -0.2, 6.0);
+  PlaneSweepView reference, left, right;
+  reference.world_from_cam = LookAt(Eigen::Vector3d::Zero(), target);
+  left.world_from_cam = LookAt(Eigen::Vector3d(-1.0, 0.0, 0.5), target);
+  right.world_from_cam = LookAt(Eigen::Vector3d(1.0, 0.1, 0.0), target);
+  const auto range = DepthRangeFromCameras(reference, {left, right}, 2.0);
+  ASSERT_TRUE(range.has_value());
+  EXPECT_NEAR(range->min_depth_m, target.norm() / 2.0, 1e-6);
+  EXPECT_NEAR(range->max_depth_m, target.norm() * 2.0, 1e-6);
+  // Parallel axes (a stereo rig) meet nowhere.
+  PlaneSweepView beside;
+  beside.world_from_cam.translation() = Eigen::Vector3d(0.5, 0.0, 0.0);
+  EXPECT_FALSE(DepthRangeFromCameras(PlaneSweepView{}, {beside}, 2.0).has_value());
+}
+
+// The same orientation as `world_from_cam`, moved by `offset_cam` in its own frame.
+Pose3d Moved(const Pose3d& world_from_cam, const Eigen::Vector3d& offset_cam) {
+  Pose3d moved = world_from_cam;
+  moved.translation() += world_from_cam.linear() * offset_cam;
+  return moved;
+}
+
+TEST(PlaneSweep, FrontoParallelPlaneWithinAQuarterPlaneStep) {
+  constexpr double kDepthM = 5.07;  // between two swept planes
+  const std::vector<TexturedPlane> scene{Wall(kDepthM, 1)};
+  cv::Mat truth_m;
+  const PlaneSweepView reference = Render(scene, Pose3d::Identity(), &truth_m);
+  const Eigen::Vector3d target(0.0, 0.0, kDepthM);
+  std::vector<PlaneSweepView> neighbours;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(-0.4, 0.0, 0.0), Eigen::Vector3d(0.4, 0.05, 0.1),
+                                   Eigen::Vector3d(0.0, -0.3, -0.2), Eigen::Vector3d(0.1, 0.3, 0.0)})
+    neighbours.push_back(Render(scene, LookAt(c, target)));
+  PlaneSweepOptions o;
+  o.num_planes = 64;
+  o.min_depth_m = 2.0;
+  o.max_depth_m = 20.0;
+  const PlaneSweepResult r = PlaneSweepDepth(o).Compute(reference, neighbours);
+  const double step_m = PlaneStepM(kDepthM, r.range, o.num_planes);
+  const Score s = Evaluate(r, truth_m, 0.25 * step_m / kDepthM);
+  std::cout << "[ measured ] fronto-parallel wall, plane step " << step_m << " m: " << s << "\n";
+  EXPECT_GE(s.valid_share, 0.9);
+  EXPECT_LE(s.p95_error_m, 0.25 * step_m);
+  EXPECT_GE(s.accurate_share, 0.85);
+  for (int v = 0; v < kHeight; ++v)
+    for (int u = 0; u < kWidth; ++u)
+      if (r.valid.at<std::uint8_t>(v, u)) {
+        ASSERT_EQ(r.family.at<std::uint8_t>(v, u), 0);
+      }
+}
+
+TEST(PlaneSweep, GrazingGroundNeedsItsOwnSweepDirection) {
+  // The ground, 1 m below a camera pitched down by 10°, seen at a grazing angle from views up to 1 m apart:
+  // its disparity changes by about a pixel per row, several pixels across one window.
+  constexpr double kHeightM = 1.0;
+  TexturedPlane ground;
+  ground.texture = RandomTexture(2048, 2);
+  ground.texels_per_m = 50.0;
+  ground.axis_s = Eigen::Vector3d::UnitX();
+  ground.axis_t = Eigen::Vector3d::UnitZ();
+  ground.point_world = Eigen::Vector3d(-20.0, kHeightM, 0.5);
+  const std::vector<TexturedPlane> scene{ground};
+  const Pose3d world_from_reference = LookAt(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, std::tan(0.1745), 1.0));
+  cv::Mat truth_m;
+  const PlaneSweepView reference = Render(scene, world_from_reference, &truth_m);
+  std::vector<PlaneSweepView> neighbours;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(-1.0, 0.0, 0.0), Eigen::Vector3d(1.0, 0.0, 0.0),
+                                   Eigen::Vector3d(0.0, -0.6, 0.0), Eigen::Vector3d(0.3, 0.0, 1.0)})
+    neighbours.push_back(Render(scene, Moved(world_from_reference, c)));
+  PlaneSweepOptions o;
+  o.num_planes = 96;
+  o.min_depth_m = 2.0;
+  o.max_depth_m = 20.0;
+  const PlaneSweepDepth sweep(o);
+  const PlaneSweepResult fronto = sweep.Compute(reference, neighbours);
+  // The ground's direction with its offset known to ±20 % (as a plane fitted to sparse points would give).
+  const SweepDirection ground_direction{Eigen::Vector3d::UnitY(), 0.8 * kHeightM, 1.2 * kHeightM};
+  const PlaneSweepResult with_ground = sweep.Compute(reference, neighbours, {ground_direction});
+  constexpr double kTolerance = 0.02;  // of the true depth
+  const Score f = Evaluate(fronto, truth_m, kTolerance), g = Evaluate(with_ground, truth_m, kTolerance);
+  std::cout << "[ measured ] ground, fronto-parallel only: " << f << "\n"
+            << "[ measured ] ground, with its normal and offsets: " << g << "\n";
+  EXPECT_GE(g.accurate_share, 0.9);
+  EXPECT_GE(g.accurate_share, f.accurate_share + 0.2);
+  EXPECT_LE(g.median_error_m, 0.1 * f.median_error_m);
+  EXPECT_LE(g.p95_error_m, 0.1 * f.p95_error_m);
+  // The ground's pixels were won by the ground's planes.
+  EXPECT_GT(cv::countNonZero(with_ground.family == 1), 4 * cv::countNonZero(with_ground.family == 0));
+}
+
+TEST(PlaneSweep, OccluderInOneNeighbourIsIgnoredByTheBestViews) {
+  constexpr double kDepthM = 6.13;
+  const std::vector<TexturedPlane> scene{Wall(kDepthM, 3)};
+  cv::Mat truth_m;
+  const PlaneSweepView reference = Render(scene, Pose3d::Identity(), &truth_m);
+  const Eigen::Vector3d target(0.0, 0.0, kDepthM);
+  std::vector<PlaneSweepView> neighbours;
+  for (const Eigen::Vector3d& c :
+       {Eigen::Vector3d(-0.5, 0.0, 0.0), Eigen::Vector3d(0.5, 0.1, 0.0), Eigen::Vector3d(0.0, -0.4, 0.1)})
+    neighbours.push_back(Render(scene, LookAt(c, target)));
+  // Something in front of neighbour 0 only: a patch of another texture over part of its image.
+  const cv::Rect occluder(90, 50, 120, 110);
+  cv::Mat patch;
+  RandomTexture(256, 4)(cv::Rect(0, 0, occluder.width, occluder.height)).convertTo(patch, CV_8UC1);
+  patch.copyTo(neighbours[0].image(occluder));
+  // The reference pixels whose surface point neighbour 0 sees through the occluder (the test's projection).
+  cv::Mat hidden = cv::Mat::zeros(kHeight, kWidth, CV_8UC1);
+  const Pose3d cam0_from_world = neighbours[0].world_from_cam.inverse(Eigen::Isometry);
+  for (int v = 0; v < kHeight; ++v) {
+    for (int u = 0; u < kWidth; ++u) {
+      const Eigen::Vector3d x_world = TestK().inverse() * Eigen::Vector3d(u, v, 1.0) * truth_m.at<float>(v, u);
+      const Eigen::Vector3d x = TestK() * (cam0_from_world * x_world);
+      if (occluder.contains(cv::Point(int(std::floor(x.x() / x.z())), int(std::floor(x.y() / x.z())))))
+        hidden.at<std::uint8_t>(v, u) = 1;
+    }
+  }
+  ASSERT_GT(cv::countNonZero(hidden), 5000);
+  PlaneSweepOptions o;
+  o.num_planes = 64;
+  o.min_depth_m = 2.0;
+  o.max_depth_m = 20.0;
+  o.best_views = 2;
+  const PlaneSweepResult robust = PlaneSweepDepth(o).Compute(reference, neighbours);
+  o.best_views = 0;
+  const PlaneSweepResult plain = PlaneSweepDepth(o).Compute(reference, neighbours);
+  // Neighbour 0 is the only one left of the reference: the right subset's mean is free of the occluder.
+  o.left_right_subsets = true;
+  const PlaneSweepResult sides = PlaneSweepDepth(o).Compute(reference, neighbours);
+  const double step_m = PlaneStepM(kDepthM, robust.range, o.num_planes);
+  const double tolerance = 0.25 * step_m / kDepthM;
+  const Score r = Evaluate(robust, truth_m, tolerance, hidden), p = Evaluate(plain, truth_m, tolerance, hidden),
+              l = Evaluate(sides, truth_m, tolerance, hidden);
+  std::cout << "[ measured ] behind the occluder, best 2 of 3 views: " << r << "\n"
+            << "[ measured ] behind the occluder, mean of all 3 views: " << p << "\n"
+            << "[ measured ] behind the occluder, lower of the left and right means: " << l << "\n";
+  EXPECT_GE(r.accurate_share, 0.95);
+  EXPECT_LE(r.p95_error_m, 0.25 * step_m);
+  EXPECT_LE(p.accurate_share, 0.85);
+  EXPECT_GE(p.median_error_m, 2.0 * r.median_error_m);
+  EXPECT_GE(l.accurate_share, 0.95);
+}
+
+}  // namespace
+}  // namespace semap
