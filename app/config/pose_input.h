@@ -46,7 +46,7 @@ struct OneFrameInputOptions {
     v.Field("one_frame_preset", &one_frame_preset,
             "a `semap run` of exactly one frame takes config/one_frame.yaml's values (every matched pixel a "
             "point, a seen band of 1 sigma) where the config file and --set leave them: no second view will "
-            "confirm or refine a one-frame map (bench/RESULTS.md, one-frame maps)");
+            "confirm or refine a one-frame map (bench/results/map-accuracy.md, one-frame maps)");
   }
 
   void Check() const {}

@@ -82,7 +82,7 @@ struct DepthOptions {
     v.Field("pre_filter_cap", &pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
     // KITTI's real pairs are off by up to 0.7 px (odometry 04) and 1.6 px (kitti_odometry_turn) at the
     // corners; lining the rows up lowers KITTI 04's SGBM median error by 4 % and the map's static bias at
-    // 20-30 m from +0.16 to +0.05 m (bench/RESULTS.md, "Rows lined up", 2026-11-27). See
+    // 20-30 m from +0.16 to +0.05 m (bench/results/map-accuracy.md, "rows lined up"). See
     // engine/depth/row_alignment.h.
     v.Field(
         "align_rows", &align_rows,
@@ -114,8 +114,8 @@ struct DepthOptions {
     // Points offered to the simplification and the map's insertion; every valid pixel votes whatever it is
     // (vote_stride_px). Dense SGBM frames have ~350 k valid pixels. At half resolution, one point per matched
     // pixel, 10,000 are 10 % of a frame's valid pixels against 2.5 % at full resolution: there 6,000 ran 200
-    // urban frames 15 % faster, with accuracy within ±4 % either way on four sequences (bench/RESULTS.md,
-    // "The point budget at half resolution", 2026-11-26, a48c885).
+    // urban frames 15 % faster, with accuracy within ±4 % either way on four sequences (bench/results/
+    // frame-rate.md, "The point budget at half resolution").
     v.Field("max_points_per_frame", &max_points_per_frame,
             "point budget per frame after the stride, by uniform decimation (0 = none)");
     // The default keeps matched pixels only: the filled pixels improve the disparity map (D1) but are

@@ -68,7 +68,7 @@ struct PipelineOptions {
     // The map thread is the critical path (its serial steps cannot use a second core, its parallel votes
     // can): on a saturated machine the scheduler should give it the CPU first. Nice 10 weighs a thread about
     // a tenth of one at 0 under Linux's scheduler; the bounded queues keep the feeders ahead, on the CPU the
-    // map leaves. 200 urban frames, PS, 2 cores: 5.02 / 4.79 → 5.54 / 5.01 f/s (bench/RESULTS.md, 80b36d8).
+    // map leaves. 200 urban frames, PS, 2 cores: 5.02 / 4.79 → 5.54 / 5.01 f/s (bench/results/frame-rate.md, "The map's feeders niced").
     v.Field("feeder_nice", &feeder_nice,
             "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
             "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
@@ -77,13 +77,13 @@ struct PipelineOptions {
     // the map's priority (StartTbbWorkers), they ran a feeder's SGBM ahead of the map. With one thread SGBM
     // runs on the depth thread that calls it, at the feeders' priority; depth_workers keep frames in
     // parallel. 200 urban frames, PS, half resolution: map.votes 49–51 → 43 ms, 8.5–8.9 → 9.1–9.3 f/s
-    // (bench/RESULTS.md, aecce04).
+    // (bench/results/frame-rate.md, "What changed").
     v.Field("opencv_threads", &opencv_threads,
             "OpenCV's threads during a run (cv::setNumThreads, process-wide, restored after the run): 1 runs "
             "SGBM and ENet on the feeder thread that calls them, at its priority; more lets them use TBB's "
             "workers, which run at the map's priority; 0 = OpenCV's setting as it is");
     // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
-    // half-resolution SGBM: 98 of 305 ms per frame; bench/RESULTS.md, "Mesh cadence"), while a viewer or a
+    // half-resolution SGBM: 98 of 305 ms per frame; bench/results/frame-rate.md, "Mesh cadence"), while a viewer or a
     // logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.
     v.Field("mesh_every_frames", &mesh_every_frames,
             "the map extracts and publishes the mesh's change every this many frames (and at the end), "

@@ -1,4 +1,4 @@
-// `semap run` with ENet labels on keyframes (semantics.enet_every_frames, issue #21), end to end on a small
+// `semap run` with ENet labels on keyframes (semantics.enet_every_frames), end to end on a small
 // generated sequence: the segment thread is reported, and the result depends on the configuration only, not on
 // the threads' timing (the same mesh, byte for byte, from a run with 1 depth worker and one with 3).
 #include <filesystem>

@@ -337,7 +337,7 @@ TEST_F(RunFaults, SecondSigintEndsTheProcessAtOnce) { ExpectSecondSignalEndsTheP
 
 TEST_F(RunFaults, SecondSigtermEndsTheProcessAtOnce) { ExpectSecondSignalEndsTheProcessAtOnce(SIGTERM); }
 
-// --- every way a run can end (issue #19) -------------------------------------------------------------------
+// --- every way a run can end -------------------------------------------------------------------------------
 
 TEST_F(RunFaults, SigtermStopsCleanlyWithTheMeshSoFar) {
   // What `timeout`, systemd and container runtimes send: the same as Ctrl-C.

@@ -1,5 +1,5 @@
 // Integration: the depth stage on the 20 real KITTI stereo-2015 frames against disp_occ_0 and the Velodyne.
-// Figures (bench/RESULTS.md, `semap_depth_eval`): reference 15.16 % D1-all / 89.8 % density; semap default
+// Figures (bench/results/depth.md, `semap_depth_eval`): reference 15.16 % D1-all / 89.8 % density; semap default
 // 9.50 % / 98.0 %; half resolution 8.90 % / 99.2 %; LiDAR median 0.166 m. Margins below leave room for
 // OpenCV build differences without accepting a regression to the reference's level.
 #include <gtest/gtest.h>
@@ -72,7 +72,8 @@ TEST_F(KittiStereo2015, DefaultBeatsPlainSgbmOnD1AllAndDensity) {
   DepthOptions dense;  // the default settings with every point: the accuracy of the dense cloud
   dense.max_points_per_frame = 0;
   const Scores def = Evaluate(dense, frames_);
-  // The evaluation reproduces the reference figures (about 16.7 % / 87 %; measured 15.2 % / 89.8 %).
+  // The evaluation reproduces OpenCV's SGBM reference figures on these frames (about 16.7 % / 87 %; measured
+  // 15.2 % / 89.8 %).
   EXPECT_NEAR(ref.disparity.d1_all(), 0.16, 0.02);
   EXPECT_NEAR(ref.disparity.density(), 0.88, 0.03);
   // semap's default: at least as good as the reference, with a margin (measured 9.5 % / 98.0 %).
