@@ -44,6 +44,8 @@ TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
   for (const auto& row : rows) {
     EXPECT_EQ(row["frames"], 3);
     EXPECT_GT(row["fps"].get<double>(), 0.0);
+    // The mapper alone is faster than the whole process, which also reads, computes depth and labels.
+    EXPECT_GT(row["mapper_fps"].get<double>(), row["fps"].get<double>());
     EXPECT_GT(row["completeness"].get<double>(), 0.5);
     EXPECT_TRUE(std::isfinite(row["rmse_m"].get<double>()));
     EXPECT_GT(row["exact_depth_rmse_m"].get<double>(), 0.0);  // a generated sequence has exact depth
