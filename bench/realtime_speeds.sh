@@ -36,8 +36,10 @@ run_one() {  # NAME [--realtime S]
   taskset -c 0,1 "$SEMAP" run "$SEQ" $ARGS "$@" --out "$OUT/$name" --log-level warn --progress-interval 0 \
     > "$OUT/$name.log" 2>&1
   # shellcheck disable=SC2086
+  rm -f "$OUT/$name/eval.json"
+  # A sequence without Velodyne or exact depth has nothing to compare with: no RMSE, the rest stands.
   "$SEMAP" eval "$SEQ" --mesh "$OUT/$name/mesh.ply" $EVAL_ARGS --json "$OUT/$name/eval.json" \
-    > "$OUT/$name.eval.log" 2>&1
+    > "$OUT/$name.eval.log" 2>&1 || echo "realtime_speeds.sh: $name: no evaluation (see $OUT/$name.eval.log)" >&2
 }
 run_one batch
 for s in $SPEEDS; do run_one "speed_$s" --realtime "$s"; done
@@ -49,7 +51,8 @@ out, speeds = sys.argv[1], sys.argv[2].split()
 def figures(name):
     d = os.path.join(out, name)
     s = json.load(open(os.path.join(d, "summary.json")))
-    e = json.load(open(os.path.join(d, "eval.json")))
+    path = os.path.join(d, "eval.json")
+    e = json.load(open(path)) if os.path.exists(path) else {"protocols": {}}
     rows = list(csv.DictReader(open(os.path.join(d, "frames.csv"))))
     total = s["frames_integrated"] + s["frames_dropped"] + s["frames_failed"]
     rmse = {p: e["protocols"][p]["lidar"]["rmse_m"] for p in e["protocols"] if "lidar" in e["protocols"][p]}
@@ -66,18 +69,21 @@ for name, label in [("batch", "batch")] + [("speed_" + s, s + "x") for s in spee
     f = figures(name)
     p, m = f["lat"]["published"], f["lat"]["map"]
     r = [f["rmse"].get(k) for k in ("strict", "paper", "static")]
-    vs = " / ".join("%+.1f %%" % (100 * (a / base["rmse"][k] - 1)) if a is not None else "-"
+    vs = " / ".join("%+.1f %%" % (100 * (a / base["rmse"][k] - 1)) if a is not None and k in base["rmse"] else "-"
                     for a, k in zip(r, ("strict", "paper", "static")))
     print("| %s | %d / %d (%.0f %%) | %d / %d | %.2f | %.0f / %.0f / %.0f | %.0f | %.0f | %s | %s |" % (
         label, f["integrated"], f["total"], 100.0 * f["integrated"] / f["total"],
         f["dropped"].get("behind", 0), f["dropped"].get("no_keyframe_labels", 0), f["fps"], p["p50"], p["p95"],
         p["max"], m["p95"], f["rss"], " / ".join("%.3f" % a if a is not None else "-" for a in r), vs))
     if name != "batch":
-        plot.append((float(label[:-1]), 100.0 * f["integrated"] / f["total"], f["rmse"]["strict"]))
+        plot.append((float(label[:-1]), 100.0 * f["integrated"] / f["total"], f["rmse"].get("strict", float("nan"))))
 with open(os.path.join(out, "speeds.dat"), "w") as d:
     for row in plot: d.write("%g %g %g\n" % row)
+open(os.path.join(out, "has_rmse"), "w").write("1" if "strict" in base["rmse"] else "0")
 PY
 if command -v gnuplot >/dev/null; then
+  RMSE_CURVE=", \"$OUT/speeds.dat\" using 1:3 axes x1y2 with linespoints lw 2 title \"strict RMSE\""
+  [ "$(cat "$OUT/has_rmse")" = 1 ] || RMSE_CURVE=""
   gnuplot <<GP
 set terminal pngcairo size 800,450
 set output "$OUT/realtime_speeds.png"
@@ -89,8 +95,7 @@ set y2tics
 set yrange [0:100]
 set grid
 set key bottom left
-plot "$OUT/speeds.dat" using 1:2 with linespoints lw 2 title "integrated", \
-     "$OUT/speeds.dat" using 1:3 axes x1y2 with linespoints lw 2 title "strict RMSE"
+plot "$OUT/speeds.dat" using 1:2 with linespoints lw 2 title "integrated"$RMSE_CURVE
 GP
   echo "wrote $OUT/realtime_speeds.png"
 fi

@@ -138,6 +138,7 @@ void FrameReporter::PublishPending(const MeshDelta& delta) {
     const MeshDelta& d = i + 1 == pending_.size() ? delta : none;
     ForEachSink([&](PipelineSink& s) { s.OnFrame(f.stats, d, f.world_from_cam); });
   }
+  stats_.latency = pending_.back().stats.latency;  // the run's figures as of the newest frame published
   pending_.clear();
 }
 
