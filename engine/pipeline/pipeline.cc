@@ -246,12 +246,16 @@ struct Pipeline::Impl {
     first_item = std::move(item);
   }
 
-  // Realtime: waits until `item` is due (its pixels exist from then on, as a camera delivers them); false
-  // when the run is asked to stop meanwhile.
+  // Realtime: waits until `item` is due (its pixels exist from then on, as a camera delivers them); a frame
+  // that could not be read is passed on at once, to be counted. False when the run is asked to stop
+  // meanwhile: the frame was never delivered, and is not counted as read.
   bool WaitUntilDue(Item* item, FramePacer* pacer) {
     item->times.due_s = pacer->NextDueS(item->timestamp_s);
+    if (item->failed()) return true;
     clock.SleepUntilS(item->times.due_s, [this] { return Stopping(); });
-    return !Stopping();
+    if (!Stopping()) return true;
+    --frames_read;
+    return false;
   }
 
   void ReadLoop() {

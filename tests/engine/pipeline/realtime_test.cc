@@ -431,6 +431,23 @@ TEST(PipelineRealtime, AFrameTakesTheNewestReadyKeyframesLabelsInsteadOfWaiting)
   EXPECT_EQ(run.summary.final_stats.frames_processed, kFrames);
 }
 
+// A stop request while the reader waits for a frame's due time ends the run at once: the frames delivered
+// are integrated, the one not yet due was never read as far as the run's figures go.
+TEST(PipelineRealtime, AStopWhileAFrameIsNotYetDueEndsTheRunWithEveryFrameCounted) {
+  ClockedRun run(RealtimeOptions(), {.frames = 100});
+  ASSERT_TRUE(run.sink.log.WaitForCount(1));
+  run.Deliver(DueS(1));
+  ASSERT_TRUE(run.sink.log.WaitForCount(2));
+  ASSERT_TRUE(run.clock.WaitForSleeperUntil(DueS(2)));
+  run.pipeline->RequestStop();
+  run.Join();
+  const PipelineSummary& summary = run.summary;
+  EXPECT_TRUE(summary.stopped_early);
+  EXPECT_EQ(summary.frames_read, 2);
+  EXPECT_EQ(summary.final_stats.frames_processed, 2);
+  EXPECT_EQ(summary.final_stats.frames_dropped + summary.final_stats.frames_failed, 0);
+}
+
 // Exhaustive runs measure latency from each frame's read: every frame is integrated, none is late, and each
 // step's latency covers at least the stages' own time.
 TEST(PipelineBatch, LatencyIsMeasuredFromEachFramesRead) {
