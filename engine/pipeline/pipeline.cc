@@ -240,8 +240,12 @@ struct Pipeline::Impl {
     Item item;
     if (!ReadTimed(&item, &state)) return;
     if (item.frame) {
-      if (p.segment_) p.segment_->Prepare(*item.frame);
-      for (const auto& stage : depth_stages) stage->Prepare(*item.frame);
+      try {
+        if (p.segment_) p.segment_->Prepare(*item.frame);
+        for (const auto& stage : depth_stages) stage->Prepare(*item.frame);
+      } catch (const std::exception&) {
+        // Not the frame's processing: the stage that cannot prepare fails on the frame itself, counted there.
+      }
     }
     first_item = std::move(item);
   }

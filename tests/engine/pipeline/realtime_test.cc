@@ -448,6 +448,22 @@ TEST(PipelineRealtime, AStopWhileAFrameIsNotYetDueEndsTheRunWithEveryFrameCounte
   EXPECT_EQ(summary.final_stats.frames_dropped + summary.final_stats.frames_failed, 0);
 }
 
+// A segmenter that cannot prepare on the first frame (its first forward pass throws) does not stop the run:
+// the frames are labelled as they come.
+TEST(PipelineRealtime, AStageThatCannotPrepareDoesNotStopTheRun) {
+  class FailingPrepare : public GatedSegment {
+   public:
+    FailingPrepare() : GatedSegment(/*gate_from=*/1000) {}
+    void Prepare(const Frame&) override { throw std::runtime_error("no network"); }
+  };
+  ClockedRun run(RealtimeOptions(), {.frames = 2, .segment = std::make_unique<FailingPrepare>()});
+  ASSERT_TRUE(run.sink.log.WaitForCount(1));
+  run.Deliver(DueS(1));
+  run.Join();
+  EXPECT_EQ(run.summary.final_stats.frames_processed, 2);
+  EXPECT_TRUE(run.summary.fatal_error.empty());
+}
+
 // Exhaustive runs measure latency from each frame's read: every frame is integrated, none is late, and each
 // step's latency covers at least the stages' own time.
 TEST(PipelineBatch, LatencyIsMeasuredFromEachFramesRead) {
