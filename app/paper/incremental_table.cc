@@ -77,7 +77,8 @@ std::pair<std::string, std::string> NameAndPath(const std::string& arg) {
 
 std::string Markdown(const std::vector<Row>& rows) {
   std::string md =
-      "| sequence | method | RMSE strict (m) | RMSE paper (m) | f/s | speed-up | mapper f/s | mapper speed-up | "
+      "| sequence | method | RMSE strict (m) | RMSE paper (m) | f/s | speed-up | mapper f/s | "
+      "mapper speed-up | "
       "completeness | mesh (MB, OFF) | "
       "triangles | frames | RMSE vs exact depth, strict (m) | RMSE vs exact depth, paper (m) | area (m²) | "
       "area within τ | within 0.5 m | beyond 2 m | mean distance (m) |\n"

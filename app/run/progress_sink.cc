@@ -25,7 +25,8 @@ void ProgressSink::Print(const FrameStats& s, bool final) {
                 "frame %lld/%lld | %.2f fps | latency %.0f ms |%s | points %lld→%lld | mesh %lld tris | dropped "
                 "%lld failed %lld | %.0f MB",
                 static_cast<long long>(s.frames_processed), static_cast<long long>(total_frames_), s.fps,
-                s.latency.published_ms, stages.c_str(), static_cast<long long>(s.points_in), static_cast<long long>(s.points_kept),
+                s.latency.published_ms, stages.c_str(), static_cast<long long>(s.points_in),
+                static_cast<long long>(s.points_kept),
                 static_cast<long long>(s.mesh_triangles), static_cast<long long>(s.frames_dropped),
                 static_cast<long long>(s.frames_failed), s.rss_mb);
   if (tty_) {

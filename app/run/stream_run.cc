@@ -59,7 +59,8 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
                s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps, summary.stopped_early ? " (stopped early)" : "");
   for (const auto& l : s.latencies) {
-    spdlog::info("  latency to {:<10} p50 {:8.1f} ms  p95 {:8.1f}  max {:8.1f}", l.name, l.p50_ms, l.p95_ms, l.max_ms);
+    spdlog::info("  latency to {:<10} p50 {:8.1f} ms  p95 {:8.1f}  max {:8.1f}", l.name, l.p50_ms, l.p95_ms,
+                 l.max_ms);
   }
   for (const auto& st : s.stages) {
     spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,

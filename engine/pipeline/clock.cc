@@ -20,7 +20,8 @@ void SteadyClock::SleepUntilS(double t_s, const std::function<bool()>& stop) {
   using std::chrono::steady_clock;
   const auto due = steady_clock::time_point(std::chrono::duration_cast<steady_clock::duration>(Seconds(t_s)));
   while (!stop() && steady_clock::now() < due) {
-    std::this_thread::sleep_until(std::min(due, steady_clock::now() + std::chrono::duration_cast<steady_clock::duration>(kStopPoll)));
+    const auto poll = std::chrono::duration_cast<steady_clock::duration>(kStopPoll);
+    std::this_thread::sleep_until(std::min(due, steady_clock::now() + poll));
   }
 }
 

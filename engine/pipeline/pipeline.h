@@ -17,7 +17,7 @@ struct PipelineOptions {
   enum class Mode {
     kExhaustive,  // every frame is processed; the reader blocks on a full queue (the paper's table)
     kRealtime,    // frames enter when their time stamp comes due, whether or not the engine is ready for
-                  // them: the input queue keeps the newest frames, and a frame it has no room for is dropped
+                  // them: the input queue keeps the newest frame, and the waiting one it replaces is dropped
   };
   enum class OnError { kSkipFrame, kStop };
 
@@ -68,7 +68,8 @@ struct PipelineOptions {
     // The map thread is the critical path (its serial steps cannot use a second core, its parallel votes
     // can): on a saturated machine the scheduler should give it the CPU first. Nice 10 weighs a thread about
     // a tenth of one at 0 under Linux's scheduler; the bounded queues keep the feeders ahead, on the CPU the
-    // map leaves. 200 urban frames, PS, 2 cores: 5.02 / 4.79 → 5.54 / 5.01 f/s (bench/results/frame-rate.md, "The map's feeders niced").
+    // map leaves. 200 urban frames, PS, 2 cores: 5.02 / 4.79 → 5.54 / 5.01 f/s (bench/results/frame-rate.md,
+    // "The map's feeders niced").
     v.Field("feeder_nice", &feeder_nice,
             "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
             "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
@@ -83,8 +84,8 @@ struct PipelineOptions {
             "SGBM and ENet on the feeder thread that calls them, at its priority; more lets them use TBB's "
             "workers, which run at the map's priority; 0 = OpenCV's setting as it is");
     // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
-    // half-resolution SGBM: 98 of 305 ms per frame; bench/results/frame-rate.md, "Mesh cadence"), while a viewer or a
-    // logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.
+    // half-resolution SGBM: 98 of 305 ms per frame; bench/results/frame-rate.md, "Mesh cadence"), while a
+    // viewer or a logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.
     v.Field("mesh_every_frames", &mesh_every_frames,
             "the map extracts and publishes the mesh's change every this many frames (and at the end), "
             "integrating every frame; 1 = every frame; the final mesh is the same for any value");

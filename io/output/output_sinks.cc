@@ -86,7 +86,8 @@ Mesh MeshFileSink::AssembleMesh() {
   // Every triangle with its id, and every vertex record in the order it came (spilled ones first, then the
   // live mesh's: the latest): a vertex takes its last record, as MeshAccumulator's upserts do. Flat arrays
   // sorted once, not hash maps and their ordered copies as ToMesh makes: the end of a 2,000-frame drive
-  // (2.1 M triangles) peaked at 537 MiB instead of 710 MiB (bench/results/long-drives.md, "The finalised mesh leaves memory as it comes").
+  // (2.1 M triangles) peaked at 537 MiB instead of 710 MiB (bench/results/long-drives.md, "The finalised
+  // mesh leaves memory as it comes").
   struct VertexRecord {
     VertexId id;
     std::uint64_t order;
