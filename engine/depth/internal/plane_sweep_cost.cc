@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <Eigen/LU>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace semap::depth_internal {
@@ -74,8 +75,7 @@ void WarpBand(const cv::Mat& neighbour, const Eigen::Matrix3d& reference_to_neig
   shift(1, 2) = first_row;
   const Eigen::Matrix3d H = reference_to_neighbour * shift;
   cv::Matx33d H_cv;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) H_cv(i, j) = H(i, j);
+  cv::eigen2cv(H, H_cv);
   // WARP_INVERSE_MAP: band(x) = neighbour(H x); outside the neighbour: 0, never a wrapped lookup.
   cv::warpPerspective(neighbour, band->image, H_cv, cv::Size(width, rows), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
                       cv::BORDER_CONSTANT, cv::Scalar(0));

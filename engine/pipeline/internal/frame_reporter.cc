@@ -32,7 +32,6 @@ void FrameReporter::ForEachSink(Call&& call) {
 
 void FrameReporter::SideEvents(const std::vector<SideEvent>& events,
                                const std::array<std::int64_t, kNumDropReasons>& dropped) {
-  stats_.elapsed_s = MsBetween(start_, Clock::now()) / 1000.0;
   stats_.dropped_by_reason.clear();
   stats_.frames_dropped = 0;
   for (int r = 0; r < kNumDropReasons; ++r) {
