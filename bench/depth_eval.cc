@@ -2,9 +2,9 @@
 // Prints, for the plain OpenCV SGBM reference and for semap's configured depth stage: KITTI D1-all (pixels
 // without a disparity count as errors), density, D1 among estimated pixels, point depth errors against the
 // Velodyne (median, RMSE of |z − z_lidar| within max_depth_m, camera-frame z on both sides) and the time per
-// frame of the depth stage (Compute + ToCloud) on one core (cv::setNumThreads(1)). With --bias, also the signed
-// disparity error d − d_gt of matched pixels (confidence 1, |d − d_gt| ≤ 3 px) per ground-truth disparity bin:
-// a systematic offset there is a depth bias that grows with range (δz ≈ −z·δd/d).
+// frame of the depth stage (Compute + ToCloud) on one core (cv::setNumThreads(1)). With --bias, also the
+// signed disparity error d − d_gt of matched pixels (confidence 1, |d − d_gt| ≤ 3 px) per ground-truth
+// disparity bin: a systematic offset there is a depth bias that grows with range (δz ≈ −z·δd/d).
 //
 // Usage: semap_depth_eval [--data DIR] [--config FILE] [--set depth.key=value ...] [--no-reference]
 #include <CLI/CLI.hpp>
@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "app/config/config.h"
 #include "engine/depth/depth_metrics.h"
 #include "engine/depth/stereo_depth.h"
-#include "app/config/config.h"
 #include "tests/common/kitti2015_subset.h"
 
 namespace {
@@ -78,8 +78,10 @@ class SignedBiasTable {
       std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
       const double hi = b + 1 < kEdgesPx.size() ? kEdgesPx[b + 1] : 0.0;
       char range[32];
-      if (hi > 0.0) std::snprintf(range, sizeof range, "%.0f-%.0f", kEdgesPx[b], hi);
-      else std::snprintf(range, sizeof range, ">= %.0f", kEdgesPx[b]);
+      if (hi > 0.0)
+        std::snprintf(range, sizeof range, "%.0f-%.0f", kEdgesPx[b], hi);
+      else
+        std::snprintf(range, sizeof range, ">= %.0f", kEdgesPx[b]);
       std::printf("  %-14s %9zu %+10.3f %+10.3f %10.3f\n", range, e.size(), sum / e.size(), e[e.size() / 2],
                   std::sqrt(sq / e.size()));
     }
@@ -157,7 +159,8 @@ int main(int argc, char** argv) {
       frames.push_back(semap::test::LoadStereo2015Frame(data, name));
     }
     std::printf("%zu frames from %s, OpenCV threads %d\n", frames.size(), data.c_str(), cv::getNumThreads());
-    if (!no_reference) Evaluate("plain SGBM 3way (reference)", PlainSgbmReference(config.depth), frames, bias);
+    if (!no_reference)
+      Evaluate("plain SGBM 3way (reference)", PlainSgbmReference(config.depth), frames, bias);
     Evaluate("semap depth (config)", config.depth, frames, bias);
     if (half && !config.depth.half_resolution) {
       DepthOptions h = config.depth;

@@ -3,11 +3,11 @@
 //
 // Every frame goes through the pipeline's depth stage (StereoLabelStage with keyframe labels, default depth
 // options, semantics.drop_sky off so that every configuration labels the same points) once per
-// configuration: keyframes every N frames (KeyframeSchedule, as the pipeline chooses them), the frames between
-// them labelled from their keyframe by reprojection or reuse (semantics.enet_propagation). Label sources:
-// ENet (the keyframe's ENet labels) and, when the sequence has label images (a generated sequence's exact
-// labels), those (isolating what propagation itself costs). Reported per configuration, over all frames and
-// over the frames between keyframes only:
+// configuration: keyframes every N frames (KeyframeSchedule, as the pipeline chooses them), the frames
+// between them labelled from their keyframe by reprojection or reuse (semantics.enet_propagation). Label
+// sources: ENet (the keyframe's ENet labels) and, when the sequence has label images (a generated sequence's
+// exact labels), those (isolating what propagation itself costs). Reported per configuration, over all frames
+// and over the frames between keyframes only:
 //   - accuracy: share of points whose label is the exact label at their pixel (sequences with label images);
 //   - role accuracy: the same for the simplifier's role (ground / wall / keep);
 //   - agreement: share of points labelled as with the same source on every frame (N = 1); for ENet, the
@@ -22,8 +22,8 @@
 // raw / generated sequences), usable as input.labels_dir ("a run with label files" in bench/enet_rate.sh).
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -74,8 +74,9 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--model", model, "ENet model");
   app.add_option("--enet-input", enet_input, "ENet input size WxH (default: semantics' default)");
-  app.add_option("--reference-input", reference_input,
-                 "ENet input size WxH of the agreement reference, ENet on every frame (default: semantics' default)");
+  app.add_option(
+      "--reference-input", reference_input,
+      "ENet input size WxH of the agreement reference, ENet on every frame (default: semantics' default)");
   app.add_option("--write-labels", write_labels, "write each frame's ENet label image into this folder");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -85,8 +86,8 @@ int main(int argc, char** argv) {
     semantics.enet_model_path = model;
     semantics.drop_sky = false;  // the same points in every configuration
     semap::SemanticsOptions reference_semantics = semantics;
-    if (!enet_input.empty() &&
-        std::sscanf(enet_input.c_str(), "%dx%d", &semantics.enet_input_width_px, &semantics.enet_input_height_px) != 2) {
+    if (!enet_input.empty() && std::sscanf(enet_input.c_str(), "%dx%d", &semantics.enet_input_width_px,
+                                           &semantics.enet_input_height_px) != 2) {
       throw std::runtime_error("--enet-input: expected WxH, got " + enet_input);
     }
     if (!reference_input.empty() &&
@@ -125,9 +126,11 @@ int main(int argc, char** argv) {
       enet_wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!write_labels.empty()) {
         char name[32];
-        std::snprintf(name, sizeof(name), raw_names ? "%010lld.png" : "%06lld.png", static_cast<long long>(f.id));
+        std::snprintf(name, sizeof(name), raw_names ? "%010lld.png" : "%06lld.png",
+                      static_cast<long long>(f.id));
         const fs::path path = fs::path(write_labels) / name;
-        if (!cv::imwrite(path.string(), enet_labels.back())) throw std::runtime_error(path.string() + ": cannot write");
+        if (!cv::imwrite(path.string(), enet_labels.back()))
+          throw std::runtime_error(path.string() + ": cannot write");
       }
     }
 
@@ -160,12 +163,14 @@ int main(int argc, char** argv) {
         reference["enet"].push_back(stage.Process(frames[k], &keyframe).labels);
       }
     }
-    std::printf("| labels | every N | propagation | keyframes | accuracy, all frames | between keyframes | "
-                "role accuracy, all | agreement with N = 1, all | between keyframes |\n");
+    std::printf(
+        "| labels | every N | propagation | keyframes | accuracy, all frames | between keyframes | "
+        "role accuracy, all | agreement with N = 1, all | between keyframes |\n");
     std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|\n");
     for (const std::string& label_source : sources) {
       for (const int n : every) {
-        for (const auto propagation : {semap::LabelPropagation::kReproject, semap::LabelPropagation::kReuse}) {
+        for (const auto propagation :
+             {semap::LabelPropagation::kReproject, semap::LabelPropagation::kReuse}) {
           if (n == 1 && propagation == semap::LabelPropagation::kReuse) continue;  // the same as reproject
           semap::SemanticsOptions s = semantics;
           s.enet_propagation = propagation;
@@ -178,8 +183,10 @@ int main(int argc, char** argv) {
           std::map<Label, std::pair<std::size_t, std::size_t>>* classes_agree = nullptr;
           if (label_source == "enet") {
             char name[64];
-            std::snprintf(name, sizeof(name), "N = %d%s", n,
-                          n == 1 ? "" : (propagation == semap::LabelPropagation::kReproject ? ", reproject" : ", reuse"));
+            std::snprintf(
+                name, sizeof(name), "N = %d%s", n,
+                n == 1 ? ""
+                       : (propagation == semap::LabelPropagation::kReproject ? ", reproject" : ", reuse"));
             per_class.emplace_back(name, std::map<Label, std::pair<std::size_t, std::size_t>>{});
             classes_agree = &per_class.back().second;
           }
@@ -225,7 +232,8 @@ int main(int argc, char** argv) {
           }
           std::printf("| %s | %d | %s | %d | %s | %s | %s | %s | %s |\n", label_source.c_str(), n,
                       n == 1 ? "–" : semap::LabelPropagationName(propagation), r.keyframes,
-                      Cell(r.all, r.all.correct, exact).c_str(), Cell(r.between, r.between.correct, exact).c_str(),
+                      Cell(r.all, r.all.correct, exact).c_str(),
+                      Cell(r.between, r.between.correct, exact).c_str(),
                       Cell(r.all, r.all.role_correct, exact).c_str(), Cell(r.all, r.all.agree, true).c_str(),
                       Cell(r.between, r.between.agree, true).c_str());
           std::fflush(stdout);
@@ -233,10 +241,11 @@ int main(int argc, char** argv) {
       }
     }
     // Agreement per class of the reference (ENet on every frame at the reference input), all frames.
-    std::printf("\nAgreement per class with ENet on every frame at %dx%d (share of the points of each reference "
-                "class given that class; ENet at %dx%d):\n\n| class | points |",
-                reference_semantics.enet_input_width_px, reference_semantics.enet_input_height_px,
-                semantics.enet_input_width_px, semantics.enet_input_height_px);
+    std::printf(
+        "\nAgreement per class with ENet on every frame at %dx%d (share of the points of each reference "
+        "class given that class; ENet at %dx%d):\n\n| class | points |",
+        reference_semantics.enet_input_width_px, reference_semantics.enet_input_height_px,
+        semantics.enet_input_width_px, semantics.enet_input_height_px);
     for (const auto& [name, counts] : per_class) std::printf(" %s |", name.c_str());
     std::printf("\n|---|---:|");
     for (std::size_t k = 0; k < per_class.size(); ++k) std::printf("---:|");

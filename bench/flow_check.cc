@@ -3,24 +3,24 @@
 // are moved with the poses into frame k + 1 (the true flow, from the scanner's depth), and tracked there with
 // the odometry's pyramidal KLT (its window, levels and stop criteria, started where the true flow puts them
 // and, separately, where they were). The difference tracked − predicted is split into its component along the
-// direction away from the focus of expansion (radial: a positive mean lengthens every step of a forward-moving
-// camera) and across it, per depth bin; and by distance from the principal point, along the direction away
-// from it (where a lens distortion left in the rectified images would show); and the two crossed. The stereo
-// side too: the same corners matched into frame k's right image with the odometry's stereo KLT, their
-// disparity against fB/z of the Velodyne, per depth bin. --smooth keeps only corners away from depth edges.
+// direction away from the focus of expansion (radial: a positive mean lengthens every step of a
+// forward-moving camera) and across it, per depth bin; and by distance from the principal point, along the
+// direction away from it (where a lens distortion left in the rectified images would show); and the two
+// crossed. The stereo side too: the same corners matched into frame k's right image with the odometry's
+// stereo KLT, their disparity against fB/z of the Velodyne, per depth bin. --smooth keeps only corners away
+// from depth edges.
 //
 // Usage: semap_flow_check SEQUENCE [--frames N] [--smooth SHARE] [--config FILE] [--set key=value ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <optional>
-#include <string>
-#include <vector>
-
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "bench/grey_image.h"
 #include "bench/sequence_args.h"
@@ -79,14 +79,16 @@ struct Stats {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Bias of the odometry's temporal KLT tracks against the flow the poses and the Velodyne predict"};
+  CLI::App app{
+      "Bias of the odometry's temporal KLT tracks against the flow the poses and the Velodyne predict"};
   semap::bench::SequenceArgs args;
   args.AddTo(app, "sequence with poses and Velodyne (KITTI odometry / raw)");
   double smooth_share = 0.0;
-  app.add_option("--smooth", smooth_share,
-                 "keep only corners whose Velodyne returns within 3 px all lie within this share of their depth "
-                 "(e.g. 0.02: no depth edge, where the scanner, mounted apart from the camera, may see another "
-                 "surface than the camera); 0 = every corner")
+  app.add_option(
+         "--smooth", smooth_share,
+         "keep only corners whose Velodyne returns within 3 px all lie within this share of their depth "
+         "(e.g. 0.02: no depth edge, where the scanner, mounted apart from the camera, may see another "
+         "surface than the camera); 0 = every corner")
       ->check(CLI::Range(0.0, 1.0));
   CLI11_PARSE(app, argc, argv);
   try {
@@ -95,9 +97,11 @@ int main(int argc, char** argv) {
     auto source = semap::io::OpenFrameSource(sequence, args.Input(config, true));
     const semap::StereoOdometryOptions& o = config.odometry;
     const cv::Size win(o.klt_window_px, o.klt_window_px);
-    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx);
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
+                                kKltEpsilonPx);
     std::vector<Stats> from_truth(std::size(kBinEdgesM) - 1), from_start(std::size(kBinEdgesM) - 1);
-    std::vector<Stats> radius_truth(std::size(kRadiusEdgesPx) - 1), radius_start(std::size(kRadiusEdgesPx) - 1);
+    std::vector<Stats> radius_truth(std::size(kRadiusEdgesPx) - 1),
+        radius_start(std::size(kRadiusEdgesPx) - 1);
     // KLT started at the predicted position: the error away from the focus of expansion per depth bin (rows)
     // and distance from the principal point (columns), so that depth and image position are told apart.
     std::vector<std::vector<std::vector<double>>> grid(
@@ -109,8 +113,9 @@ int main(int argc, char** argv) {
     std::vector<std::vector<double>> scaled(std::size(kScales));
     int frame_index = 0;
     // The stereo disparity error per start (true disparity, kStereoStartOffPx short) and depth bin.
-    std::vector<std::vector<double>> stereo[2] = {std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1),
-                                                  std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1)};
+    std::vector<std::vector<double>> stereo[2] = {
+        std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1),
+        std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1)};
     while (auto frame = source->Next()) {
       const cv::Mat gray = Gray(frame->left);
       if (previous && previous->velodyne && previous->world_from_cam && frame->world_from_cam) {
@@ -157,9 +162,11 @@ int main(int argc, char** argv) {
         if (frame_index % kScaleEveryFrames == 1) {
           for (size_t si = 0; si < std::size(kScales); ++si) {
             const double sc = kScales[si];
-            const cv::Mat a = (cv::Mat_<double>(2, 3) << sc, 0.0, c.cx_px * (1.0 - sc), 0.0, sc, c.cy_px * (1.0 - sc));
+            const cv::Mat a =
+                (cv::Mat_<double>(2, 3) << sc, 0.0, c.cx_px * (1.0 - sc), 0.0, sc, c.cy_px * (1.0 - sc));
             cv::Mat warped;
-            cv::warpAffine(previous_gray, warped, a, previous_gray.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+            cv::warpAffine(previous_gray, warped, a, previous_gray.size(), cv::INTER_CUBIC,
+                           cv::BORDER_REFLECT);
             std::vector<cv::Point2f> from, truth;
             for (const auto& p : start) {
               const cv::Point2f q(static_cast<float>(c.cx_px + sc * (p.x - c.cx_px)),
@@ -176,8 +183,8 @@ int main(int argc, char** argv) {
             std::vector<cv::Point2f> tracked = from;
             std::vector<uchar> status;
             std::vector<float> err;
-            cv::calcOpticalFlowPyrLK(previous_gray, warped, from, tracked, status, err, win, o.klt_levels, term,
-                                     cv::OPTFLOW_USE_INITIAL_FLOW);
+            cv::calcOpticalFlowPyrLK(previous_gray, warped, from, tracked, status, err, win, o.klt_levels,
+                                     term, cv::OPTFLOW_USE_INITIAL_FLOW);
             for (size_t i = 0; i < from.size(); ++i) {
               const Eigen::Vector2d e(tracked[i].x - truth[i].x, tracked[i].y - truth[i].y);
               if (!status[i] || e.norm() > kMaxErrorPx) continue;
@@ -200,8 +207,8 @@ int main(int argc, char** argv) {
             std::vector<uchar> status;
             std::vector<float> err;
             if (start.empty()) break;
-            cv::calcOpticalFlowPyrLK(previous_gray, right_gray, start, right, status, err, win, o.stereo_levels, term,
-                                     cv::OPTFLOW_USE_INITIAL_FLOW);
+            cv::calcOpticalFlowPyrLK(previous_gray, right_gray, start, right, status, err, win,
+                                     o.stereo_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
             for (size_t i = 0; i < start.size(); ++i) {
               if (!status[i] || std::abs(right[i].y - start[i].y) > o.max_epipolar_error_px) continue;
               const double e = (start[i].x - right[i].x) - c.fx_px * c.baseline_m / depth_m[i];
@@ -235,7 +242,8 @@ int main(int argc, char** argv) {
             if (rb >= 0) {
               by_radius[static_cast<size_t>(rb)].radial.push_back(e.dot(from_centre / rc));
               by_radius[static_cast<size_t>(rb)].tangential.push_back(e.dot(radial));
-              if (mode == 0 && zb >= 0) grid[static_cast<size_t>(zb)][static_cast<size_t>(rb)].push_back(e.dot(radial));
+              if (mode == 0 && zb >= 0)
+                grid[static_cast<size_t>(zb)][static_cast<size_t>(rb)].push_back(e.dot(radial));
             }
             if (zb >= 0) {
               stats[static_cast<size_t>(zb)].radial.push_back(e.dot(radial));
@@ -250,30 +258,35 @@ int main(int argc, char** argv) {
     }
     std::printf("KLT tracks (window %d px, %d levels) minus the flow of the poses and the Velodyne, %s\n\n",
                 o.klt_window_px, o.klt_levels, sequence.c_str());
-    std::printf("| KLT started at | depth | tracks | radial mean (px) | radial median (px) | across mean (px) |\n");
+    std::printf(
+        "| KLT started at | depth | tracks | radial mean (px) | radial median (px) | across mean (px) |\n");
     std::printf("|---|---|---|---|---|---|\n");
     for (int mode = 0; mode < 2; ++mode) {
       const std::vector<Stats>& stats = mode == 0 ? from_truth : from_start;
       for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
         std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f | %+.4f |\n",
-                    mode == 0 ? "the predicted position" : "the previous position", kBinEdgesM[b], kBinEdgesM[b + 1],
-                    stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
+                    mode == 0 ? "the predicted position" : "the previous position", kBinEdgesM[b],
+                    kBinEdgesM[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
                     Mean(stats[b].tangential));
       }
     }
-    std::printf("\n| KLT started at | distance from the principal point | tracks | mean along it (px) | median along it "
-                "(px) | mean away from the focus of expansion (px) |\n|---|---|---|---|---|---|\n");
+    std::printf(
+        "\n| KLT started at | distance from the principal point | tracks | mean along it (px) | median along "
+        "it "
+        "(px) | mean away from the focus of expansion (px) |\n|---|---|---|---|---|---|\n");
     for (int mode = 0; mode < 2; ++mode) {
       const std::vector<Stats>& stats = mode == 0 ? radius_truth : radius_start;
       for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
         std::printf("| %s | %.0f-%.0f px | %zu | %+.4f | %+.4f | %+.4f |\n",
                     mode == 0 ? "the predicted position" : "the previous position", kRadiusEdgesPx[b],
-                    kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
-                    Mean(stats[b].tangential));
+                    kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial),
+                    Median(stats[b].radial), Mean(stats[b].tangential));
       }
     }
-    std::printf("\nStereo: KLT disparity (left to right, %d levels) minus fB/z of the Velodyne\n\n| KLT started at | "
-                "depth | matches | mean (px) | median (px) |\n|---|---|---|---|---|\n", o.stereo_levels);
+    std::printf(
+        "\nStereo: KLT disparity (left to right, %d levels) minus fB/z of the Velodyne\n\n| KLT started at | "
+        "depth | matches | mean (px) | median (px) |\n|---|---|---|---|---|\n",
+        o.stereo_levels);
     for (int mode = 0; mode < 2; ++mode) {
       for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
         std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f |\n",
@@ -281,15 +294,18 @@ int main(int argc, char** argv) {
                     stereo[mode][b].size(), Mean(stereo[mode][b]), Median(stereo[mode][b]));
       }
     }
-    std::printf("\nKLT on frame k's own image scaled by a known factor about the principal point (every %d frames, "
-                "started at the corner's old position): error away from the principal point\n\n| scale | tracks | "
-                "mean (px) | median (px) |\n|---|---|---|---|\n", kScaleEveryFrames);
+    std::printf(
+        "\nKLT on frame k's own image scaled by a known factor about the principal point (every %d frames, "
+        "started at the corner's old position): error away from the principal point\n\n| scale | tracks | "
+        "mean (px) | median (px) |\n|---|---|---|---|\n",
+        kScaleEveryFrames);
     for (size_t si = 0; si < std::size(kScales); ++si) {
       std::printf("| %.2f | %zu | %+.4f | %+.4f |\n", kScales[si], scaled[si].size(), Mean(scaled[si]),
                   Median(scaled[si]));
     }
-    std::printf("\nKLT started at the predicted position: median error away from the focus of expansion (px, "
-                "tracks), by depth and distance from the principal point\n\n| depth |");
+    std::printf(
+        "\nKLT started at the predicted position: median error away from the focus of expansion (px, "
+        "tracks), by depth and distance from the principal point\n\n| depth |");
     for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
       std::printf(" %.0f-%.0f px |", kRadiusEdgesPx[b], kRadiusEdgesPx[b + 1]);
     }

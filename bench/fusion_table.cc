@@ -78,15 +78,17 @@ struct Table {
 };
 
 void PrintRow(const std::string& name, const DepthAccuracy& in, const DepthAccuracy& mesh) {
-  std::printf("| %s | %.3f | %.3f | %+.3f | %.1f %% | %.3f | %.3f | %+.3f | %.1f %% | %.2f |\n", name.c_str(), in.rmse_m,
-              in.median_abs_m, in.mean_error_m, 100.0 * in.completeness, mesh.rmse_m, mesh.median_abs_m,
-              mesh.mean_error_m, 100.0 * mesh.completeness, in.rmse_m > 0.0 ? mesh.rmse_m / in.rmse_m : 0.0);
+  std::printf("| %s | %.3f | %.3f | %+.3f | %.1f %% | %.3f | %.3f | %+.3f | %.1f %% | %.2f |\n", name.c_str(),
+              in.rmse_m, in.median_abs_m, in.mean_error_m, 100.0 * in.completeness, mesh.rmse_m,
+              mesh.median_abs_m, mesh.mean_error_m, 100.0 * mesh.completeness,
+              in.rmse_m > 0.0 ? mesh.rmse_m / in.rmse_m : 0.0);
 }
 
 void Print(const std::string& title, const Table& t) {
   std::printf("\n%s\n\n", title.c_str());
   std::printf(
-      "| reference depth | SGBM RMSE (m) | SGBM median (m) | SGBM bias (m) | SGBM completeness | mesh RMSE (m) | "
+      "| reference depth | SGBM RMSE (m) | SGBM median (m) | SGBM bias (m) | SGBM completeness | mesh RMSE "
+      "(m) | "
       "mesh median (m) | mesh bias (m) | mesh completeness | mesh / SGBM RMSE |\n"
       "|---|---|---|---|---|---|---|---|---|---|\n");
   for (std::size_t b = 0; b < t.bins[0].size(); ++b) {
@@ -113,8 +115,10 @@ cv::Mat WhereBothCover(const cv::Mat& reference, const cv::Mat& input, const cv:
 // The three tables of one reference: every pixel, the static scene, and the static scene where both depth
 // maps cover.
 struct ReferenceTables {
-  explicit ReferenceTables(const DepthAccuracyOptions& strict) : all(strict), static_scene(strict), common(strict) {}
-  void Add(const cv::Mat& reference, const cv::Mat& static_reference, const cv::Mat& input, const cv::Mat& mesh) {
+  explicit ReferenceTables(const DepthAccuracyOptions& strict)
+      : all(strict), static_scene(strict), common(strict) {}
+  void Add(const cv::Mat& reference, const cv::Mat& static_reference, const cv::Mat& input,
+           const cv::Mat& mesh) {
     all.Add(reference, input, mesh);
     static_scene.Add(static_reference, input, mesh);
     common.Add(WhereBothCover(static_reference, input, mesh), input, mesh);
@@ -144,8 +148,8 @@ class IncidenceTable {
         if (!(z >= strict_.min_depth_m && z <= strict_.max_depth_m) || t < 0) continue;
         if (!(std::isfinite(zi) && zi > 0.0f && std::isfinite(zm) && zm > 0.0f)) continue;
         const auto& tri = mesh.triangles[std::size_t(t)];
-        const Eigen::Vector3d normal_world =
-            (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+        const Eigen::Vector3d normal_world = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]])
+                                                 .cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
         if (normal_world.squaredNorm() == 0.0) continue;
         const Eigen::Vector3d normal = (cam_from_world * normal_world).normalized();
         const Eigen::Vector3d ray((u - k.cx_px) / k.fx_px, (v - k.cy_px) / k.fy_px, 1.0);  // at z = 1
@@ -188,8 +192,8 @@ class IncidenceTable {
           std::snprintf(range, sizeof(range), "%.0f m and beyond", kRangeEdgesM[r]);
         }
         std::printf("| %s | %.0f-%.0f° | %.1f %% | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", range,
-                    kAngleEdgesDeg[b], kAngleEdgesDeg[b + 1],
-                    100.0 * n / double(total), std::sqrt(bin.input_sq / n), semap::bench::Median(bin.input_abs),
+                    kAngleEdgesDeg[b], kAngleEdgesDeg[b + 1], 100.0 * n / double(total),
+                    std::sqrt(bin.input_sq / n), semap::bench::Median(bin.input_abs),
                     std::sqrt(bin.mesh_sq / n), semap::bench::Median(bin.mesh_abs),
                     semap::bench::Median(bin.input_across), semap::bench::Median(bin.mesh_across));
       }
@@ -200,7 +204,8 @@ class IncidenceTable {
   // The last edge holds 90° itself.
   static constexpr double kAngleEdgesDeg[] = {0.0, 45.0, 70.0, 80.0, 85.0, 90.0001};
   // Reference depth: the paper protocol's range, and beyond it (the strict range's end is not a bound here).
-  static constexpr double kRangeEdgesM[] = {0.0, semap::kPaperMaxDepthM, std::numeric_limits<double>::infinity()};
+  static constexpr double kRangeEdgesM[] = {0.0, semap::kPaperMaxDepthM,
+                                            std::numeric_limits<double>::infinity()};
   struct Bin {
     double input_sq = 0.0, mesh_sq = 0.0;
     std::vector<double> input_abs, mesh_abs, input_across, mesh_across;
@@ -300,7 +305,8 @@ std::string FrameRow(std::int64_t frame_id, const cv::Mat& static_reference, con
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Per-frame SGBM depth against the fused mesh, per reference-depth bin (Velodyne, exact depth)"};
+  CLI::App app{
+      "Per-frame SGBM depth against the fused mesh, per reference-depth bin (Velodyne, exact depth)"};
   semap::bench::SequenceArgs args;
   std::string mesh_path;
   args.AddTo(app, "sequence with Velodyne scans or exact depth (KITTI, generated)");
@@ -320,7 +326,8 @@ int main(int argc, char** argv) {
     const std::vector<int> triangle_labels = semap::TriangleLabels(mesh);
     const semap::StereoDepth depth(config.depth);
     std::unique_ptr<semap::Segmenter> segmenter;
-    if (config.semantics.source == semap::LabelSource::kEnet) segmenter = semap::MakeSegmenter(config.semantics);
+    if (config.semantics.source == semap::LabelSource::kEnet)
+      segmenter = semap::MakeSegmenter(config.semantics);
     const DepthAccuracyOptions strict = config.eval;
     ReferenceTables lidar_tables(strict), exact_tables(strict);
     IncidenceTable lidar_incidence(strict), exact_incidence(strict);
@@ -356,8 +363,9 @@ int main(int argc, char** argv) {
         ++with_exact;
       }
     }
-    std::printf("Fusion: per-frame SGBM depth (the map's input) against the mesh %s, %s, strict protocol (%s)\n",
-                mesh_path.c_str(), sequence.c_str(), semap::ProtocolFilters(strict).c_str());
+    std::printf(
+        "Fusion: per-frame SGBM depth (the map's input) against the mesh %s, %s, strict protocol (%s)\n",
+        mesh_path.c_str(), sequence.c_str(), semap::ProtocolFilters(strict).c_str());
     const std::string incidence_title =
         ", static scene, the pixels both cover, by the angle between the ray and the mesh surface's normal";
     if (with_lidar > 0) {
@@ -377,7 +385,8 @@ int main(int argc, char** argv) {
       exact_incidence.Print("Exact depth" + incidence_title);
     }
     if (with_lidar == 0 && with_exact == 0) {
-      std::fprintf(stderr, "semap_fusion_table: %s has no frame with a pose and a reference depth\n", sequence.c_str());
+      std::fprintf(stderr, "semap_fusion_table: %s has no frame with a pose and a reference depth\n",
+                   sequence.c_str());
       return 1;
     }
   } catch (const std::exception& e) {

@@ -60,8 +60,9 @@ class SynthFrames : public Frames {
     f.calibration = seq_.rig().calibration;
     const auto seed = static_cast<std::uint64_t>(i);
     f.left = renderer_.Render(f.calibration, seq_.scene_from_cam2(i), {gain, 2 * seed + 1}).color;
-    f.right = renderer_.Render(f.calibration, seq_.scene_from_cam3(i),
-                               {gain * seq_.options().right_exposure_gain, 2 * seed + 2})
+    f.right = renderer_
+                  .Render(f.calibration, seq_.scene_from_cam3(i),
+                          {gain * seq_.options().right_exposure_gain, 2 * seed + 2})
                   .color;
     f.world_from_cam = seq_.world_from_cam2(i);
     return f;
@@ -88,8 +89,9 @@ int main(int argc, char** argv) {
   cli.add_option("--set", overrides, "section.key=value overrides");
   cli.add_option("--frames", frames, "frames to use (0 = all)");
   cli.add_option("--poses-out", poses_out, "write the estimate here (KITTI pose format)");
-  cli.add_option("--report-every", report_every,
-                 "every this many frames, print the figures so far to stderr (long drives; 0 = only at the end)");
+  cli.add_option(
+      "--report-every", report_every,
+      "every this many frames, print the figures so far to stderr (long drives; 0 = only at the end)");
   cli.add_flag("--offsets", print_offsets,
                "print each frame's disparity offset estimate (with odometry.estimate_disparity_offset)");
   CLI11_PARSE(cli, argc, argv);
@@ -123,7 +125,8 @@ int main(int argc, char** argv) {
   semap::DisparityOffset estimate_offset_at_end;
   while (auto frame = source->Next()) {
     if (!frame->world_from_cam) {
-      std::fprintf(stderr, "frame %lld has no pose: nothing to score against\n", static_cast<long long>(frame->id));
+      std::fprintf(stderr, "frame %lld has no pose: nothing to score against\n",
+                   static_cast<long long>(frame->id));
       return 1;
     }
     if (!odometry) {
@@ -141,14 +144,16 @@ int main(int argc, char** argv) {
     if (report_every > 0 && truth.size() % static_cast<size_t>(report_every) == 0) {
       const auto k = semap::KittiOdometryMetric(truth, estimate);
       const auto rel = semap::RelativeError(truth, estimate, 10);
-      std::fprintf(stderr, "%zu frames: KITTI %.3f %% %.5f deg/m (%d segments); 10-frame %.3f %% %.5f deg/m\n",
-                   truth.size(), k.overall.translation_percent, k.overall.rotation_deg_per_m, k.overall.segments,
-                   rel.drift.translation_percent, rel.drift.rotation_deg_per_m);
+      std::fprintf(stderr,
+                   "%zu frames: KITTI %.3f %% %.5f deg/m (%d segments); 10-frame %.3f %% %.5f deg/m\n",
+                   truth.size(), k.overall.translation_percent, k.overall.rotation_deg_per_m,
+                   k.overall.segments, rel.drift.translation_percent, rel.drift.rotation_deg_per_m);
     }
     if (print_offsets && r.frame_offset_sigma_px > 0.0) {
-      std::printf("frame %lld: disparity offset %+.3f ± %.3f px, per row %+.3f px; in use %+.3f px, %+.3f px\n",
-                  static_cast<long long>(frame->id), r.frame_offset.constant_px, r.frame_offset_sigma_px,
-                  r.frame_offset.per_row_px, r.disparity_offset.constant_px, r.disparity_offset.per_row_px);
+      std::printf(
+          "frame %lld: disparity offset %+.3f ± %.3f px, per row %+.3f px; in use %+.3f px, %+.3f px\n",
+          static_cast<long long>(frame->id), r.frame_offset.constant_px, r.frame_offset_sigma_px,
+          r.frame_offset.per_row_px, r.disparity_offset.constant_px, r.disparity_offset.per_row_px);
     }
     if (r.status == semap::OdometryStatus::kBridged || r.status == semap::OdometryStatus::kRestarted) {
       ++failed;
@@ -178,24 +183,26 @@ int main(int argc, char** argv) {
   std::sort(sorted.begin(), sorted.end());
   double cpu_sum = 0;
   for (double c : cpu_ms) cpu_sum += c;
-  std::printf("%s: %zu frames, %.1f m, %d failed (bridged or restarted)\n", dataset.c_str(), n, ate.path_length_m,
-              failed);
-  std::printf("RPE over 10 frames: %.3f %% translation, %.5f deg/m rotation (%d windows, mean %.1f m); "
-              "RMSE %.3f m, %.3f deg\n",
-              rpe.drift.translation_percent, rpe.drift.rotation_deg_per_m, rpe.drift.segments, rpe.drift.length_m,
-              rpe.translation_rmse_m, rpe.rotation_rmse_deg);
+  std::printf("%s: %zu frames, %.1f m, %d failed (bridged or restarted)\n", dataset.c_str(), n,
+              ate.path_length_m, failed);
+  std::printf(
+      "RPE over 10 frames: %.3f %% translation, %.5f deg/m rotation (%d windows, mean %.1f m); "
+      "RMSE %.3f m, %.3f deg\n",
+      rpe.drift.translation_percent, rpe.drift.rotation_deg_per_m, rpe.drift.segments, rpe.drift.length_m,
+      rpe.translation_rmse_m, rpe.rotation_rmse_deg);
   if (kitti.overall.segments > 0) {
     std::printf("KITTI metric: %.3f %% translation, %.5f deg/m rotation (%d segments)\n",
                 kitti.overall.translation_percent, kitti.overall.rotation_deg_per_m, kitti.overall.segments);
     for (const auto& d : kitti.per_length) {
-      std::printf("  %4.0f m: %.3f %%, %.5f deg/m (%d)\n", d.length_m, d.translation_percent, d.rotation_deg_per_m,
-                  d.segments);
+      std::printf("  %4.0f m: %.3f %%, %.5f deg/m (%d)\n", d.length_m, d.translation_percent,
+                  d.rotation_deg_per_m, d.segments);
     }
   } else {
     std::printf("KITTI metric: the drive is shorter than 100 m\n");
   }
-  std::printf("ATE after alignment: RMSE %.3f m, max %.3f m; end point %.3f m (%.2f %% of the path), %.3f deg\n",
-              ate.rmse_m, ate.max_m, ate.end_point_m, ate.end_point_percent, ate.end_rotation_deg);
+  std::printf(
+      "ATE after alignment: RMSE %.3f m, max %.3f m; end point %.3f m (%.2f %% of the path), %.3f deg\n",
+      ate.rmse_m, ate.max_m, ate.end_point_m, ate.end_point_percent, ate.end_rotation_deg);
   // A diagnostic fitted on the poses (not a score): how much of the 10-frame error one fixed rotation between
   // the poses' camera frame and the odometry's explains (engine/eval/trajectory_metrics.h).
   const auto frame_fit = semap::FitFrameRotation(truth, estimate, 10);
@@ -206,12 +213,13 @@ int main(int argc, char** argv) {
       frame_fit.angles_deg.x(), frame_fit.angles_deg.y(), frame_fit.angles_deg.z(),
       frame_fit.relative.drift.translation_percent, frame_fit.relative.drift.rotation_deg_per_m);
   if (odometry && config.odometry.estimate_disparity_offset != semap::OffsetEstimate::kOff) {
-    std::printf("disparity offset at the end: %+.3f px, per row %+.3f px\n", estimate_offset_at_end.constant_px,
-                estimate_offset_at_end.per_row_px);
+    std::printf("disparity offset at the end: %+.3f px, per row %+.3f px\n",
+                estimate_offset_at_end.constant_px, estimate_offset_at_end.per_row_px);
   }
-  std::printf("odometry CPU per frame (1 thread): mean %.2f ms, p50 %.2f, p95 %.2f, max %.2f; features %.0f, "
-              "inliers %.0f; %d keyframes\n",
-              cpu_sum / n, sorted[n / 2], sorted[std::min(n - 1, n * 95 / 100)], sorted.back(), features / n,
-              inliers / n, keyframes);
+  std::printf(
+      "odometry CPU per frame (1 thread): mean %.2f ms, p50 %.2f, p95 %.2f, max %.2f; features %.0f, "
+      "inliers %.0f; %d keyframes\n",
+      cpu_sum / n, sorted[n / 2], sorted[std::min(n - 1, n * 95 / 100)], sorted.back(), features / n,
+      inliers / n, keyframes);
   return 0;
 }

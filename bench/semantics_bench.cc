@@ -62,8 +62,8 @@ void BM_FirstCameraLabels(benchmark::State& state) {
 }
 BENCHMARK(BM_FirstCameraLabels)->Unit(benchmark::kMillisecond);
 
-// The frame's labels from a keyframe 1 m behind it (one core): every pixel with an SGBM depth (the frame's own
-// disparity) lifted, moved and projected; the others as points at infinity.
+// The frame's labels from a keyframe 1 m behind it (one core): every pixel with an SGBM depth (the frame's
+// own disparity) lifted, moved and projected; the others as points at infinity.
 void BM_PropagateLabels(benchmark::State& state) {
   const auto& f = TestFrame().frame;
   semap::StereoCalibration intrinsics = f.calibration;

@@ -7,7 +7,8 @@
 //
 // What the map would gain from it: bench/RESULTS.md, "Odometry today" (a fixed +0.2 px on KITTI 04).
 //
-// Usage: semap_sgbm_offset SEQUENCE [--frames N] [--gap K] [--stride PX] [--config FILE] [--set key=value ...]
+// Usage: semap_sgbm_offset SEQUENCE [--frames N] [--gap K] [--stride PX] [--config FILE] [--set key=value
+// ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -71,7 +72,8 @@ int main(int argc, char** argv) {
   int gap = 1, stride_px = 4;
   args.AddTo(app, "sequence with poses (KITTI raw / odometry, generated)");
   app.add_option("--gap", gap, "frame b is frame a + gap")->check(CLI::PositiveNumber);
-  app.add_option("--stride", stride_px, "one pixel in stride x stride of frame a")->check(CLI::PositiveNumber);
+  app.add_option("--stride", stride_px, "one pixel in stride x stride of frame a")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     const semap::app::Config config = args.LoadConfig();
@@ -95,9 +97,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "fewer than %d frames\n", gap + 1);
       return 1;
     }
-    std::printf("%zu frames of %s, pairs (k, k + %d), one pixel in %d x %d\n\n", all.size(), sequence.c_str(), gap,
-                stride_px, stride_px);
-    std::printf("| offset (px) | residuals | median |residual| (px) | median residual (px) |\n|---|---|---|---|\n");
+    std::printf("%zu frames of %s, pairs (k, k + %d), one pixel in %d x %d\n\n", all.size(), sequence.c_str(),
+                gap, stride_px, stride_px);
+    std::printf(
+        "| offset (px) | residuals | median |residual| (px) | median residual (px) |\n|---|---|---|---|\n");
     double best_offset = 0.0, best_cost = 1e9;
     for (double offset = kMinOffsetPx; offset <= kMaxOffsetPx + 1e-9; offset += kOffsetStepPx) {
       std::vector<double> residuals, abs_residuals;
@@ -110,13 +113,15 @@ int main(int argc, char** argv) {
       std::printf("| %+.2f | %zu | %.4f | %+.4f |\n", offset, residuals.size(), cost, Median(residuals));
       if (cost < best_cost) best_cost = cost, best_offset = offset;
     }
-    std::printf("\nthe depth maps and the poses agree best at an offset of %+.2f px (median |residual| %.4f px)\n",
-                best_offset, best_cost);
+    std::printf(
+        "\nthe depth maps and the poses agree best at an offset of %+.2f px (median |residual| %.4f px)\n",
+        best_offset, best_cost);
 
     // The check against the Velodyne, where there is one: median z_sgbm / z_velodyne per depth bin.
     if (input.load_velodyne) {
       auto check_source = semap::io::OpenFrameSource(sequence, input);
-      std::vector<std::vector<double>> ratio_raw(std::size(kBinEdgesM) - 1), ratio_corrected(std::size(kBinEdgesM) - 1);
+      std::vector<std::vector<double>> ratio_raw(std::size(kBinEdgesM) - 1),
+          ratio_corrected(std::size(kBinEdgesM) - 1);
       size_t i = 0;
       while (auto frame = check_source->Next()) {
         if (!frame->velodyne || i >= all.size()) break;
@@ -140,8 +145,8 @@ int main(int argc, char** argv) {
         std::printf("\nmedian z_sgbm / z_velodyne (matched pixels), %zu frames\n\n", i);
         std::printf("| depth bin | pixels | no offset | offset %+.2f px |\n|---|---|---|---|\n", best_offset);
         for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
-          std::printf("| %.0f-%.0f m | %zu | %.4f | %.4f |\n", kBinEdgesM[b], kBinEdgesM[b + 1], ratio_raw[b].size(),
-                      Median(ratio_raw[b]), Median(ratio_corrected[b]));
+          std::printf("| %.0f-%.0f m | %zu | %.4f | %.4f |\n", kBinEdgesM[b], kBinEdgesM[b + 1],
+                      ratio_raw[b].size(), Median(ratio_raw[b]), Median(ratio_corrected[b]));
         }
       }
     }

@@ -1,8 +1,8 @@
 // semap_stage_cpu: the CPU time of each stage of `semap run` per frame, one stage after the other on one
-// thread (TBB limited to one thread, OpenCV to one), so that each figure is that stage's own work and does not
-// depend on how busy the machine is (CPU time, not wall time: on a shared machine wall time drifts, CPU time
-// far less). The same stages and options as `semap run` (app/run/engine_run.cc): the frame source, ENet on
-// keyframes (semantics.source enet, semantics.enet_every_frames; the frames between labelled from their
+// thread (TBB limited to one thread, OpenCV to one), so that each figure is that stage's own work and does
+// not depend on how busy the machine is (CPU time, not wall time: on a shared machine wall time drifts, CPU
+// time far less). The same stages and options as `semap run` (app/run/engine_run.cc): the frame source, ENet
+// on keyframes (semantics.source enet, semantics.enet_every_frames; the frames between labelled from their
 // keyframe), the reader's row alignment (depth.align_rows), the depth stage (SGBM + labels), the windowed
 // simplifier and the incremental map.
 //
@@ -129,7 +129,8 @@ int main(int argc, char** argv) {
       cloud = simplify.Process(std::move(cloud), &counts);
       const double simplify_ms = CpuMs() - t;
       t = CpuMs();
-      if (!frame->world_from_cam) throw std::runtime_error("frame " + std::to_string(frame->id) + " has no pose");
+      if (!frame->world_from_cam)
+        throw std::runtime_error("frame " + std::to_string(frame->id) + " has no pose");
       map.Process(cloud, *frame->world_from_cam);
       const double map_ms = CpuMs() - t;
       stages["read"].ms.push_back(read_ms);
@@ -137,8 +138,8 @@ int main(int argc, char** argv) {
       stages["simplify"].ms.push_back(simplify_ms);
       stages["map"].ms.push_back(map_ms);
       if (csv) {
-        csv << frame->id << ',' << read_ms << ',' << segment_ms << ',' << depth_ms << ',' << simplify_ms << ','
-            << map_ms << ',' << points_in << ',' << cloud.size() << '\n';
+        csv << frame->id << ',' << read_ms << ',' << segment_ms << ',' << depth_ms << ',' << simplify_ms
+            << ',' << map_ms << ',' << points_in << ',' << cloud.size() << '\n';
       }
       ++frames;
     }
@@ -147,12 +148,13 @@ int main(int argc, char** argv) {
     map.Finish();
     const double finish_ms = CpuMs() - t;
 
-    std::printf("%s: %lld frames; simplify.method %s, depth.half_resolution %s, semantics.source %s, "
-                "enet_every_frames %d, ENet input %dx%d\n",
-                sequence.c_str(), static_cast<long long>(frames), semap::SimplifyMethodName(config.simplify.method),
-                config.depth.half_resolution ? "true" : "false", semap::LabelSourceName(config.semantics.source),
-                config.semantics.enet_every_frames, config.semantics.enet_input_width_px,
-                config.semantics.enet_input_height_px);
+    std::printf(
+        "%s: %lld frames; simplify.method %s, depth.half_resolution %s, semantics.source %s, "
+        "enet_every_frames %d, ENet input %dx%d\n",
+        sequence.c_str(), static_cast<long long>(frames), semap::SimplifyMethodName(config.simplify.method),
+        config.depth.half_resolution ? "true" : "false", semap::LabelSourceName(config.semantics.source),
+        config.semantics.enet_every_frames, config.semantics.enet_input_width_px,
+        config.semantics.enet_input_height_px);
     std::printf("| stage | CPU ms / frame (mean) | median | p95 | max |\n|---|---:|---:|---:|---:|\n");
     double sum = 0.0, slowest_single = 0.0;
     std::string slowest_name;
@@ -163,7 +165,8 @@ int main(int argc, char** argv) {
       if (name == "segment") {
         per_frame = segment_total_ms / static_cast<double>(frames);
         std::printf("| segment (per keyframe, %lld keyframes) | %.1f | %.1f | %.1f | %.1f |\n",
-                    static_cast<long long>(keyframe_count), s.Mean(), s.Quantile(0.5), s.Quantile(0.95), s.Max());
+                    static_cast<long long>(keyframe_count), s.Mean(), s.Quantile(0.5), s.Quantile(0.95),
+                    s.Max());
         std::printf("| segment (per frame) | %.1f | | | |\n", per_frame);
       } else {
         std::printf("| %s | %.1f | %.1f | %.1f | %.1f |\n", name.c_str(), per_frame, s.Quantile(0.5),
@@ -179,13 +182,15 @@ int main(int argc, char** argv) {
     }
     std::printf("| all stages | %.1f | | | |\n\nmap finish (once): %.0f ms CPU\n", sum, finish_ms);
     const semap::MapStatistics counts = map.Statistics();
-    std::printf("map: %zu live vertices at the end; vertices moved to their fused estimate %llu, outliers removed "
-                "%llu\n",
-                counts.num_points, static_cast<unsigned long long>(counts.vertices_moved),
-                static_cast<unsigned long long>(counts.vertices_outliers));
-    std::printf("bounds on 2 cores: %.2f f/s from all stages' CPU (2000 / %.0f ms), %.2f f/s from the slowest "
-                "single-thread stage (%s, 1000 / %.0f ms)\n",
-                2000.0 / sum, sum, 1000.0 / slowest_single, slowest_name.c_str(), slowest_single);
+    std::printf(
+        "map: %zu live vertices at the end; vertices moved to their fused estimate %llu, outliers removed "
+        "%llu\n",
+        counts.num_points, static_cast<unsigned long long>(counts.vertices_moved),
+        static_cast<unsigned long long>(counts.vertices_outliers));
+    std::printf(
+        "bounds on 2 cores: %.2f f/s from all stages' CPU (2000 / %.0f ms), %.2f f/s from the slowest "
+        "single-thread stage (%s, 1000 / %.0f ms)\n",
+        2000.0 / sum, sum, 1000.0 / slowest_single, slowest_name.c_str(), slowest_single);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "semap_stage_cpu: %s\n", e.what());
     return 1;

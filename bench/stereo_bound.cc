@@ -2,9 +2,9 @@
 // two protocols as `semap eval` (strict: every error of every reference depth in eval.min_depth_m to
 // eval.max_depth_m; paper: reference depth <= 15 m, |error| <= 2 m). The map's vertices are SGBM points and
 // its votes come from the same depth maps, so the strict RMSE of a mesh cannot be expected far below that of
-// the depth maps themselves (fusion averages noise only where a surface is seen many times; a surface spanning
-// a depth discontinuity adds errors of its own). Prints a markdown table: both protocols, then the strict
-// figures by reference distance (the bins of `semap eval`'s breakdown).
+// the depth maps themselves (fusion averages noise only where a surface is seen many times; a surface
+// spanning a depth discontinuity adds errors of its own). Prints a markdown table: both protocols, then the
+// strict figures by reference distance (the bins of `semap eval`'s breakdown).
 //
 // The depth map is the one the map receives (StereoDepth::ToDepthView at stride 1: SGBM with semap's filters,
 // pixels outside depth.min_depth_m..max_depth_m or below depth.min_point_confidence left empty).
@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "bench/sequence_args.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/error_breakdown.h"
-#include "bench/sequence_args.h"
 
 namespace {
 
@@ -28,13 +28,15 @@ using semap::DepthAccuracyOptions;
 
 void PrintRow(const std::string& name, const DepthAccuracy& a) {
   std::printf("| %s | %lld | %.3f | %.3f | %.3f | %.1f %% |\n", name.c_str(),
-              static_cast<long long>(a.compared_pixels), a.rmse_m, a.mae_m, a.median_abs_m, 100.0 * a.completeness);
+              static_cast<long long>(a.compared_pixels), a.rmse_m, a.mae_m, a.median_abs_m,
+              100.0 * a.completeness);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Accuracy of the SGBM depth maps the map is built from, against the Velodyne (both protocols)"};
+  CLI::App app{
+      "Accuracy of the SGBM depth maps the map is built from, against the Velodyne (both protocols)"};
   semap::bench::SequenceArgs args;
   args.AddTo(app, "sequence with Velodyne scans (KITTI raw / odometry, generated)");
   CLI11_PARSE(app, argc, argv);
@@ -67,12 +69,17 @@ int main(int argc, char** argv) {
       for (auto& b : bins) b.Add(lidar, stereo_depth);
       ++used;
     }
-    std::printf("SGBM depth maps (as the map receives them) vs Velodyne, %d frames of %s\n\n", used, sequence.c_str());
-    std::printf("| protocol | compared px | RMSE (m) | MAE (m) | median (m) | completeness |\n|---|---|---|---|---|---|\n");
+    std::printf("SGBM depth maps (as the map receives them) vs Velodyne, %d frames of %s\n\n", used,
+                sequence.c_str());
+    std::printf(
+        "| protocol | compared px | RMSE (m) | MAE (m) | median (m) | completeness "
+        "|\n|---|---|---|---|---|---|\n");
     PrintRow("strict (" + semap::ProtocolFilters(strict) + ")", strict_total.Result());
     PrintRow("paper (" + semap::ProtocolFilters(paper) + ")", paper_total.Result());
     std::printf("\nStrict, by reference distance:\n\n");
-    std::printf("| reference depth | compared px | RMSE (m) | MAE (m) | median (m) | completeness |\n|---|---|---|---|---|---|\n");
+    std::printf(
+        "| reference depth | compared px | RMSE (m) | MAE (m) | median (m) | completeness "
+        "|\n|---|---|---|---|---|---|\n");
     for (std::size_t b = 0; b < bins.size(); ++b) {
       char name[32];
       std::snprintf(name, sizeof(name), "%.0f-%.0f m", edges_m[b], edges_m[b + 1]);

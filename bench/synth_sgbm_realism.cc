@@ -144,10 +144,11 @@ int main(int argc, char** argv) {
       "frames: D1 %.1f %%, density %.1f %%\n",
       preset.c_str(), frames, static_cast<unsigned long long>(seed), synth.D1(), synth.Density(),
       d1_sum / frames, density_sum / frames);
-  std::printf("per-frame range: real D1 %.1f-%.1f %%, density %.1f-%.1f %%; synthetic D1 %.1f-%.1f %%, density "
-              "%.1f-%.1f %%\n",
-              real_d1.min, real_d1.max, real_density.min, real_density.max, synth_d1.min, synth_d1.max,
-              synth_density.min, synth_density.max);
+  std::printf(
+      "per-frame range: real D1 %.1f-%.1f %%, density %.1f-%.1f %%; synthetic D1 %.1f-%.1f %%, density "
+      "%.1f-%.1f %%\n",
+      real_d1.min, real_d1.max, real_density.min, real_density.max, synth_d1.min, synth_d1.max,
+      synth_density.min, synth_density.max);
   const semap::ClassMap classes = semap::ClassMap::Cityscapes();
   for (int l = 0; l < 256; ++l) {
     if (per_label[l].gt == 0) continue;

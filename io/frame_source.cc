@@ -26,7 +26,8 @@ void FrameSourceOptions::Check() const {
   SEMAP_CHECK_OPTION(default_frame_period_s > 0.0 && std::isfinite(default_frame_period_s),
                      "default_frame_period_s", default_frame_period_s, "must be > 0");
   SEMAP_CHECK_OPTION(loops >= 1, "loops", loops, "must be >= 1");
-  SEMAP_CHECK_OPTION(loop_gap_m >= 0.0 && std::isfinite(loop_gap_m), "loop_gap_m", loop_gap_m, "must be >= 0");
+  SEMAP_CHECK_OPTION(loop_gap_m >= 0.0 && std::isfinite(loop_gap_m), "loop_gap_m", loop_gap_m,
+                     "must be >= 0");
 }
 
 }  // namespace semap::io

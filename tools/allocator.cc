@@ -26,9 +26,11 @@ std::string AllocatorDescription() {
   const bool serves_malloc = mi_is_in_heap_region(probe);
   std::free(probe);
   const int v = mi_version();  // e.g. 209 for 2.0.9
-  return "mimalloc " + std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10) +
-         (serves_malloc ? ", decommit delay " + std::to_string(mi_option_get(mi_option_decommit_delay)) + " ms"
-                        : ", linked but not serving malloc");
+  return "mimalloc " + std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." +
+         std::to_string(v % 10) +
+         (serves_malloc
+              ? ", decommit delay " + std::to_string(mi_option_get(mi_option_decommit_delay)) + " ms"
+              : ", linked but not serving malloc");
 #else
   return "system malloc";
 #endif

@@ -17,7 +17,8 @@ inline constexpr long kDecommitDelayMs = 1000;
 void ConfigureAllocator();
 
 // "mimalloc X.Y.Z, decommit delay D ms" when the build links mimalloc and a block from malloc() lies in
-// mimalloc's heap, "mimalloc X.Y.Z, linked but not serving malloc" when it does not, "system malloc" otherwise.
+// mimalloc's heap, "mimalloc X.Y.Z, linked but not serving malloc" when it does not, "system malloc"
+// otherwise.
 std::string AllocatorDescription();
 
 }  // namespace semap::tools

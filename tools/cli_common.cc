@@ -1,9 +1,9 @@
 #include "tools/cli_common.h"
 
+#include <spdlog/spdlog.h>
+
 #include <limits>
 #include <stdexcept>
-
-#include <spdlog/spdlog.h>
 
 #include "engine/core/check.h"
 
@@ -35,7 +35,9 @@ CLI::Validator FrameCountCheck() {
       "FRAMES>=0");
 }
 
-app::Config LoadConfigFrom(const CommonArgs& args) { return app::LoadConfig(args.config_path, args.overrides); }
+app::Config LoadConfigFrom(const CommonArgs& args) {
+  return app::LoadConfig(args.config_path, args.overrides);
+}
 
 int RunGuarded(const CommonArgs& args, const std::function<int()>& body) {
   spdlog::set_level(spdlog::level::from_str(args.log_level));

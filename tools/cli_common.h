@@ -1,11 +1,10 @@
 // What every subcommand shares: the config options, logging and the mapping of errors to exit codes.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "app/config/config.h"
 

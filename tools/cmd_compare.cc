@@ -21,8 +21,9 @@ struct CompareArgs {
 void RegisterCompareCommand(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<CompareArgs>();
   auto* cmd = app.add_subcommand(
-      "compare", "Every simplification method on the same input: markdown table (mesh size, RMSE, completeness, "
-                 "points kept per class, time) and a PNG plot of mesh size vs RMSE");
+      "compare",
+      "Every simplification method on the same input: markdown table (mesh size, RMSE, completeness, "
+      "points kept per class, time) and a PNG plot of mesh size vs RMSE");
   AddCommonOptions(cmd, &args->common);
   cmd->add_option("PATH", args->request.path, "dataset folder")->required();
   cmd->add_option("--out", args->request.out, "output folder (compare.md, compare.csv, compare.png)")

@@ -44,7 +44,8 @@ void RegisterDepthCommand(CLI::App& app, int* exit_code) {
         app::WriteAllDepthMaps(config, args->path, args->out);
         return kExitOk;
       }
-      app::WriteFrameDepth(config, {args->path, args->frame, args->out, args->colour == "label", args->ascii});
+      app::WriteFrameDepth(config,
+                           {args->path, args->frame, args->out, args->colour == "label", args->ascii});
       return kExitOk;
     });
   });

@@ -20,8 +20,9 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
     std::vector<std::int64_t> error_frames;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("eval", "Accuracy of a mesh against the sequence's Velodyne (RMSE, MAE, median, "
-                                         "completeness) and exact depth maps when generated; mesh size as OFF");
+  auto* cmd = app.add_subcommand("eval",
+                                 "Accuracy of a mesh against the sequence's Velodyne (RMSE, MAE, median, "
+                                 "completeness) and exact depth maps when generated; mesh size as OFF");
   AddCommonOptions(cmd, &args->common);
   cmd->add_option("PATH", args->path, "dataset folder the mesh was built from")->required();
   cmd->add_option("--mesh", args->mesh, "mesh file (.ply or .off)")->required();
@@ -45,8 +46,8 @@ void RegisterEvalCommand(CLI::App& app, int* exit_code) {
   cmd->callback([=]() {
     *exit_code = RunGuarded(args->common, [&]() {
       const app::Config config = LoadConfigFrom(args->common);
-      app::EvalRequest request{args->path, args->mesh, args->json, args->pictures, args->out,
-                               args->error_images, args->error_frames};
+      app::EvalRequest request{args->path, args->mesh,         args->json,        args->pictures,
+                               args->out,  args->error_images, args->error_frames};
       return app::EvaluateMeshFile(config, request) ? kExitOk : kExitFailure;
     });
   });

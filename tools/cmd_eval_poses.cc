@@ -1,5 +1,5 @@
-// `semap eval-poses SEQ --poses FILE`: an estimated trajectory (a run's poses_odometry.txt or .tum) against the
-// sequence's own poses: the KITTI odometry metric, the relative error over 10-frame windows and the ATE.
+// `semap eval-poses SEQ --poses FILE`: an estimated trajectory (a run's poses_odometry.txt or .tum) against
+// the sequence's own poses: the KITTI odometry metric, the relative error over 10-frame windows and the ATE.
 #include <cstdio>
 
 #include "app/eval/pose_evaluation.h"
@@ -16,10 +16,12 @@ void RegisterEvalPosesCommand(CLI::App& app, int* exit_code) {
     std::string json;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("eval-poses", "An estimated camera trajectory against the sequence's poses: KITTI "
-                                               "odometry metric (100-800 m), relative error over 10 frames, ATE");
+  auto* cmd = app.add_subcommand("eval-poses",
+                                 "An estimated camera trajectory against the sequence's poses: KITTI "
+                                 "odometry metric (100-800 m), relative error over 10 frames, ATE");
   AddCommonOptions(cmd, &args->common);
-  cmd->add_option("PATH", args->path, "dataset folder with poses (the frames input.first_frame / max_frames select)")
+  cmd->add_option("PATH", args->path,
+                  "dataset folder with poses (the frames input.first_frame / max_frames select)")
       ->required();
   cmd->add_option("--poses", args->poses,
                   "the estimate: KITTI pose format (one line per frame) or TUM (.tum, matched by timestamp)")

@@ -1,4 +1,5 @@
-// `semap info PATH`: what a dataset folder holds, as the frame sources will read it (app/dataset/dataset_info.h).
+// `semap info PATH`: what a dataset folder holds, as the frame sources will read it
+// (app/dataset/dataset_info.h).
 #include <memory>
 
 #include "app/dataset/dataset_info.h"
@@ -18,8 +19,10 @@ void RegisterInfoCommand(CLI::App& app, int* exit_code) {
   cmd->add_option("--sample-frames", *sample, "label images read for the class composition (0 = all)")
       ->check(CLI::NonNegativeNumber);
   cmd->callback([=]() {
-    *exit_code = RunGuarded(*args, [&]() { app::PrintDatasetInfo(LoadConfigFrom(*args), *path, *sample);
-      return kExitOk; });
+    *exit_code = RunGuarded(*args, [&]() {
+      app::PrintDatasetInfo(LoadConfigFrom(*args), *path, *sample);
+      return kExitOk;
+    });
   });
 }
 

@@ -21,15 +21,18 @@ void RegisterLcmMeshCommand(CLI::App& app, int* exit_code) {
     double join_after_s = -1.0;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("lcm-mesh", "Rebuild the mesh of `semap run` from its LCM mesh blocks, from an "
-                                             "lcm-logger log or live, and write it as PLY or OFF");
+  auto* cmd = app.add_subcommand("lcm-mesh",
+                                 "Rebuild the mesh of `semap run` from its LCM mesh blocks, from an "
+                                 "lcm-logger log or live, and write it as PLY or OFF");
   AddCommonOptions(cmd, &args->common);
   cmd->add_option("LOG", args->log, "LCM log file written by lcm-logger (not with --live)");
   cmd->add_option("--out", args->out, "output mesh (.ply or .off)")->required();
-  cmd->add_option("--channel-prefix", args->channel_prefix, "channel prefix of the run")->capture_default_str();
+  cmd->add_option("--channel-prefix", args->channel_prefix, "channel prefix of the run")
+      ->capture_default_str();
   cmd->add_flag("--ascii", args->ascii, "write ASCII PLY instead of binary");
-  cmd->add_flag("--live", args->live, "subscribe instead of reading a log: until the run's last message, "
-                                      "or --seconds");
+  cmd->add_flag("--live", args->live,
+                "subscribe instead of reading a log: until the run's last message, "
+                "or --seconds");
   cmd->add_option("--url", args->url, "LCM URL to subscribe to with --live")->capture_default_str();
   cmd->add_option("--seconds", args->seconds, "with --live: listen at most this long")
       ->capture_default_str()

@@ -37,15 +37,17 @@ int Render(const RenderArgs& args) {
 
 void RegisterRenderCommand(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<RenderArgs>();
-  auto* cmd = app.add_subcommand("render", "Draw a mesh seen from above (orthographic along the up axis) or "
-                                           "obliquely, as a PNG: vertex colours, height, or distance to a true "
-                                           "surface");
+  auto* cmd = app.add_subcommand("render",
+                                 "Draw a mesh seen from above (orthographic along the up axis) or "
+                                 "obliquely, as a PNG: vertex colours, height, or distance to a true "
+                                 "surface");
   AddCommonOptions(cmd, &args->common);
   cmd->add_option("MESH", args->mesh, "mesh file (.ply or .off)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--out", args->out, "PNG file to write")->required();
-  cmd->add_option("--up", args->up,
-                  "world up axis: z, -y (KITTI odometry / camera frames), ...; auto = the mesh's thinnest axis "
-                  "(y taken as down)")
+  cmd->add_option(
+         "--up", args->up,
+         "world up axis: z, -y (KITTI odometry / camera frames), ...; auto = the mesh's thinnest axis "
+         "(y taken as down)")
       ->check(CLI::IsMember({"auto", "x", "-x", "y", "-y", "z", "-z"}))
       ->capture_default_str();
   cmd->add_option("--colour", args->colour, "mesh (vertex colours) | height | error (needs --truth)")
@@ -53,7 +55,8 @@ void RegisterRenderCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   cmd->add_option("--truth", args->truth, "true surface for --colour error (e.g. scene_mesh.ply)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--elevation", args->view.elevation_deg, "view angle above the horizon in degrees (90 = from above)")
+  cmd->add_option("--elevation", args->view.elevation_deg,
+                  "view angle above the horizon in degrees (90 = from above)")
       ->capture_default_str();
   cmd->add_option("--azimuth", args->view.azimuth_deg, "turn of the view about the up axis in degrees")
       ->capture_default_str();

@@ -48,7 +48,8 @@ std::vector<std::string> Overrides(const RunArgs& a) {
   if (!a.mode.empty()) o.push_back("pipeline.mode=" + a.mode);
   if (a.realtime_speed) {
     o.push_back("pipeline.mode=realtime");
-    o.push_back("pipeline.realtime_speed=" + (a.realtime_speed->empty() ? std::string("1") : *a.realtime_speed));
+    o.push_back("pipeline.realtime_speed=" +
+                (a.realtime_speed->empty() ? std::string("1") : *a.realtime_speed));
   }
   if (a.frames >= 0) o.push_back("input.max_frames=" + std::to_string(a.frames));
   if (!a.lcm_url.empty()) {
@@ -85,28 +86,33 @@ int Run(const RunArgs& args) {
 
 void RegisterRunCommand(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<RunArgs>();
-  auto* cmd = app.add_subcommand("run", "Stream a sequence through the engine (SGBM depth → semantic labels → "
-                                        "simplification → incremental Delaunay map) and write/publish the mesh");
+  auto* cmd = app.add_subcommand("run",
+                                 "Stream a sequence through the engine (SGBM depth → semantic labels → "
+                                 "simplification → incremental Delaunay map) and write/publish the mesh");
   AddCommonOptions(cmd, &args->common);
-  cmd->add_option("PATH", args->path, "dataset folder (KITTI raw, odometry or stereo-2015 layout)")->required();
+  cmd->add_option("PATH", args->path, "dataset folder (KITTI raw, odometry or stereo-2015 layout)")
+      ->required();
   cmd->add_option("--out", args->out, "output folder (output.dir)");
   cmd->add_option("--method", args->method, "simplification method, e.g. PS or O (simplify.method)");
   cmd->add_option("--mode", args->mode, "exhaustive | realtime (pipeline.mode)");
-  cmd->add_option("--realtime", args->realtime_speed,
-                  "play the frames at their time stamps, SPEED times the sensor's rate (1 when no SPEED is given), "
-                  "as a camera delivers them: the engine drops the oldest waiting frame when it falls behind "
-                  "(pipeline.mode=realtime, pipeline.realtime_speed)")
+  cmd->add_option(
+         "--realtime", args->realtime_speed,
+         "play the frames at their time stamps, SPEED times the sensor's rate (1 when no SPEED is given), "
+         "as a camera delivers them: the engine drops the oldest waiting frame when it falls behind "
+         "(pipeline.mode=realtime, pipeline.realtime_speed)")
       ->expected(0, 1)
       ->type_name("[SPEED]");
   cmd->add_option("--frames", args->frames, "frames to process, 0 = all (input.max_frames)")
       ->check(FrameCountCheck());
   cmd->add_option("--lcm-url", args->lcm_url,
                   "publish over LCM at this URL, e.g. udpm://239.255.76.67:7667?ttl=0 (lcm.url)");
-  cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")->capture_default_str();
-  cmd->add_flag("--eval", args->eval,
-                "after the run (not counted in the frame rate), evaluate the mesh against every frame's Velodyne "
-                "/ exact depth: totals printed, eval_frames.csv, eval.json, eval.md (both protocols; error by class, "
-                "distance and triangle size) and top_view*.png (the mesh from above) in the output folder");
+  cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")
+      ->capture_default_str();
+  cmd->add_flag(
+      "--eval", args->eval,
+      "after the run (not counted in the frame rate), evaluate the mesh against every frame's Velodyne "
+      "/ exact depth: totals printed, eval_frames.csv, eval.json, eval.md (both protocols; error by class, "
+      "distance and triangle size) and top_view*.png (the mesh from above) in the output folder");
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Run(*args); }); });
 }
 

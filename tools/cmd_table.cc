@@ -21,12 +21,15 @@ struct TableArgs {
 void RegisterTableCommand(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<TableArgs>();
   auto* cmd = app.add_subcommand(
-      "table", "The paper's incremental table: stream each sequence with O and with PS, report RMSE vs Velodyne, "
-               "f/s, completeness, mesh size and speed-up beside the paper's figures");
+      "table",
+      "The paper's incremental table: stream each sequence with O and with PS, report RMSE vs Velodyne, "
+      "f/s, completeness, mesh size and speed-up beside the paper's figures");
   AddCommonOptions(cmd, &args->common);
-  cmd->add_option("PATH", args->request.datasets, "sequences (KITTI raw or odometry layout), each PATH or NAME=PATH")
+  cmd->add_option("PATH", args->request.datasets,
+                  "sequences (KITTI raw or odometry layout), each PATH or NAME=PATH")
       ->required();
-  cmd->add_option("--out", args->request.out, "folder for the runs, table.md and table.json")->capture_default_str();
+  cmd->add_option("--out", args->request.out, "folder for the runs, table.md and table.json")
+      ->capture_default_str();
   cmd->add_option("--frames", args->request.frames, "frames per sequence, 0 = all")
       ->check(FrameCountCheck())
       ->capture_default_str();

@@ -41,9 +41,10 @@ int Serve(const ViewArgs& args) {
     model = view::LoadFinished(args.path, args.finished);
   }
   if (args.server.host != "127.0.0.1" && args.server.host != "localhost") {
-    spdlog::warn("semap view: listening on {}: the page has no authentication, anyone who can reach this address "
-                 "sees the map",
-                 args.server.host);
+    spdlog::warn(
+        "semap view: listening on {}: the page has no authentication, anyone who can reach this address "
+        "sees the map",
+        args.server.host);
   }
   // The server before the subscription: a taken port is reported before anything else starts.
   view::ViewServer server(args.server, model.get());

@@ -1,11 +1,11 @@
 // semap — real-time incremental dense mapping with semantic point-cloud simplification.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
 #include <string>
-
-#include <CLI/CLI.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
 
 #include "tools/allocator.h"
 #include "tools/cli_common.h"
@@ -18,21 +18,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "semap 0.1.0 (" + AllocatorDescription() + ")");
   int exit_code = kExitOk;
   const RegisterFn commands[] = {
-      RegisterRunCommand,
-      RegisterMapSfmCommand,
-      RegisterConfigCommand,
-      RegisterSynthCommand,
-      RegisterLcmMeshCommand,
-      RegisterSimplifyCommand,
-      RegisterInfoCommand,
-      RegisterDepthCommand,
-      RegisterSegmentCommand,
-      RegisterEvalCommand,
-      RegisterEvalPosesCommand,
-      RegisterTableCommand,
-      RegisterCompareCommand,
-      RegisterRenderCommand,
-      RegisterViewCommand,
+      RegisterRunCommand,     RegisterMapSfmCommand,   RegisterConfigCommand,    RegisterSynthCommand,
+      RegisterLcmMeshCommand, RegisterSimplifyCommand, RegisterInfoCommand,      RegisterDepthCommand,
+      RegisterSegmentCommand, RegisterEvalCommand,     RegisterEvalPosesCommand, RegisterTableCommand,
+      RegisterCompareCommand, RegisterRenderCommand,   RegisterViewCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   // A reader that goes away (`semap run … | head -1`) must not kill a run with SIGPIPE: writes to the closed

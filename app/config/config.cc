@@ -35,8 +35,8 @@ void SetValue(std::vector<Section>& sections, const std::string& section_name, c
               const YAML::Node& value, const std::string& where) {
   Section* section = FindSection(sections, section_name);
   if (!section) {
-    throw ConfigError(where + "unknown config section '" + section_name + "' (known: " +
-                      KnownSections(sections) + ")");
+    throw ConfigError(where + "unknown config section '" + section_name +
+                      "' (known: " + KnownSections(sections) + ")");
   }
   const BoundField* field = FindField(*section, key);
   if (!field) {
@@ -47,7 +47,8 @@ void SetValue(std::vector<Section>& sections, const std::string& section_name, c
   } catch (const std::exception& e) {
     std::ostringstream os;
     os << value;
-    throw ConfigError(where + "bad value '" + os.str() + "' for '" + section_name + "." + key + "': " + e.what());
+    throw ConfigError(where + "bad value '" + os.str() + "' for '" + section_name + "." + key +
+                      "': " + e.what());
   }
 }
 

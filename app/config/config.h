@@ -1,4 +1,5 @@
-// The semap configuration (app/: it knows every module): one options struct per stage, loaded from YAML with `--set key=value` overrides.
+// The semap configuration (app/: it knows every module): one options struct per stage, loaded from YAML with
+// `--set key=value` overrides.
 #pragma once
 
 #include <filesystem>
@@ -6,17 +7,17 @@
 #include <string>
 #include <vector>
 
-#include "engine/sim/synth_options.h"
+#include "app/config/pose_input.h"
 #include "engine/depth/stereo_depth.h"
-#include "engine/semantics/segmenter.h"
-#include "engine/simplify/simplify.h"
+#include "engine/eval/depth_accuracy.h"
 #include "engine/map/map_options.h"
 #include "engine/odometry/stereo_odometry.h"
-#include "app/config/pose_input.h"
+#include "engine/pipeline/pipeline.h"
+#include "engine/semantics/segmenter.h"
+#include "engine/sim/synth_options.h"
+#include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
-#include "engine/eval/depth_accuracy.h"
-#include "engine/pipeline/pipeline.h"
 #include "io/lcm/lcm_publisher.h"
 #include "io/output/output_sinks.h"
 
@@ -31,19 +32,19 @@ class ConfigError : public std::runtime_error {
 // Every stage's options. Defaults are the paper's values where it gives them.
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
-  io::FrameSourceOptions input;  // where frames come from and what is loaded with them
-  PoseInputOptions pose_input;   // input.poses: where the camera poses come from
+  io::FrameSourceOptions input;    // where frames come from and what is loaded with them
+  PoseInputOptions pose_input;     // input.poses: where the camera poses come from
   OneFrameInputOptions one_frame;  // input.one_frame_preset: a run of one frame
-  sim::SynthOptions synth;   // the synthetic sequence generator (`semap synth`)
-  PipelineOptions pipeline;  // stage threads, queues, modes
-  io::OutputOptions output;      // files written by a run
-  io::LcmOptions lcm;            // mesh / stats publishing over LCM
-  DepthAccuracyOptions eval; // accuracy against Velodyne / exact depth
+  sim::SynthOptions synth;         // the synthetic sequence generator (`semap synth`)
+  PipelineOptions pipeline;        // stage threads, queues, modes
+  io::OutputOptions output;        // files written by a run
+  io::LcmOptions lcm;              // mesh / stats publishing over LCM
+  DepthAccuracyOptions eval;       // accuracy against Velodyne / exact depth
   StereoOdometryOptions odometry;  // poses from the images (input.poses)
-  DepthOptions depth;        // stereo matching and point cloud
-  SemanticsOptions semantics;  // where per-pixel labels come from
-  SimplifyOptions simplify;  // semantic point-cloud simplification (and its baselines)
-  MapOptions map;            // the Delaunay map: votes, manifold, incremental update, memory bound
+  DepthOptions depth;              // stereo matching and point cloud
+  SemanticsOptions semantics;      // where per-pixel labels come from
+  SimplifyOptions simplify;        // semantic point-cloud simplification (and its baselines)
+  MapOptions map;                  // the Delaunay map: votes, manifold, incremental update, memory bound
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).

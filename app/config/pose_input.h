@@ -20,17 +20,19 @@ struct PoseInputOptions {
   // Bound into the input section (input.poses). Visitor: Field(key, T*, text) and Enum(key, E*, {...}, text).
   template <typename Visitor>
   void Describe(Visitor& v) {
-    v.Enum("poses", &poses,
-           {{"auto", PoseSource::kAuto},
-            {"file", PoseSource::kFile},
-            {"oxts", PoseSource::kOxts},
-            {"odometry", PoseSource::kOdometry}},
-           "where the map's camera poses come from: auto = the sequence's own when it has them, else stereo "
-           "visual odometry; file = its pose file (KITTI odometry poses/NN.txt); oxts = its OXTS GPS/IMU poses "
-           "(KITTI raw); odometry = visual odometry (the sequence's poses are not used; see odometry.*)");
-    v.Field("compare_odometry", &compare_odometry,
-            "when the map uses the sequence's poses, also run visual odometry beside them: its trajectory and "
-            "per-frame figures are written for comparison (semap eval-poses)");
+    v.Enum(
+        "poses", &poses,
+        {{"auto", PoseSource::kAuto},
+         {"file", PoseSource::kFile},
+         {"oxts", PoseSource::kOxts},
+         {"odometry", PoseSource::kOdometry}},
+        "where the map's camera poses come from: auto = the sequence's own when it has them, else stereo "
+        "visual odometry; file = its pose file (KITTI odometry poses/NN.txt); oxts = its OXTS GPS/IMU poses "
+        "(KITTI raw); odometry = visual odometry (the sequence's poses are not used; see odometry.*)");
+    v.Field(
+        "compare_odometry", &compare_odometry,
+        "when the map uses the sequence's poses, also run visual odometry beside them: its trajectory and "
+        "per-frame figures are written for comparison (semap eval-poses)");
   }
 
   void Check() const {}

@@ -56,10 +56,11 @@ cv::Mat DepthMapOfCloud(const LabelledCloud& cloud, const Pose3d& world_from_cam
   return depth_mm;
 }
 
-// `semap depth --all` (app/depth/depth_maps.h): every selected frame through the engine's depth stage (SGBM, point filters, labels and
-// sky removal as `semap run` does), densely (depth.max_points_per_frame is not applied: fusion tools take
-// whole depth maps). Writes DIR/depth/NNNNNN.png, DIR/poses.txt ("id" then world_from_cam as 3×4 row-major,
-// one line per frame) and DIR/camera.txt ("width_px height_px fx_px fy_px cx_px cy_px").
+// `semap depth --all` (app/depth/depth_maps.h): every selected frame through the engine's depth stage (SGBM,
+// point filters, labels and sky removal as `semap run` does), densely (depth.max_points_per_frame is not
+// applied: fusion tools take whole depth maps). Writes DIR/depth/NNNNNN.png, DIR/poses.txt ("id" then
+// world_from_cam as 3×4 row-major, one line per frame) and DIR/camera.txt ("width_px height_px fx_px fy_px
+// cx_px cy_px").
 }  // namespace
 
 void WriteAllDepthMaps(const Config& config, const std::string& path, const std::filesystem::path& out) {
@@ -71,8 +72,8 @@ void WriteAllDepthMaps(const Config& config, const std::string& path, const std:
   DepthOptions dense = config.depth;
   dense.max_points_per_frame = 0;
   StereoLabelStage stage(dense, config.semantics, source->class_map());
-  // The rows lined up as `semap run` lines them up (measured on the first frames, then every 100), so that the
-  // depth maps are the ones the map is built from.
+  // The rows lined up as `semap run` lines them up (measured on the first frames, then every 100), so that
+  // the depth maps are the ones the map is built from.
   std::unique_ptr<FrameReader> reader = std::move(source);
   if (config.depth.align_rows) reader = std::make_unique<RowAlignmentReader>(std::move(reader));
   std::filesystem::create_directories(out / "depth");
@@ -129,7 +130,6 @@ void WriteAllDepthMaps(const Config& config, const std::string& path, const std:
               out.c_str());
 }
 
-
 void WriteFrameDepth(const Config& config, const FrameDepthRequest& request) {
   io::FrameSourceOptions input = config.input;
   input.load_velodyne = false;
@@ -145,12 +145,11 @@ void WriteFrameDepth(const Config& config, const FrameDepthRequest& request) {
   auto segmenter = MakeSegmenter(config.semantics);
   const cv::Mat labels = FrameLabels(frame, config.semantics, segmenter.get());
   const ClassMap& classes = segmenter ? segmenter->class_map() : at.class_map;
-  const LabellingReport report =
-      ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), classes.unlabelled_id(),
-                             config.semantics.size_mismatch);
+  const LabellingReport report = ApplyFirstCameraLabels(
+      cloud, frame.id, labels, frame.left.size(), classes.unlabelled_id(), config.semantics.size_mismatch);
   if (report.resized) {
-    spdlog::warn("frame {}: label image {}x{} resized (nearest neighbour) to the image size {}x{}",
-                 frame.id, labels.cols, labels.rows, frame.left.cols, frame.left.rows);
+    spdlog::warn("frame {}: label image {}x{} resized (nearest neighbour) to the image size {}x{}", frame.id,
+                 labels.cols, labels.rows, frame.left.cols, frame.left.rows);
   }
   if (request.label_colours) {
     for (size_t i = 0; i < cloud.size(); ++i) cloud.colors_rgb[i] = classes.Color(cloud.labels[i]);

@@ -18,7 +18,8 @@ struct FrameDepthRequest {
 };
 
 // SGBM and the labelling rule on one frame: writes disparity_NNNNNN.png (KITTI uint16), a false-colour
-// disparity_colour_NNNNNN.png and cloud_NNNNNN.ply, and prints what it found. Throws naming the file or frame.
+// disparity_colour_NNNNNN.png and cloud_NNNNNN.ply, and prints what it found. Throws naming the file or
+// frame.
 void WriteFrameDepth(const Config& config, const FrameDepthRequest& request);
 
 // Every selected frame through the depth stage of `semap run` (SGBM, point filters, labels, sky removal),

@@ -127,9 +127,12 @@ void CsvFields(std::ostream& out, const std::optional<DepthAccuracy>& a) {
 }  // namespace
 
 nlohmann::json ToJson(const DepthAccuracy& a) {
-  return {{"rmse_m", a.rmse_m},           {"mae_m", a.mae_m},
-          {"median_abs_m", a.median_abs_m}, {"mean_error_m", a.mean_error_m},
-          {"completeness", a.completeness}, {"reference_pixels", a.reference_pixels},
+  return {{"rmse_m", a.rmse_m},
+          {"mae_m", a.mae_m},
+          {"median_abs_m", a.median_abs_m},
+          {"mean_error_m", a.mean_error_m},
+          {"completeness", a.completeness},
+          {"reference_pixels", a.reference_pixels},
           {"compared_pixels", a.compared_pixels}};
 }
 
@@ -157,9 +160,10 @@ std::string DepthBandsText(const SurfaceMetrics& s) {
   for (const auto& b : s.completeness_by_depth) {
     const std::string range = std::isfinite(b.to_m) ? Fixed("%.0f", b.from_m) + "-" + Fixed("%.0f m", b.to_m)
                                                     : Fixed("beyond %.0f m", b.from_m);
-    text += (text.empty() ? "" : ", ") + range + " " + Fixed("%.1f %%", 100.0 * b.completeness) + " (" +
-            Fixed("%.0f %%", s.truth_samples > 0 ? 100.0 * double(b.samples) / double(s.truth_samples) : 0.0) +
-            " of samples)";
+    text +=
+        (text.empty() ? "" : ", ") + range + " " + Fixed("%.1f %%", 100.0 * b.completeness) + " (" +
+        Fixed("%.0f %%", s.truth_samples > 0 ? 100.0 * double(b.samples) / double(s.truth_samples) : 0.0) +
+        " of samples)";
   }
   return text;
 }
@@ -185,8 +189,11 @@ nlohmann::json ToJson(const SurfaceMetrics& s) {
 }
 
 nlohmann::json ToJson(const MeshEvaluation& e, bool per_frame) {
-  nlohmann::json j{{"vertices", e.vertices}, {"triangles", e.triangles}, {"off_bytes", e.off_bytes},
-                   {"frames", e.frames}, {"frames_unreadable", e.frames_unreadable}};
+  nlohmann::json j{{"vertices", e.vertices},
+                   {"triangles", e.triangles},
+                   {"off_bytes", e.off_bytes},
+                   {"frames", e.frames},
+                   {"frames_unreadable", e.frames_unreadable}};
   if (e.frames_with_lidar > 0) j["lidar"] = ToJson(e.lidar);
   if (e.exact_depth) j["exact_depth"] = ToJson(*e.exact_depth);
   if (e.scene) j["scene_mesh"] = ToJson(*e.scene);
@@ -248,14 +255,17 @@ void PrintEvaluation(const MeshEvaluation& e) {
     Print("  static", *e.exact_depth_static, "static", e.strict_options, StaticSuffix(e));
   if (e.scene) {
     const SurfaceMetrics& s = *e.scene;
-    std::printf("vs scene mesh accuracy %.1f %% of the area within tau = %.2f m (%.1f %% within %.2f m, %.1f %% beyond "
-                "%.2f m, %.1f %% beyond %.2f m, mean %.3f m; area %.0f m2, %lld samples)\n",
-                100.0 * s.accuracy, s.threshold_m, 100.0 * s.area_within_near, s.near_m, 100.0 * s.area_beyond_near,
-                s.near_m, 100.0 * s.area_beyond_far, s.far_m, s.mean_distance_m, s.area_m2,
-                static_cast<long long>(s.area_samples));
-    std::printf("              per vertex and centroid (every triangle once, whatever its size) %.1f %% within tau "
-                "(mean %.3f m)\n",
-                100.0 * s.vertex_accuracy, s.vertex_mean_distance_m);
+    std::printf(
+        "vs scene mesh accuracy %.1f %% of the area within tau = %.2f m (%.1f %% within %.2f m, %.1f %% "
+        "beyond "
+        "%.2f m, %.1f %% beyond %.2f m, mean %.3f m; area %.0f m2, %lld samples)\n",
+        100.0 * s.accuracy, s.threshold_m, 100.0 * s.area_within_near, s.near_m, 100.0 * s.area_beyond_near,
+        s.near_m, 100.0 * s.area_beyond_far, s.far_m, s.mean_distance_m, s.area_m2,
+        static_cast<long long>(s.area_samples));
+    std::printf(
+        "              per vertex and centroid (every triangle once, whatever its size) %.1f %% within tau "
+        "(mean %.3f m)\n",
+        100.0 * s.vertex_accuracy, s.vertex_mean_distance_m);
     std::printf("              completeness %.1f %% (mean %.4f m) at tau = %.2f m\n", 100.0 * s.completeness,
                 s.mean_completeness_m, s.threshold_m);
     if (!s.completeness_by_depth.empty()) {
@@ -277,7 +287,8 @@ std::vector<std::filesystem::path> WriteTopViews(const Mesh& mesh, const MeshEva
     options.colour = TopViewColour::kError;
     options.error_bins_m = {e.scene->threshold_m, e.scene->near_m, e.scene->far_m};
     const auto distance = [&](const Eigen::Vector3d& p) { return to_truth(p); };
-    io::WritePng(dir / "top_view_error.png", RenderTopView(mesh, up, options, distance, e.camera_centers).image);
+    io::WritePng(dir / "top_view_error.png",
+                 RenderTopView(mesh, up, options, distance, e.camera_centers).image);
     written.push_back(dir / "top_view_error.png");
   }
   return written;

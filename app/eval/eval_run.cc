@@ -46,11 +46,10 @@ bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
     io::WriteFileAtomically(out / "eval.md", EvaluationMarkdown(e));
     std::vector<std::filesystem::path> written = WriteErrorImages(e, out);
     for (const auto& f : WriteTopViews(mesh, e, out)) written.push_back(f);
-    spdlog::info("wrote {} and {} ({} pictures)", (out / "eval.json").string(),
-                 (out / "eval.md").string(), written.size());
+    spdlog::info("wrote {} and {} ({} pictures)", (out / "eval.json").string(), (out / "eval.md").string(),
+                 written.size());
     if (!request.error_frames.empty() && e.error_images.empty()) {
-      spdlog::warn(
-          "--error-frames: none of the named frames was evaluated (ids as on disk, with a pose)");
+      spdlog::warn("--error-frames: none of the named frames was evaluated (ids as on disk, with a pose)");
     }
   }
   if (e.frames_with_lidar == 0 && !e.exact_depth) {

@@ -11,14 +11,14 @@
 namespace semap::app {
 
 struct EvalRequest {
-  std::filesystem::path dataset;  // the sequence the mesh was built from
-  std::filesystem::path mesh;     // .ply or .off
-  std::filesystem::path json;     // when not empty: the figures (per frame too) as JSON
-  std::filesystem::path pictures; // when not empty: top_view.png (and top_view_error.png) in this folder
+  std::filesystem::path dataset;   // the sequence the mesh was built from
+  std::filesystem::path mesh;      // .ply or .off
+  std::filesystem::path json;      // when not empty: the figures (per frame too) as JSON
+  std::filesystem::path pictures;  // when not empty: top_view.png (and top_view_error.png) in this folder
   // When not empty: the report folder (eval.json, eval.md, error images, pictures from above).
   std::filesystem::path out;
-  int error_images = 3;                     // with `out`: error images of this many frames, spread out
-  std::vector<std::int64_t> error_frames;   // with `out`: of these frames (ids on disk) instead
+  int error_images = 3;                    // with `out`: error images of this many frames, spread out
+  std::vector<std::int64_t> error_frames;  // with `out`: of these frames (ids on disk) instead
 };
 
 // Reads the mesh (io::FileError for a mesh without faces: nothing to measure), evaluates it with

@@ -117,23 +117,24 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     // chosen frames) an error image; returns the frame's strict figures.
     const auto add_reference = [&](const cv::Mat& reference, const char* name, const char* title,
                                    const ErrorImageOptions& image, DepthAccuracyAccumulator* total,
-                                   DepthAccuracyAccumulator* total_paper, ErrorBreakdownAccumulator* breakdown) {
+                                   DepthAccuracyAccumulator* total_paper,
+                                   ErrorBreakdownAccumulator* breakdown) {
       DepthAccuracyAccumulator one(accuracy);
       one.Add(reference, mesh_depth);
       total_paper->Add(reference, mesh_depth);
       breakdown->Add(reference, mesh_depth, rendered.triangle, triangle_areas, classes);
       if (draw) {
-        result.error_images.push_back(
-            {frame->id, name,
-             RenderErrorImage(reference, mesh_depth, frame->left, accuracy, image, ErrorImageTitle(frame->id, title))});
+        result.error_images.push_back({frame->id, name,
+                                       RenderErrorImage(reference, mesh_depth, frame->left, accuracy, image,
+                                                        ErrorImageTitle(frame->id, title))});
       }
       total->Merge(one);
       return one.Result();
     };
     if (frame->velodyne) {
       const cv::Mat lidar_depth = LidarDepthImage(*frame->velodyne, frame->calibration, accuracy);
-      frame_accuracy.lidar =
-          add_reference(lidar_depth, "lidar", "Velodyne", sparse_image, &lidar, &lidar_paper, &lidar_breakdown);
+      frame_accuracy.lidar = add_reference(lidar_depth, "lidar", "Velodyne", sparse_image, &lidar,
+                                           &lidar_paper, &lidar_breakdown);
       if (frame_labels) {
         lidar_static.Add(WithoutMovable(lidar_depth, frame->labels, movable), mesh_depth);
         ++static_lidar_frames;
@@ -142,8 +143,8 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     }
     if (const auto path = ExactDepthPath(info, frame->id)) {
       const cv::Mat exact_depth = ReadDepthPngMm(*path);
-      frame_accuracy.exact_depth = add_reference(exact_depth, "exact_depth", "exact depth", dense_image, &exact,
-                                                 &exact_paper, &exact_breakdown);
+      frame_accuracy.exact_depth = add_reference(exact_depth, "exact_depth", "exact depth", dense_image,
+                                                 &exact, &exact_paper, &exact_breakdown);
       if (frame_labels) {
         exact_static.Add(WithoutMovable(exact_depth, frame->labels, movable), mesh_depth);
         ++static_exact_frames;
@@ -185,7 +186,8 @@ MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& datas
     SurfaceMetricsOptions surface;
     surface.threshold_m = accuracy.surface_threshold_m;
     surface.area_samples = accuracy.surface_area_samples;
-    result.scene = CompareSurfaces(mesh, ReadMeshPly(scene_mesh), truth_samples, surface, truth_sample_depths_m);
+    result.scene =
+        CompareSurfaces(mesh, ReadMeshPly(scene_mesh), truth_samples, surface, truth_sample_depths_m);
     result.scene_threshold_m = surface.threshold_m;
     result.scene_mesh_path = scene_mesh;
   }

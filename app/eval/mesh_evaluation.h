@@ -54,17 +54,17 @@ struct FrameErrorImage {
 };
 
 struct MeshEvaluation {
-  std::int64_t frames = 0;                    // frames with a pose that were evaluated
+  std::int64_t frames = 0;  // frames with a pose that were evaluated
   std::int64_t frames_with_lidar = 0;
   std::int64_t frames_with_exact_depth = 0;
-  std::int64_t frames_unreadable = 0;         // skipped: a file of the frame (e.g. its Velodyne scan) failed
-  std::string first_unreadable;               // the first such error, naming the file
-  DepthAccuracy lidar;                        // against Velodyne (the paper's RMSE)
-  std::optional<DepthAccuracy> exact_depth;   // against exact depth maps (generated sequences only)
-  std::uint64_t off_bytes = 0;                // mesh size as ASCII OFF (the paper's measure)
+  std::int64_t frames_unreadable = 0;        // skipped: a file of the frame (e.g. its Velodyne scan) failed
+  std::string first_unreadable;              // the first such error, naming the file
+  DepthAccuracy lidar;                       // against Velodyne (the paper's RMSE)
+  std::optional<DepthAccuracy> exact_depth;  // against exact depth maps (generated sequences only)
+  std::uint64_t off_bytes = 0;               // mesh size as ASCII OFF (the paper's measure)
   std::size_t vertices = 0;
   std::size_t triangles = 0;
-  std::vector<FrameAccuracy> per_frame;       // every evaluated frame, in order
+  std::vector<FrameAccuracy> per_frame;  // every evaluated frame, in order
   // The two protocols (engine/eval/depth_accuracy.h): `lidar` / `exact_depth` above use the configured
   // options (strict: every error by default); these use the paper's filters (≤ 15 m, |error| ≤ 2 m).
   DepthAccuracyOptions strict_options;
@@ -89,7 +89,7 @@ struct MeshEvaluation {
   // sense at accuracy.surface_threshold_m, the truth samples being the exact depth maps' points.
   std::optional<SurfaceMetrics> scene;
   double scene_threshold_m = 0.0;
-  std::filesystem::path scene_mesh_path;        // the scene mesh compared with (empty when none)
+  std::filesystem::path scene_mesh_path;  // the scene mesh compared with (empty when none)
   // The evaluated frames' left cameras in the world frame: their centres in order, and their mean up
   // direction (−y of the camera, unit; zero when no frame had a pose). Pictures from above use them.
   std::vector<Eigen::Vector3d> camera_centers;
@@ -107,8 +107,8 @@ std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info
 // frames without a pose are skipped) and compares `mesh` with them. Throws FileError for an unreadable
 // dataset; frames that fail to read are skipped and counted.
 // `options` adds the breakdown's bins and the error images (throws InvalidOption on bad options).
-MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset, io::FrameSourceOptions input,
-                            const DepthAccuracyOptions& accuracy = {},
+MeshEvaluation EvaluateMesh(const Mesh& mesh, const std::filesystem::path& dataset,
+                            io::FrameSourceOptions input, const DepthAccuracyOptions& accuracy = {},
                             const MeshEvaluationOptions& options = {});
 
 }  // namespace semap::app

@@ -5,9 +5,8 @@
 #include <cstdarg>
 #include <cstdio>
 #include <limits>
-#include <stdexcept>
-
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "io/frame_source.h"
 #include "io/output/trajectory_files.h"
@@ -34,7 +33,8 @@ nlohmann::json DriftJson(const SegmentDrift& d) {
 
 }  // namespace
 
-PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, const std::filesystem::path& poses) {
+PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset,
+                             const std::filesystem::path& poses) {
   io::FrameSourceOptions input = config.input;
   input.load_velodyne = false;
   input.load_labels = false;
@@ -44,7 +44,7 @@ PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, c
   while (auto frame = source->Next()) {
     if (!frame->world_from_cam) {
       throw std::runtime_error(dataset + ": frame " + std::to_string(frame->id) +
-                        " has no pose: nothing to evaluate the estimate against");
+                               " has no pose: nothing to evaluate the estimate against");
     }
     truth.push_back(*frame->world_from_cam);
     stamps.push_back(frame->timestamp_s);
@@ -53,7 +53,8 @@ PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, c
   if (poses.extension() == ".tum") {
     const std::vector<io::StampedPose> tum = io::ReadTumTrajectory(poses);
     double period_s = std::numeric_limits<double>::infinity();
-    for (size_t i = 1; i < stamps.size(); ++i) period_s = std::min(period_s, std::abs(stamps[i] - stamps[i - 1]));
+    for (size_t i = 1; i < stamps.size(); ++i)
+      period_s = std::min(period_s, std::abs(stamps[i] - stamps[i - 1]));
     for (size_t i = 0; i < stamps.size(); ++i) {
       const auto best = std::min_element(tum.begin(), tum.end(), [&](const auto& a, const auto& b) {
         return std::abs(a.timestamp_s - stamps[i]) < std::abs(b.timestamp_s - stamps[i]);
@@ -68,7 +69,8 @@ PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, c
     estimate = io::ReadKittiPoses(poses);
     if (estimate.size() != truth.size()) {
       throw io::FileError(poses, "has " + std::to_string(estimate.size()) + " poses but the sequence has " +
-                                     std::to_string(truth.size()) + " frames (input.first_frame / max_frames)");
+                                     std::to_string(truth.size()) +
+                                     " frames (input.first_frame / max_frames)");
     }
   }
   PoseEvaluation e;
@@ -84,7 +86,8 @@ std::string PoseEvaluationText(const PoseEvaluation& e) {
   std::string t = Line("frames: %d, path %.1f m", e.frames, e.path_length_m);
   if (e.kitti.overall.segments > 0) {
     t += Line("KITTI metric: %.3f %% translation, %.5f deg/m rotation (%d segments of 100-800 m)",
-              e.kitti.overall.translation_percent, e.kitti.overall.rotation_deg_per_m, e.kitti.overall.segments);
+              e.kitti.overall.translation_percent, e.kitti.overall.rotation_deg_per_m,
+              e.kitti.overall.segments);
     for (const auto& d : e.kitti.per_length) {
       t += Line("  %4.0f m: %.3f %%, %.5f deg/m (%d segments)", d.length_m, d.translation_percent,
                 d.rotation_deg_per_m, d.segments);
@@ -92,11 +95,12 @@ std::string PoseEvaluationText(const PoseEvaluation& e) {
   } else {
     t += Line("KITTI metric: none (the drive is shorter than 100 m)");
   }
-  t += Line("relative error over %d frames: %.3f %% translation, %.5f deg/m rotation (%d windows, mean %.1f m); "
-            "RMSE %.3f m, %.4f deg",
-            kRelativeErrorFrames, e.relative.drift.translation_percent, e.relative.drift.rotation_deg_per_m,
-            e.relative.drift.segments, e.relative.drift.length_m, e.relative.translation_rmse_m,
-            e.relative.rotation_rmse_deg);
+  t += Line(
+      "relative error over %d frames: %.3f %% translation, %.5f deg/m rotation (%d windows, mean %.1f m); "
+      "RMSE %.3f m, %.4f deg",
+      kRelativeErrorFrames, e.relative.drift.translation_percent, e.relative.drift.rotation_deg_per_m,
+      e.relative.drift.segments, e.relative.drift.length_m, e.relative.translation_rmse_m,
+      e.relative.rotation_rmse_deg);
   t += Line("ATE after alignment: RMSE %.3f m, mean %.3f m, max %.3f m", e.absolute.rmse_m, e.absolute.mean_m,
             e.absolute.max_m);
   t += Line("end point: %.3f m (%.2f %% of the path), %.3f deg", e.absolute.end_point_m,
@@ -107,20 +111,21 @@ std::string PoseEvaluationText(const PoseEvaluation& e) {
 std::string PoseEvaluationJson(const PoseEvaluation& e) {
   nlohmann::json per_length = nlohmann::json::array();
   for (const auto& d : e.kitti.per_length) per_length.push_back(DriftJson(d));
-  const nlohmann::json j = {
-      {"frames", e.frames},
-      {"path_length_m", e.path_length_m},
-      {"kitti", {{"overall", DriftJson(e.kitti.overall)}, {"per_length", per_length}}},
-      {"relative", {{"frames", kRelativeErrorFrames},
-                    {"drift", DriftJson(e.relative.drift)},
-                    {"translation_rmse_m", e.relative.translation_rmse_m},
-                    {"rotation_rmse_deg", e.relative.rotation_rmse_deg}}},
-      {"absolute", {{"rmse_m", e.absolute.rmse_m},
-                    {"mean_m", e.absolute.mean_m},
-                    {"max_m", e.absolute.max_m},
-                    {"end_point_m", e.absolute.end_point_m},
-                    {"end_point_percent", e.absolute.end_point_percent},
-                    {"end_rotation_deg", e.absolute.end_rotation_deg}}}};
+  const nlohmann::json j = {{"frames", e.frames},
+                            {"path_length_m", e.path_length_m},
+                            {"kitti", {{"overall", DriftJson(e.kitti.overall)}, {"per_length", per_length}}},
+                            {"relative",
+                             {{"frames", kRelativeErrorFrames},
+                              {"drift", DriftJson(e.relative.drift)},
+                              {"translation_rmse_m", e.relative.translation_rmse_m},
+                              {"rotation_rmse_deg", e.relative.rotation_rmse_deg}}},
+                            {"absolute",
+                             {{"rmse_m", e.absolute.rmse_m},
+                              {"mean_m", e.absolute.mean_m},
+                              {"max_m", e.absolute.max_m},
+                              {"end_point_m", e.absolute.end_point_m},
+                              {"end_point_percent", e.absolute.end_point_percent},
+                              {"end_rotation_deg", e.absolute.end_rotation_deg}}}};
   return j.dump(2) + "\n";
 }
 

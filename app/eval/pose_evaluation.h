@@ -12,9 +12,9 @@ namespace semap::app {
 
 struct PoseEvaluation {
   int frames = 0;
-  double path_length_m = 0.0;     // of the sequence's poses
-  KittiOdometryError kitti;       // segments of 100-800 m (none on a shorter drive)
-  RelativePoseError relative;     // over 10-frame windows
+  double path_length_m = 0.0;  // of the sequence's poses
+  KittiOdometryError kitti;    // segments of 100-800 m (none on a shorter drive)
+  RelativePoseError relative;  // over 10-frame windows
   AbsoluteTrajectoryError absolute;
 };
 
@@ -25,7 +25,8 @@ constexpr int kRelativeErrorFrames = 10;
 // pose format, one line per selected frame, or TUM (".tum"; each frame takes the pose with the nearest
 // timestamp, within half the smallest frame period). Throws io::FileError naming the file, or
 // std::runtime_error naming the first frame without a pose.
-PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset, const std::filesystem::path& poses);
+PoseEvaluation EvaluatePoses(const Config& config, const std::string& dataset,
+                             const std::filesystem::path& poses);
 
 // The evaluation as text (one figure a line) and as JSON.
 std::string PoseEvaluationText(const PoseEvaluation& e);

@@ -1,9 +1,9 @@
 #include "app/eval/render_mesh.h"
 
+#include <spdlog/spdlog.h>
+
 #include <functional>
 #include <memory>
-
-#include <spdlog/spdlog.h>
 
 #include "engine/core/check.h"
 #include "engine/eval/surface_metrics.h"
@@ -48,9 +48,10 @@ void RenderMeshFile(const RenderRequest& args) {
   }
   const TopView view = RenderTopView(mesh, up, options, distance);
   io::WritePng(args.out, view.image);
-  spdlog::info("{}: {} triangles seen along up = ({:g}, {:g}, {:g}), {} coloured, {:.3f} m/px, {} px covered -> {}",
-               args.mesh.string(), mesh.num_triangles(), up.x(), up.y(), up.z(), TopViewColourName(options.colour),
-               view.metres_per_px, cv::countNonZero(view.triangle >= 0), args.out.string());
+  spdlog::info(
+      "{}: {} triangles seen along up = ({:g}, {:g}, {:g}), {} coloured, {:.3f} m/px, {} px covered -> {}",
+      args.mesh.string(), mesh.num_triangles(), up.x(), up.y(), up.z(), TopViewColourName(options.colour),
+      view.metres_per_px, cv::countNonZero(view.triangle >= 0), args.out.string());
 }
 
 }  // namespace semap::app

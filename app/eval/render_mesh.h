@@ -10,8 +10,8 @@
 namespace semap::app {
 
 struct RenderRequest {
-  std::filesystem::path mesh;   // .ply or .off
-  std::filesystem::path out;    // the PNG
+  std::filesystem::path mesh;  // .ply or .off
+  std::filesystem::path out;   // the PNG
   // World up: "x", "-x", "y", "-y", "z", "-z", or "auto": the axis along which the mesh's bounding box is
   // thinnest, taken as up for x and z (KITTI raw: z up) and as down for y (camera frames, KITTI odometry).
   std::string up = "auto";

@@ -38,13 +38,15 @@ bool WriteReplayedMesh(const std::string& source, const io::MeshReplay& r, const
   } else {
     io::WriteMeshPly(out, r.mesh, ascii ? io::PlyEncoding::kAscii : io::PlyEncoding::kBinaryLittleEndian);
   }
-  spdlog::info("{}: {} events over {:.1f} s, {} mesh messages ({} bytes, largest event {} bytes), {} duplicates, "
-               "{} deltas without their base, {} → {} vertices, {} triangles → {}",
-               source, r.events, r.duration_s, r.mesh_events, r.mesh_bytes, r.largest_message, r.blocks.duplicates,
-               r.blocks.deltas_without_base, RunState(r), r.mesh.num_vertices(),
-               r.mesh.num_triangles(), out.string());
-  if (r.converged_after_s >= 0) spdlog::info("late subscriber converged {:.2f} s after joining", r.converged_after_s);
-  if (r.blocks.runs > 1) spdlog::warn("{}: {} runs in the log; the mesh is the last run's", source, r.blocks.runs);
+  spdlog::info(
+      "{}: {} events over {:.1f} s, {} mesh messages ({} bytes, largest event {} bytes), {} duplicates, "
+      "{} deltas without their base, {} → {} vertices, {} triangles → {}",
+      source, r.events, r.duration_s, r.mesh_events, r.mesh_bytes, r.largest_message, r.blocks.duplicates,
+      r.blocks.deltas_without_base, RunState(r), r.mesh.num_vertices(), r.mesh.num_triangles(), out.string());
+  if (r.converged_after_s >= 0)
+    spdlog::info("late subscriber converged {:.2f} s after joining", r.converged_after_s);
+  if (r.blocks.runs > 1)
+    spdlog::warn("{}: {} runs in the log; the mesh is the last run's", source, r.blocks.runs);
   if (r.missing.empty()) return true;
   spdlog::error("{}: the mesh is incomplete: {} blocks lacking:", source, r.missing.size());
   for (size_t i = 0; i < std::min(kMaxListed, r.missing.size()); ++i) spdlog::error("  {}", r.missing[i]);

@@ -12,7 +12,7 @@ namespace semap::app {
 // its mesh to `out` (.off, else PLY; ASCII PLY with `ascii`) and reports the run's state. Returns false,
 // having logged why, when no triangle was rebuilt (nothing written) or when blocks are missing (the mesh
 // written is incomplete).
-bool WriteReplayedMesh(const std::string& source, const io::MeshReplay& replay, const std::filesystem::path& out,
-                       bool ascii);
+bool WriteReplayedMesh(const std::string& source, const io::MeshReplay& replay,
+                       const std::filesystem::path& out, bool ascii);
 
 }  // namespace semap::app

@@ -1,19 +1,19 @@
 // `semap table PATH...` (tools/cmd_table.cc parses it): the paper's incremental table. Each sequence is
-// streamed twice through the engine (exhaustive mode), Original (O) and Incremental Simplification (PS); the table gives accuracy
-// against Velodyne (RMSE, the paper's figure), frame rate, completeness, mesh size and the speed-up, with
-// the paper's own figures beside them, in two protocols side by side (strict: every error in the configured
-// depth range; paper: reference depth <= 15 m, |error| <= 2 m, as the authors' evaluator), and for generated
-// sequences the by-area accuracy against the exact scene mesh; each run's folder gets its pictures from above
-// (top_view*.png).
+// streamed twice through the engine (exhaustive mode), Original (O) and Incremental Simplification (PS); the
+// table gives accuracy against Velodyne (RMSE, the paper's figure), frame rate, completeness, mesh size and
+// the speed-up, with the paper's own figures beside them, in two protocols side by side (strict: every error
+// in the configured depth range; paper: reference depth <= 15 m, |error| <= 2 m, as the authors' evaluator),
+// and for generated sequences the by-area accuracy against the exact scene mesh; each run's folder gets its
+// pictures from above (top_view*.png).
 #include "app/paper/incremental_table.h"
+
+#include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <optional>
-
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
+#include <optional>
 
 #include "app/eval/eval_report.h"
 #include "app/run/engine_run.h"
@@ -26,7 +26,7 @@ struct Row {
   std::string method;
   double rmse_m = 0.0;        // strict protocol
   double rmse_paper_m = 0.0;  // paper protocol
-  double fps = 0.0;         // the whole process: reading, depth, labels and the mapper
+  double fps = 0.0;           // the whole process: reading, depth, labels and the mapper
   double mapper_fps = 0.0;  // the mapper alone (simplification + map), the paper's rate: 1 / its time a frame
   double completeness = 0.0;
   double mesh_mb = 0.0;
@@ -35,7 +35,7 @@ struct Row {
   double exact_rmse_m = -1.0;  // against exact depth maps (generated sequences), < 0 = none
   double exact_rmse_paper_m = -1.0;
   std::string strict_filters, paper_filters;  // the protocols' filters, for the table's note
-  bool has_lidar = false;      // false: the sequence has no Velodyne, RMSE and completeness are not defined
+  bool has_lidar = false;  // false: the sequence has no Velodyne, RMSE and completeness are not defined
   std::optional<SurfaceMetrics> scene;  // against the exact scene mesh (generated sequences), by area
 };
 
@@ -96,7 +96,8 @@ std::string Markdown(const std::vector<Row>& rows) {
     const SurfaceMetrics s = r.scene.value_or(SurfaceMetrics());
     std::snprintf(
         line, sizeof(line),
-        "| %s | %s | %s | %s | %.3f | %.2f× | %.3f | %.2f× | %s | %.2f | %zu | %lld | %s | %s | %s | %s | %s | %s "
+        "| %s | %s | %s | %s | %.3f | %.2f× | %.3f | %.2f× | %s | %.2f | %zu | %lld | %s | %s | %s | %s | %s "
+        "| %s "
         "| %s |\n",
         r.sequence.c_str(), r.method.c_str(), Figure(r.has_lidar, "%.4f", r.rmse_m).c_str(),
         Figure(r.has_lidar, "%.4f", r.rmse_paper_m).c_str(), r.fps, speedup, r.mapper_fps, mapper_speedup,
@@ -118,16 +119,19 @@ std::string Markdown(const std::vector<Row>& rows) {
         "*mapper f/s* is the rate of the simplification and the map on the depth and labels computed, what "
         "the paper's table measures: 1 / their mean time a frame on the map's threads.\n";
   }
-  md += "\nArea columns: the mesh's surface sampled uniformly by area against the exact scene mesh (generated "
-        "sequences; τ = eval.surface_threshold_m). Pictures from above: NAME/METHOD/top_view*.png.\n";
-  md += "\nThe paper (KITTI, its Table III):\n\n| sequence | method | RMSE (m) | f/s | speed-up |\n|---|---|---|---|---|\n";
+  md +=
+      "\nArea columns: the mesh's surface sampled uniformly by area against the exact scene mesh (generated "
+      "sequences; τ = eval.surface_threshold_m). Pictures from above: NAME/METHOD/top_view*.png.\n";
+  md +=
+      "\nThe paper (KITTI, its Table III):\n\n| sequence | method | RMSE (m) | f/s | speed-up "
+      "|\n|---|---|---|---|---|\n";
   for (const PaperRow& p : kPaper) {
     double o_fps = p.fps;
     for (const PaperRow& q : kPaper) {
       if (std::string(q.sequence) == p.sequence && std::string(q.method) == "O") o_fps = q.fps;
     }
-    std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.2f× |\n", p.sequence, p.method, p.rmse_m, p.fps,
-                  p.fps / o_fps);
+    std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.2f× |\n", p.sequence, p.method, p.rmse_m,
+                  p.fps, p.fps / o_fps);
     md += line;
   }
   return md;

@@ -10,15 +10,15 @@ namespace semap::app {
 struct TableRequest {
   std::string config_path;             // --config FILE (empty = defaults)
   std::vector<std::string> overrides;  // --set section.key=value, applied after the file
-  std::vector<std::string> datasets;  // PATH or NAME=PATH
+  std::vector<std::string> datasets;   // PATH or NAME=PATH
   std::string out = "semap_table";
   int frames = 0;
   double progress_s = 10.0;
 };
 
-// Runs every sequence with O and PS (exhaustive mode) into request.out/NAME/METHOD, prints the table and writes
-// table.md and table.json in request.out. Returns false when those two files could not be written (logged).
-// Throws what a run, its configuration or its evaluation throws.
+// Runs every sequence with O and PS (exhaustive mode) into request.out/NAME/METHOD, prints the table and
+// writes table.md and table.json in request.out. Returns false when those two files could not be written
+// (logged). Throws what a run, its configuration or its evaluation throws.
 bool WriteIncrementalTable(const TableRequest& request);
 
 }  // namespace semap::app

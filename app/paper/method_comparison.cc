@@ -8,16 +8,18 @@
 // sequences) and each method's pictures from above (METHOD/top_view*.png).
 #include "app/paper/method_comparison.h"
 
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <optional>
 #include <map>
+#include <optional>
 
-#include <spdlog/spdlog.h>
-
+#include "app/eval/eval_report.h"
+#include "app/run/engine_run.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
 #include "engine/map/batch_map.h"
@@ -25,8 +27,6 @@
 #include "engine/simplify/simplify.h"
 #include "io/frame_source.h"
 #include "io/mesh/ply_off.h"
-#include "app/eval/eval_report.h"
-#include "app/run/engine_run.h"
 
 namespace semap::app {
 namespace {
@@ -40,7 +40,8 @@ struct Row {
   DepthAccuracy lidar;        // strict protocol (the configured filters)
   DepthAccuracy lidar_paper;  // paper protocol (<= 15 m, |error| <= 2 m)
   double seconds = 0.0;
-  std::optional<SurfaceMetrics> scene;  // by area against the exact scene mesh (incremental, generated sequences)
+  std::optional<SurfaceMetrics>
+      scene;  // by area against the exact scene mesh (incremental, generated sequences)
   // Points in / kept per class role (ground, wall, other).
   std::map<ClassRole, std::pair<std::int64_t, std::int64_t>> roles;
 };
@@ -108,16 +109,17 @@ std::vector<Row> CompareIncremental(const CompareRequest& args, const ClassMap& 
     std::vector<std::string> overrides = args.overrides;
     if (!drop) overrides.push_back("simplify.method=" + name);
     overrides.push_back("pipeline.mode=exhaustive");
-    overrides.push_back("output.dir=" + (std::filesystem::path(args.out) / (drop ? "no_ground_wall" : name)).string());
+    overrides.push_back("output.dir=" +
+                        (std::filesystem::path(args.out) / (drop ? "no_ground_wall" : name)).string());
     if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
     const Config config = LoadConfig(args.config_path, overrides);
     spdlog::info("compare: {}", name);
     Row row;
     row.method = name;
     RoleCountSink counts(class_map, &row);
-    const EngineRun run = RunAndEvaluate(config, args.path, 0.0,
-                                         drop ? std::make_unique<DropGroundAndWallStage>(class_map) : nullptr,
-                                         {&counts});
+    const EngineRun run =
+        RunAndEvaluate(config, args.path, 0.0,
+                       drop ? std::make_unique<DropGroundAndWallStage>(class_map) : nullptr, {&counts});
     row.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
     row.triangles = run.evaluation.triangles;
     row.lidar = run.evaluation.lidar;
@@ -191,7 +193,8 @@ double KeptShare(const Row& r, ClassRole role) {
   return double(it->second.second) / double(it->second.first);
 }
 
-void WriteOutputs(const CompareRequest& args, const std::vector<Row>& rows, const DepthAccuracyOptions& strict) {
+void WriteOutputs(const CompareRequest& args, const std::vector<Row>& rows,
+                  const DepthAccuracyOptions& strict) {
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
   std::string md =
@@ -258,15 +261,15 @@ void WriteOutputs(const CompareRequest& args, const std::vector<Row>& rows, cons
     if (r.method == kNoGroundWall) continue;
     const SimplifyMethod method = SimplifyMethodFromName(r.method);
     const int kind = method == SimplifyMethod::kOriginal ? 0 : IsSemanticMethod(method) ? 2 : 1;
-    dat << '"' << r.method << "\" " << r.mesh_mb << ' ' << r.lidar.rmse_m << ' ' << r.lidar_paper.rmse_m << ' '
-        << kind << '\n';
+    dat << '"' << r.method << "\" " << r.mesh_mb << ' ' << r.lidar.rmse_m << ' ' << r.lidar_paper.rmse_m
+        << ' ' << kind << '\n';
   }
   dat.close();
   const auto panel = [&](int column, const std::string& protocol) {
     return "set ylabel 'RMSE vs Velodyne, " + protocol + " (m)'\n" +
            "plot 'compare_plot.dat' using 2:($5 == 2 ? $" + std::to_string(column) +
-           " : 1/0) with points pt 7 ps 1.5 lc rgb '#1f77b4' title 'semantic', " +
-           "'' using 2:($5 == 1 ? $" + std::to_string(column) +
+           " : 1/0) with points pt 7 ps 1.5 lc rgb '#1f77b4' title 'semantic', " + "'' using 2:($5 == 1 ? $" +
+           std::to_string(column) +
            " : 1/0) with points pt 5 ps 1.3 lc rgb '#ff7f0e' title 'non-semantic baseline', " +
            "'' using 2:($5 == 0 ? $" + std::to_string(column) +
            " : 1/0) with points pt 9 ps 1.8 lc rgb 'black' title 'O (no simplification)', " +
@@ -298,7 +301,8 @@ void WriteOutputs(const CompareRequest& args, const std::vector<Row>& rows, cons
 
 bool CompareMethods(const CompareRequest& args) {
   for (const std::string& m : args.methods) SimplifyMethodFromName(m);  // unknown names fail before any work
-  const ClassMap class_map = io::OpenFrameSource(args.path, LoadConfig(args.config_path, args.overrides).input)->class_map();
+  const ClassMap class_map =
+      io::OpenFrameSource(args.path, LoadConfig(args.config_path, args.overrides).input)->class_map();
   const std::vector<Row> rows =
       args.mode == "incremental" ? CompareIncremental(args, class_map) : CompareSingleFrame(args, class_map);
   WriteOutputs(args, rows, LoadConfig(args.config_path, args.overrides).eval);

@@ -1,9 +1,9 @@
 #include "app/run/engine_run.h"
 
+#include <spdlog/spdlog.h>
+
 #include <stdexcept>
 #include <string>
-
-#include <spdlog/spdlog.h>
 
 #include "app/run/progress_sink.h"
 #include "app/run/run_outputs.h"
@@ -43,7 +43,8 @@ std::unique_ptr<io::FrameSource> OpenStreamingSource(const Config& config, const
 }
 
 std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_ptr<io::FrameSource> source,
-                                             std::unique_ptr<SimplifyStage> simplify, const RunOdometry* odometry) {
+                                             std::unique_ptr<SimplifyStage> simplify,
+                                             const RunOdometry* odometry) {
   const ClassMap class_map = source->class_map();
   if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
   std::unique_ptr<FrameReader> reader;
@@ -54,32 +55,37 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
   }
   if (config.depth.align_rows) reader = std::make_unique<RowAlignmentReader>(std::move(reader));
   if (odometry != nullptr && odometry->log) {
-    reader = std::make_unique<OdometryReader>(std::move(reader), config.odometry, odometry->plan.replace_poses,
-                                              odometry->log);
+    reader = std::make_unique<OdometryReader>(std::move(reader), config.odometry,
+                                              odometry->plan.replace_poses, odometry->log);
   }
   // ENet on keyframes (semantics.enet_every_frames > 1) runs on its own thread and the depth workers load
   // none; on every frame (1) each depth worker runs its own, so that the workers segment frames in parallel
-  // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the path).
+  // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the
+  // path).
   const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
   auto pipeline = std::make_unique<Pipeline>(
       config.pipeline, std::move(reader),
       [depth = config.depth, semantics = config.semantics, class_map, enet] {
         return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet);
       },
-      std::move(simplify), std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+      std::move(simplify),
+      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
   if (enet) {
-    pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics), config.semantics.enet_every_frames);
+    pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics),
+                              config.semantics.enet_every_frames);
   }
   return pipeline;
 }
 
 EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, double progress_s,
-                         std::unique_ptr<SimplifyStage> simplify, const std::vector<PipelineSink*>& extra_sinks) {
+                         std::unique_ptr<SimplifyStage> simplify,
+                         const std::vector<PipelineSink*>& extra_sinks) {
   const RunOdometry odometry = PrepareOdometry(config, dataset);
   auto source = OpenStreamingSource(config, dataset);
   const std::int64_t total = source->size();
   RunOutputs outputs(config, RunOutputs::Lcm::kOff);
-  if (odometry.log) outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
+  if (odometry.log)
+    outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
   std::unique_ptr<ProgressSink> progress;
   if (progress_s > 0.0) progress = std::make_unique<ProgressSink>(total, progress_s);
 

@@ -6,12 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/mesh.h"
-#include "engine/pipeline/pipeline.h"
-#include "engine/pipeline/stages.h"
 #include "app/config/config.h"
 #include "app/eval/mesh_evaluation.h"
 #include "app/run/odometry_reader.h"
+#include "engine/core/mesh.h"
+#include "engine/pipeline/pipeline.h"
+#include "engine/pipeline/stages.h"
 #include "io/frame_source.h"
 
 namespace semap::app {
@@ -28,8 +28,8 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
                                              const RunOdometry* odometry = nullptr);
 
 struct EngineRun {
-  PipelineSummary summary;  // fps (frames / seconds of the whole incremental build), stage times
-  Mesh mesh;                // the final mesh (also written to config.output.dir)
+  PipelineSummary summary;    // fps (frames / seconds of the whole incremental build), stage times
+  Mesh mesh;                  // the final mesh (also written to config.output.dir)
   MeshEvaluation evaluation;  // against Velodyne (and exact depth for generated sequences)
 };
 

@@ -70,11 +70,10 @@ std::optional<Frame> OdometryReader::Next() {
   if (options_.offset_in_depth) frame->disparity_offset = result.disparity_offset;
   if (!replace_poses_) return frame;
   if (result.status == OdometryStatus::kBridged || result.status == OdometryStatus::kRestarted) {
-    throw std::runtime_error("frame " + std::to_string(frame->id) + ": visual odometry lost track (" +
-                             result.problem + "); " +
-                             (result.status == OdometryStatus::kRestarted ? "tracking restarted on this frame, "
-                                                                          : "") +
-                             "its pose is a constant-velocity guess (in the trajectory), the frame is not mapped");
+    throw std::runtime_error(
+        "frame " + std::to_string(frame->id) + ": visual odometry lost track (" + result.problem + "); " +
+        (result.status == OdometryStatus::kRestarted ? "tracking restarted on this frame, " : "") +
+        "its pose is a constant-velocity guess (in the trajectory), the frame is not mapped");
   }
   frame->world_from_cam = result.world_from_cam;
   return frame;
@@ -90,8 +89,9 @@ OdometryPlan PlanOdometry(const Config& config, bool has_poses, bool raw_layout,
     case PoseSource::kOxts: {
       const bool oxts = config.pose_input.poses == PoseSource::kOxts;
       if (!has_poses || oxts != raw_layout) {
-        throw ConfigError(std::string("input.poses: ") + PoseSourceName(config.pose_input.poses) + ": " + dataset +
-                          " has no " + (oxts ? "OXTS poses (oxts/data of a KITTI raw drive)" : "pose file") +
+        throw ConfigError(std::string("input.poses: ") + PoseSourceName(config.pose_input.poses) + ": " +
+                          dataset + " has no " +
+                          (oxts ? "OXTS poses (oxts/data of a KITTI raw drive)" : "pose file") +
                           "; use auto or odometry");
       }
       break;
@@ -112,7 +112,8 @@ RunOdometry PrepareOdometry(const Config& config, const std::string& dataset) {
   return odometry;
 }
 
-std::vector<std::filesystem::path> WriteOdometryTrajectory(const OdometryLog& log, const std::filesystem::path& dir) {
+std::vector<std::filesystem::path> WriteOdometryTrajectory(const OdometryLog& log,
+                                                           const std::filesystem::path& dir) {
   const std::vector<OdometryRecord> records = log.Records();
   std::vector<Pose3d> poses;
   std::vector<io::StampedPose> stamped;

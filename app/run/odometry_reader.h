@@ -1,6 +1,6 @@
-// Visual odometry in a run: a frame reader that estimates each frame's pose from its stereo pair as the frames
-// are read (engine/odometry), hands it to the map in place of the sequence's (input.poses), and keeps the
-// trajectory and the per-frame figures for the run's outputs.
+// Visual odometry in a run: a frame reader that estimates each frame's pose from its stereo pair as the
+// frames are read (engine/odometry), hands it to the map in place of the sequence's (input.poses), and keeps
+// the trajectory and the per-frame figures for the run's outputs.
 #pragma once
 
 #include <cstdint>
@@ -51,8 +51,8 @@ class OdometryLog {
 // Called from one thread (the pipeline's reader).
 class OdometryReader : public FrameReader {
  public:
-  OdometryReader(std::unique_ptr<FrameReader> source, const StereoOdometryOptions& options, bool replace_poses,
-                 std::shared_ptr<OdometryLog> log);
+  OdometryReader(std::unique_ptr<FrameReader> source, const StereoOdometryOptions& options,
+                 bool replace_poses, std::shared_ptr<OdometryLog> log);
   std::optional<Frame> Next() override;
 
  private:
@@ -84,6 +84,7 @@ RunOdometry PrepareOdometry(const Config& config, const std::string& dataset);
 // The trajectory files of a run with odometry in `dir`: poses_odometry.txt (KITTI pose format, one line per
 // frame the odometry saw, the 3x4 world_from_cam row-major) and poses_odometry.tum (TUM: timestamp tx ty tz
 // qx qy qz qw). Returns the paths written; throws io::FileError.
-std::vector<std::filesystem::path> WriteOdometryTrajectory(const OdometryLog& log, const std::filesystem::path& dir);
+std::vector<std::filesystem::path> WriteOdometryTrajectory(const OdometryLog& log,
+                                                           const std::filesystem::path& dir);
 
 }  // namespace semap::app

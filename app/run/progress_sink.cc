@@ -1,11 +1,10 @@
 #include "app/run/progress_sink.h"
 
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <string>
-
-#include <spdlog/spdlog.h>
 
 namespace semap::app {
 
@@ -21,14 +20,14 @@ void ProgressSink::Print(const FrameStats& s, bool final) {
     stages += buf;
   }
   char line[512];
-  std::snprintf(line, sizeof(line),
-                "frame %lld/%lld | %.2f fps | latency %.0f ms |%s | points %lld→%lld | mesh %lld tris | dropped "
-                "%lld failed %lld | %.0f MB",
-                static_cast<long long>(s.frames_processed), static_cast<long long>(total_frames_), s.fps,
-                s.latency.published_ms, stages.c_str(), static_cast<long long>(s.points_in),
-                static_cast<long long>(s.points_kept),
-                static_cast<long long>(s.mesh_triangles), static_cast<long long>(s.frames_dropped),
-                static_cast<long long>(s.frames_failed), s.rss_mb);
+  std::snprintf(
+      line, sizeof(line),
+      "frame %lld/%lld | %.2f fps | latency %.0f ms |%s | points %lld→%lld | mesh %lld tris | dropped "
+      "%lld failed %lld | %.0f MB",
+      static_cast<long long>(s.frames_processed), static_cast<long long>(total_frames_), s.fps,
+      s.latency.published_ms, stages.c_str(), static_cast<long long>(s.points_in),
+      static_cast<long long>(s.points_kept), static_cast<long long>(s.mesh_triangles),
+      static_cast<long long>(s.frames_dropped), static_cast<long long>(s.frames_failed), s.rss_mb);
   if (tty_) {
     std::fprintf(stderr, "\r\033[K%s%s", line, final ? "\n" : "");
   } else {

@@ -40,9 +40,9 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
   RunOutputs outputs(config);
   ProgressSink progress(total, request.progress_s);
   if (odometry.log) {
-    spdlog::info("poses: stereo visual odometry{}", odometry.plan.replace_poses
-                                                        ? ""
-                                                        : " beside the sequence's own (the map takes the sequence's)");
+    spdlog::info(
+        "poses: stereo visual odometry{}",
+        odometry.plan.replace_poses ? "" : " beside the sequence's own (the map takes the sequence's)");
     outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
   }
 
@@ -57,14 +57,15 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
 
   const FrameStats& s = summary.final_stats;
   spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
-               s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps, summary.stopped_early ? " (stopped early)" : "");
+               s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps,
+               summary.stopped_early ? " (stopped early)" : "");
   for (const auto& l : s.latencies) {
     spdlog::info("  latency to {:<10} p50 {:8.1f} ms  p95 {:8.1f}  max {:8.1f}", l.name, l.p50_ms, l.p95_ms,
                  l.max_ms);
   }
   for (const auto& st : s.stages) {
-    spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms, st.p50_ms,
-                 st.p95_ms, st.max_ms);
+    spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms,
+                 st.p50_ms, st.p95_ms, st.max_ms);
   }
   const Mesh mesh = outputs.mesh();
   spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF", mesh.num_vertices(), mesh.num_triangles(),
@@ -74,13 +75,15 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
     const std::vector<OdometryRecord> records = odometry.log->Records();
     double cpu_ms = 0.0;
     for (const auto& r : records) cpu_ms += r.result.cpu_ms;
-    spdlog::info("odometry: {} frames, {} bridged or restarted (tracking failed: not mapped, pose guessed), "
-                 "mean {:.1f} ms CPU a frame, disparity offset {:+.2f} px {:+.2f} px per row unit at the last frame",
-                 records.size(), odometry.log->failures(), records.empty() ? 0.0 : cpu_ms / records.size(),
-                 records.empty() ? 0.0 : records.back().result.disparity_offset.constant_px,
-                 records.empty() ? 0.0 : records.back().result.disparity_offset.per_row_px);
+    spdlog::info(
+        "odometry: {} frames, {} bridged or restarted (tracking failed: not mapped, pose guessed), "
+        "mean {:.1f} ms CPU a frame, disparity offset {:+.2f} px {:+.2f} px per row unit at the last frame",
+        records.size(), odometry.log->failures(), records.empty() ? 0.0 : cpu_ms / records.size(),
+        records.empty() ? 0.0 : records.back().result.disparity_offset.constant_px,
+        records.empty() ? 0.0 : records.back().result.disparity_offset.per_row_px);
     try {
-      for (const auto& f : WriteOdometryTrajectory(*odometry.log, config.output.dir)) spdlog::info("wrote {}", f.string());
+      for (const auto& f : WriteOdometryTrajectory(*odometry.log, config.output.dir))
+        spdlog::info("wrote {}", f.string());
     } catch (const io::FileError& e) {
       spdlog::error("{}", e.what());
       return StreamRunOutcome::kOutputErrors;

@@ -77,8 +77,8 @@ void FillMap(const MapStatistics& m, FrameStats* s) {
   s->map_rays = static_cast<std::int64_t>(m.num_rays);
 }
 
-void RunBatch(const io::SfmReconstruction& r, const Config& config, const ClassMap& class_map,
-              Sinks* sinks, FrameStats* final_stats) {
+void RunBatch(const io::SfmReconstruction& r, const Config& config, const ClassMap& class_map, Sinks* sinks,
+              FrameStats* final_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   SfmBatchResult result = MapSfmBatch(r, config.map, config.simplify, class_map);
   if (result.unobserved_points > 0)
@@ -169,11 +169,13 @@ void MapSfm(const Config& config, const MapSfmRequest& request) {
   if (SimplifiesSfm(r, config.simplify)) {
     spdlog::info("simplification: method {}", SimplifyMethodName(config.simplify.method));
   } else {
-    spdlog::info("simplification: none ({})", r.point_labels.empty() ? "the points have no labels" : "method O");
+    spdlog::info("simplification: none ({})",
+                 r.point_labels.empty() ? "the points have no labels" : "method O");
   }
 
   // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
-  Sinks sinks(config, request.incremental ? static_cast<std::int64_t>(r.views.size()) : 1, request.progress_s);
+  Sinks sinks(config, request.incremental ? static_cast<std::int64_t>(r.views.size()) : 1,
+              request.progress_s);
   FrameStats final_stats;
   if (request.incremental) {
     RunIncremental(r, config, class_map, &sinks, &final_stats);

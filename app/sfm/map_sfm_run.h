@@ -12,8 +12,8 @@ namespace semap::app {
 struct MapSfmRequest {
   std::filesystem::path input;  // a COLMAP model folder, an OpenMVG sfm_data.json or a SLAM JSON
   io::SfmFormat format = io::SfmFormat::kColmap;
-  bool incremental = false;     // view by view as keyframes (default: one batch map)
-  double progress_s = 1.0;      // seconds between progress lines
+  bool incremental = false;  // view by view as keyframes (default: one batch map)
+  double progress_s = 1.0;   // seconds between progress lines
 };
 
 // Reads the reconstruction (points beyond the map's coordinate range are left out, with a warning), maps it

@@ -1,10 +1,10 @@
 #include "app/sfm/sfm_mapping.h"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <chrono>
 #include <unordered_set>
-
-#include <spdlog/fmt/fmt.h>
 
 #include "engine/core/check.h"
 #include "engine/map/batch_map.h"

@@ -31,11 +31,11 @@ void SimplifyCloudFile(const Config& config, const SimplifyCloudRequest& request
                 static_cast<unsigned long long>(s.kept), static_cast<unsigned long long>(s.removed),
                 s.in > 0 ? 100.0 * static_cast<double>(s.kept) / static_cast<double>(s.in) : 100.0);
   }
-  std::printf("%-14s %-7s %10llu %10llu %10llu %7.1f%%\n", "total", "",
-              static_cast<unsigned long long>(result.in), static_cast<unsigned long long>(result.kept()),
-              static_cast<unsigned long long>(result.in - result.kept()),
-              result.in > 0 ? 100.0 * static_cast<double>(result.kept()) / static_cast<double>(result.in)
-                            : 100.0);
+  std::printf(
+      "%-14s %-7s %10llu %10llu %10llu %7.1f%%\n", "total", "", static_cast<unsigned long long>(result.in),
+      static_cast<unsigned long long>(result.kept()),
+      static_cast<unsigned long long>(result.in - result.kept()),
+      result.in > 0 ? 100.0 * static_cast<double>(result.kept()) / static_cast<double>(result.in) : 100.0);
   std::printf("time: %.3f s (%.0f points/s)\n", result.time_s,
               result.time_s > 0.0 ? static_cast<double>(result.in) / result.time_s : 0.0);
   if (!request.out.empty()) {

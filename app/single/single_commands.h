@@ -10,9 +10,9 @@
 namespace semap::app {
 
 struct SimplifyCloudRequest {
-  std::string cloud;          // .ply with a per-vertex `label` (class ids of config.input.class_map)
-  std::string out;            // the kept points as PLY; empty = statistics only
-  bool ascii = false;         // ASCII PLY instead of binary
+  std::string cloud;   // .ply with a per-vertex `label` (class ids of config.input.class_map)
+  std::string out;     // the kept points as PLY; empty = statistics only
+  bool ascii = false;  // ASCII PLY instead of binary
 };
 
 // Simplifies the cloud with config.simplify and prints the points in / kept / removed per class and the time.

@@ -50,7 +50,9 @@ struct StereoCalibration {
 struct DisparityOffset {
   double constant_px = 0.0;
   double per_row_px = 0.0;  // the offset's change per unit of (v − cy) / fy, px
-  double At(double v_px, const StereoCalibration& c) const { return constant_px + per_row_px * (v_px - c.cy_px) / c.fy_px; }
+  double At(double v_px, const StereoCalibration& c) const {
+    return constant_px + per_row_px * (v_px - c.cy_px) / c.fy_px;
+  }
   bool IsZero() const { return constant_px == 0.0 && per_row_px == 0.0; }
 };
 

@@ -26,21 +26,21 @@ namespace core_internal {
 }  // namespace semap
 
 // Programmer errors: always on (release too), abort with the location. Never used for bad user input.
-#define SEMAP_ASSERT(cond, ...)                                                         \
-  do {                                                                                  \
-    if (!(cond)) {                                                                      \
-      std::ostringstream semap_assert_os_;                                              \
-      static_cast<void>(semap_assert_os_ __VA_OPT__(<<) __VA_ARGS__);                   \
+#define SEMAP_ASSERT(cond, ...)                                                                   \
+  do {                                                                                            \
+    if (!(cond)) {                                                                                \
+      std::ostringstream semap_assert_os_;                                                        \
+      static_cast<void>(semap_assert_os_ __VA_OPT__(<<) __VA_ARGS__);                             \
       ::semap::core_internal::AssertionFailed(#cond, __FILE__, __LINE__, semap_assert_os_.str()); \
-    }                                                                                   \
+    }                                                                                             \
   } while (false)
 
 // User errors in an options struct: throws semap::InvalidOption naming the field and the value.
-#define SEMAP_CHECK_OPTION(cond, field, value, requirement)                             \
-  do {                                                                                  \
-    if (!(cond)) {                                                                      \
-      std::ostringstream semap_opt_os_;                                                 \
-      semap_opt_os_ << requirement << " (got " << (value) << ")";                       \
-      throw ::semap::InvalidOption(field, semap_opt_os_.str());                         \
-    }                                                                                   \
+#define SEMAP_CHECK_OPTION(cond, field, value, requirement)       \
+  do {                                                            \
+    if (!(cond)) {                                                \
+      std::ostringstream semap_opt_os_;                           \
+      semap_opt_os_ << requirement << " (got " << (value) << ")"; \
+      throw ::semap::InvalidOption(field, semap_opt_os_.str());   \
+    }                                                             \
   } while (false)

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <limits>
-
 #include <opencv2/core.hpp>
 
 #include "engine/core/calibration.h"

@@ -1,12 +1,11 @@
 // One stereo frame as it enters the pipeline.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
-#include <opencv2/core.hpp>
 
 #include "engine/core/calibration.h"
 
@@ -19,14 +18,14 @@ struct VelodyneScan {
 };
 
 struct Frame {
-  std::int64_t id = 0;          // index in the sequence (as on disk)
-  double timestamp_s = 0.0;     // seconds since the first frame of the sequence
-  cv::Mat left;                 // rectified left image, CV_8UC3 (BGR) or CV_8UC1
-  cv::Mat right;                // rectified right image, same size and type as left
+  std::int64_t id = 0;       // index in the sequence (as on disk)
+  double timestamp_s = 0.0;  // seconds since the first frame of the sequence
+  cv::Mat left;              // rectified left image, CV_8UC3 (BGR) or CV_8UC1
+  cv::Mat right;             // rectified right image, same size and type as left
   StereoCalibration calibration;
   std::optional<Pose3d> world_from_cam;  // left camera pose, when the sequence has poses
   std::optional<VelodyneScan> velodyne;
-  cv::Mat labels;               // CV_8UC1 label ids of the left image (ClassMap scheme); empty = none
+  cv::Mat labels;  // CV_8UC1 label ids of the left image (ClassMap scheme); empty = none
   // Added to every disparity measured on the pair before it becomes depth (true = measured + offset at the
   // pixel's row): the rig's rectification offset as known when the frame was read (the visual odometry's).
   DisparityOffset disparity_offset;

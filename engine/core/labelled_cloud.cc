@@ -71,7 +71,8 @@ void LabelledCloud::Append(const LabelledCloud& other) {
   }
   camera_centers_world.insert(camera_centers_world.end(), other.camera_centers_world.begin(),
                               other.camera_centers_world.end());
-  camera_frame_ids.insert(camera_frame_ids.end(), other.camera_frame_ids.begin(), other.camera_frame_ids.end());
+  camera_frame_ids.insert(camera_frame_ids.end(), other.camera_frame_ids.begin(),
+                          other.camera_frame_ids.end());
   // Views are kept only while every camera has one.
   if (camera_views.size() + other.camera_views.size() == camera_centers_world.size()) {
     camera_views.insert(camera_views.end(), other.camera_views.begin(), other.camera_views.end());

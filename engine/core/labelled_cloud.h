@@ -1,12 +1,11 @@
 // A labelled point cloud in the world frame, stored as parallel arrays (structure of arrays).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/class_map.h"
 #include "engine/core/depth_view.h"
@@ -20,9 +19,9 @@ struct LabelledCloud {
   std::vector<Eigen::Vector3d> positions_world;
   std::vector<std::array<std::uint8_t, 3>> colors_rgb;  // optional
   std::vector<Label> labels;                            // optional (absent = all unlabelled)
-  std::vector<Eigen::Vector2f> pixels_px;                // optional: (u, v) in the first observing image
-  std::vector<float> confidence;                         // optional: disparity confidence in [0, 1]
-  std::vector<std::uint32_t> camera_index;               // required when cameras are present
+  std::vector<Eigen::Vector2f> pixels_px;               // optional: (u, v) in the first observing image
+  std::vector<float> confidence;                        // optional: disparity confidence in [0, 1]
+  std::vector<std::uint32_t> camera_index;              // required when cameras are present
 
   // Cameras (one per observing frame).
   std::vector<Eigen::Vector3d> camera_centers_world;

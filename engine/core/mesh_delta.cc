@@ -41,7 +41,8 @@ std::array<VertexId, 3> KeyOf(const IdentifiedMesh& m, const std::array<std::uin
 
 }  // namespace
 
-MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live, const IdentifiedMesh& frozen) {
+MeshDelta MeshDiffer::Update(std::int64_t frame_id, const IdentifiedMesh& live,
+                             const IdentifiedMesh& frozen) {
   SEMAP_ASSERT(live.vertex_ids.size() == live.mesh.vertices.size());
   SEMAP_ASSERT(frozen.vertex_ids.size() == frozen.mesh.vertices.size());
   MeshDelta delta;

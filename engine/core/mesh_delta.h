@@ -2,12 +2,11 @@
 // so that a subscriber keeps the mesh up to date without full resends.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/mesh.h"
 

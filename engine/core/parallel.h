@@ -81,7 +81,8 @@ bool OnEveryThread(std::chrono::milliseconds max_wait, const Body& body) {
         core_internal::Acquire(&fork);
         for (int i = r.begin(); i != r.end(); ++i) {
           ++started;
-          while (started.load() < threads && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+          while (started.load() < threads && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::yield();
           if (started.load() == threads) ++saw_all;
           body();
         }

@@ -39,8 +39,9 @@ void CheckView(const PlaneSweepView& view, const std::string& name) {
                                 std::to_string(view.image.type()) + ")");
   }
   const Eigen::Matrix3d& K = view.K;
-  const bool triangular = std::abs(K(1, 0)) <= kIntrinsicsTolerance && std::abs(K(2, 0)) <= kIntrinsicsTolerance &&
-                          std::abs(K(2, 1)) <= kIntrinsicsTolerance && std::abs(K(2, 2) - 1.0) <= kIntrinsicsTolerance;
+  const bool triangular =
+      std::abs(K(1, 0)) <= kIntrinsicsTolerance && std::abs(K(2, 0)) <= kIntrinsicsTolerance &&
+      std::abs(K(2, 1)) <= kIntrinsicsTolerance && std::abs(K(2, 2) - 1.0) <= kIntrinsicsTolerance;
   if (!K.allFinite() || !triangular || !(K(0, 0) > 0.0) || !(K(1, 1) > 0.0)) {
     throw std::invalid_argument("plane sweep: the " + name +
                                 " view's K must be finite, upper triangular with last row 0 0 1 and positive "
@@ -51,7 +52,8 @@ void CheckView(const PlaneSweepView& view, const std::string& name) {
 // One direction of planes: nᵀX = d in the reference frame, d uniform in 1/d.
 struct Family {
   Eigen::Vector3d normal_reference;
-  Eigen::Vector3d ray_factor;  // nᵀ K_ref⁻¹: a pixel's ray meets the plane nᵀX = d at depth d / (ray_factor · x̃)
+  Eigen::Vector3d
+      ray_factor;  // nᵀ K_ref⁻¹: a pixel's ray meets the plane nᵀX = d at depth d / (ray_factor · x̃)
   double first_inverse_offset = 0.0;  // 1 / d of plane 0 (the nearest)
   double inverse_offset_step = 0.0;   // change of 1 / d from one plane to the next (negative)
   int planes = 0;                     // 0: the family meets no ray of the image
@@ -107,8 +109,8 @@ Family DirectionFamily(const SweepDirection& direction, const PlaneSweepView& re
   // World plane nᵀX = c is the reference plane (Rᵀn)ᵀX_ref = c − nᵀC.
   const double along_centre = normal_world.dot(reference.world_from_cam.translation());
   double nearest = direction.min_offset_m - along_centre, farthest = direction.max_offset_m - along_centre;
-  if (!(direction.max_offset_m > direction.min_offset_m) || !std::isfinite(nearest) || !std::isfinite(farthest) ||
-      nearest * farthest <= 0.0) {
+  if (!(direction.max_offset_m > direction.min_offset_m) || !std::isfinite(nearest) ||
+      !std::isfinite(farthest) || nearest * farthest <= 0.0) {
     throw std::invalid_argument(
         "plane sweep: a sweep direction's offsets must be finite, min < max, with the reference camera on "
         "neither plane nor between them");
@@ -123,7 +125,8 @@ void AddHomographies(const PlaneSweepView& reference, const std::vector<PlaneSwe
   for (int p = 0; p < f->planes; ++p) {
     const double offset_m = 1.0 / f->InverseOffset(p);
     for (const PlaneSweepView& n : neighbours) {
-      const Pose3d neighbour_from_reference = n.world_from_cam.inverse(Eigen::Isometry) * reference.world_from_cam;
+      const Pose3d neighbour_from_reference =
+          n.world_from_cam.inverse(Eigen::Isometry) * reference.world_from_cam;
       f->homographies[static_cast<size_t>(p)].push_back(depth_internal::PlaneHomography(
           reference.K, n.K, neighbour_from_reference, f->normal_reference, offset_m));
     }
@@ -136,8 +139,13 @@ void AddHomographies(const PlaneSweepView& reference, const std::vector<PlaneSwe
 class MinimaTracker {
  public:
   explicit MinimaTracker(size_t pixels)
-      : prev1_(pixels, kInfinity), prev2_(pixels, kInfinity), best_(pixels, kInfinity), left_(pixels, kInfinity),
-        right_(pixels, kInfinity), second_(pixels, kInfinity), index_(pixels, -1) {}
+      : prev1_(pixels, kInfinity),
+        prev2_(pixels, kInfinity),
+        best_(pixels, kInfinity),
+        left_(pixels, kInfinity),
+        right_(pixels, kInfinity),
+        second_(pixels, kInfinity),
+        index_(pixels, -1) {}
 
   void Push(size_t i, int plane, float cost) {
     if (plane > 0) Consider(i, plane - 1, cost);
@@ -233,10 +241,12 @@ void SweepFamily(const Sweep& s, const Family& f, const std::vector<float>& fact
   depth_internal::CostScratch scratch;
   std::vector<cv::Mat> costs(views);
   std::vector<float> pixel_costs(views), aggregate_scratch(views);
-  const float lowest_inverse = float(1.0 / s.range.max_depth_m), highest_inverse = float(1.0 / s.range.min_depth_m);
+  const float lowest_inverse = float(1.0 / s.range.max_depth_m),
+              highest_inverse = float(1.0 / s.range.min_depth_m);
   for (int p = 0; p < f.planes; ++p) {
     for (size_t j = 0; j < views; ++j) {
-      depth_internal::WarpBand(s.neighbours[j], f.homographies[size_t(p)][j], band_first, band_rows, width, &band);
+      depth_internal::WarpBand(s.neighbours[j], f.homographies[size_t(p)][j], band_first, band_rows, width,
+                               &band);
       depth_internal::BandCost(s.reference, band, band_first, first_row, rows, s.options.min_window_stddev,
                                &scratch, &costs[j]);
     }
@@ -310,8 +320,8 @@ DepthRange SweptRange(const PlaneSweepOptions& o, const PlaneSweepView& referenc
 void PlaneSweepOptions::Check() const {
   SEMAP_CHECK_OPTION(num_planes >= 3, "num_planes", num_planes, "must be >= 3");
   const bool from_cameras = min_depth_m == 0.0 && max_depth_m == 0.0;
-  SEMAP_CHECK_OPTION(from_cameras || (std::isfinite(min_depth_m) && min_depth_m > 0.0), "min_depth_m", min_depth_m,
-                     "must be finite and > 0, or 0 with max_depth_m = 0 (from the cameras)");
+  SEMAP_CHECK_OPTION(from_cameras || (std::isfinite(min_depth_m) && min_depth_m > 0.0), "min_depth_m",
+                     min_depth_m, "must be finite and > 0, or 0 with max_depth_m = 0 (from the cameras)");
   SEMAP_CHECK_OPTION(from_cameras || (std::isfinite(max_depth_m) && max_depth_m > min_depth_m), "max_depth_m",
                      max_depth_m, "must be finite and greater than min_depth_m, or 0 with min_depth_m = 0");
   SEMAP_CHECK_OPTION(std::isfinite(camera_range_factor) && camera_range_factor > 1.0, "camera_range_factor",
@@ -328,7 +338,8 @@ void PlaneSweepOptions::Check() const {
 }
 
 std::optional<DepthRange> DepthRangeFromCameras(const PlaneSweepView& reference,
-                                                const std::vector<PlaneSweepView>& neighbours, double factor) {
+                                                const std::vector<PlaneSweepView>& neighbours,
+                                                double factor) {
   // The point X nearest to every optical axis (centre c, unit direction a): Σ (I − a aᵀ) X = Σ (I − a aᵀ) c.
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
@@ -356,9 +367,14 @@ PlaneSweepResult PlaneSweepDepth::Compute(const PlaneSweepView& reference,
   CheckView(reference, "reference");
   if (neighbours.empty()) throw std::invalid_argument("plane sweep: needs at least one neighbour view");
   for (size_t j = 0; j < neighbours.size(); ++j) CheckView(neighbours[j], "neighbour " + std::to_string(j));
-  Sweep s{options_, SweptRange(options_, reference, neighbours),
-          depth_internal::MakeReferenceWindows(reference.image, options_.window_px, options_.min_window_stddev),
-          reference.K.inverse(), {}, {}, {}};
+  Sweep s{
+      options_,
+      SweptRange(options_, reference, neighbours),
+      depth_internal::MakeReferenceWindows(reference.image, options_.window_px, options_.min_window_stddev),
+      reference.K.inverse(),
+      {},
+      {},
+      {}};
   for (const PlaneSweepView& n : neighbours) s.neighbours.push_back(depth_internal::CentredGrey(n.image));
   s.aggregation = {options_.best_views, options_.min_views, {}, options_.left_right_subsets};
   const Pose3d reference_from_world = reference.world_from_cam.inverse(Eigen::Isometry);
@@ -369,7 +385,7 @@ PlaneSweepResult PlaneSweepDepth::Compute(const PlaneSweepView& reference,
     s.families.push_back(DirectionFamily(d, reference, options_.num_planes, s.range));
   for (Family& f : s.families) AddHomographies(reference, neighbours, &f);
   const cv::Size size = reference.image.size();
-  PlaneSweepResult out{cv::Mat(size, CV_32F), cv::Mat(size, CV_32F), cv::Mat(size, CV_32F),
+  PlaneSweepResult out{cv::Mat(size, CV_32F),  cv::Mat(size, CV_32F),  cv::Mat(size, CV_32F),
                        cv::Mat(size, CV_8UC1), cv::Mat(size, CV_8UC1), s.range};
   const int bands = (size.height + kBandRows - 1) / kBandRows;
   ParallelFor(0, bands, 1, [&](int first, int last) {

@@ -14,10 +14,9 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "engine/core/calibration.h"
 
@@ -25,7 +24,7 @@ namespace semap {
 
 // One calibrated view: a grey image, its pinhole intrinsics (pixels; no distortion) and its pose.
 struct PlaneSweepView {
-  cv::Mat image;  // CV_8UC1
+  cv::Mat image;                                    // CV_8UC1
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  // [fx s cx; 0 fy cy; 0 0 1]
   Pose3d world_from_cam = Pose3d::Identity();
 };
@@ -60,7 +59,8 @@ struct PlaneSweepOptions {
             "nearest depth swept (reference camera-frame z, m); 0 together with max_depth_m = 0: the range "
             "comes from the cameras (where their optical axes meet, divided and multiplied by "
             "camera_range_factor)");
-    v.Field("max_depth_m", &max_depth_m, "farthest depth swept (m); 0 with min_depth_m = 0: from the cameras");
+    v.Field("max_depth_m", &max_depth_m,
+            "farthest depth swept (m); 0 with min_depth_m = 0: from the cameras");
     v.Field("camera_range_factor", &camera_range_factor,
             "the range from the cameras spans [z / factor, z · factor] around the depth z where the optical "
             "axes meet (> 1; larger: surfaces farther from that depth are found, with coarser steps)");

@@ -28,9 +28,10 @@ struct RowMatch {
 };
 
 // The matches FitRowOffsets fits, on a pair of 8-bit grey or BGR images of one size and type (BGR is matched
-// in grey): the strongest FAST corners of the left image, tracked into the right one by pyramidal KLT and back,
-// kept when the round trip closes, the row offset is plausible and the disparity positive (the rules and
-// their constants in row_alignment.cc). Empty for a blank image. Throws std::invalid_argument on other images.
+// in grey): the strongest FAST corners of the left image, tracked into the right one by pyramidal KLT and
+// back, kept when the round trip closes, the row offset is plausible and the disparity positive (the rules
+// and their constants in row_alignment.cc). Empty for a blank image. Throws std::invalid_argument on other
+// images.
 std::vector<RowMatch> MatchRows(const cv::Mat& left, const cv::Mat& right);
 
 // The fit on MatchRows's matches of a pair; nothing when too few are found (a blank, texture-less or smooth

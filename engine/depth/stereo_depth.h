@@ -86,7 +86,8 @@ struct DepthOptions {
     // engine/depth/row_alignment.h.
     v.Field(
         "align_rows", &align_rows,
-        "measure the pair's residual vertical misalignment (sparse stereo matches, a quadratic over the image; "
+        "measure the pair's residual vertical misalignment (sparse stereo matches, a quadratic over the "
+        "image; "
         "semap run measures it on its first frames, then every 100) and move the right image's rows by it "
         "before matching");
     v.Field("align_rows_min_px", &align_rows_min_px,

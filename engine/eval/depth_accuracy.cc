@@ -95,8 +95,9 @@ DepthAccuracy DepthAccuracyAccumulator::Result() const {
   const auto n = static_cast<std::int64_t>(abs_errors_.size());
   a.compared_pixels = n + outliers_;
   a.excluded_pixels = outliers_;
-  a.completeness = reference_pixels_ ? static_cast<double>(a.compared_pixels) / static_cast<double>(reference_pixels_)
-                                     : 0.0;
+  a.completeness = reference_pixels_
+                       ? static_cast<double>(a.compared_pixels) / static_cast<double>(reference_pixels_)
+                       : 0.0;
   if (n == 0) return a;
   a.rmse_m = std::sqrt(sum_sq_ / static_cast<double>(n));
   a.mae_m = sum_abs_ / static_cast<double>(n);

@@ -24,7 +24,7 @@ namespace semap {
 struct DepthAccuracyOptions {
   // Each field's key and meaning: Describe() below, once (what `semap config --defaults` prints).
   double min_depth_m = 1.0;
-  double max_depth_m = 40.0;  // the depth stage's range
+  double max_depth_m = 40.0;     // the depth stage's range
   double max_abs_error_m = 0.0;  // the 2018 authors used 2 m
   double surface_threshold_m = 0.2;
   int surface_pixel_stride = 8;

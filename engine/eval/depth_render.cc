@@ -41,7 +41,8 @@ void RasteriseTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const
   const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({pa.x(), pb.x(), pc.x()}))));
   const int x1 = std::min(cal.width_px - 1, static_cast<int>(std::floor(std::max({pa.x(), pb.x(), pc.x()}))));
   const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({pa.y(), pb.y(), pc.y()}))));
-  const int y1 = std::min(cal.height_px - 1, static_cast<int>(std::floor(std::max({pa.y(), pb.y(), pc.y()}))));
+  const int y1 =
+      std::min(cal.height_px - 1, static_cast<int>(std::floor(std::max({pa.y(), pb.y(), pc.y()}))));
   const double inv_za = 1.0 / a.z(), inv_zb = 1.0 / b.z(), inv_zc = 1.0 / c.z();
   for (int y = y0; y <= y1; ++y) {
     float* row = depth->ptr<float>(y);

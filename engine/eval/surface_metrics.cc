@@ -29,7 +29,8 @@ std::vector<Triangle> Triangles(const Mesh& mesh) {
   std::vector<Triangle> out;
   out.reserve(mesh.num_triangles());
   for (const auto& t : mesh.triangles) {
-    const Triangle tri(ToPoint(mesh.vertices[t[0]]), ToPoint(mesh.vertices[t[1]]), ToPoint(mesh.vertices[t[2]]));
+    const Triangle tri(ToPoint(mesh.vertices[t[0]]), ToPoint(mesh.vertices[t[1]]),
+                       ToPoint(mesh.vertices[t[2]]));
     if (!tri.is_degenerate()) out.push_back(tri);
   }
   return out;
@@ -146,7 +147,8 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
 
   // By area.
   m.area_m2 = SurfaceArea(reconstruction);
-  const std::vector<Eigen::Vector3d> area_samples = SampleSurface(reconstruction, options.area_samples, options.seed);
+  const std::vector<Eigen::Vector3d> area_samples =
+      SampleSurface(reconstruction, options.area_samples, options.seed);
   m.area_samples = std::int64_t(area_samples.size());
   if (!area_samples.empty()) {
     const std::vector<double> distances = Distances(to_truth, area_samples);
@@ -165,11 +167,13 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
   // Per vertex and centroid.
   std::vector<Eigen::Vector3d> samples(reconstruction.vertices.begin(), reconstruction.vertices.end());
   for (const auto& t : reconstruction.triangles) {
-    samples.push_back((reconstruction.vertices[t[0]] + reconstruction.vertices[t[1]] +
-                       reconstruction.vertices[t[2]]) / 3.0);
+    samples.push_back(
+        (reconstruction.vertices[t[0]] + reconstruction.vertices[t[1]] + reconstruction.vertices[t[2]]) /
+        3.0);
   }
   m.vertex_samples = std::int64_t(samples.size());
-  std::tie(m.vertex_accuracy, m.vertex_mean_distance_m) = Coverage(Distances(to_truth, samples), options.threshold_m);
+  std::tie(m.vertex_accuracy, m.vertex_mean_distance_m) =
+      Coverage(Distances(to_truth, samples), options.threshold_m);
 
   const bool by_depth = !truth_sample_depths_m.empty();
   const auto& edges = options.completeness_depth_edges_m;
@@ -178,8 +182,9 @@ SurfaceMetrics CompareSurfaces(const Mesh& reconstruction, const Mesh& truth,
   };
   if (by_depth) {
     for (std::size_t k = 0; k <= edges.size(); ++k) {
-      m.completeness_by_depth.push_back({k == 0 ? 0.0 : edges[k - 1],
-                                         k < edges.size() ? edges[k] : std::numeric_limits<double>::infinity()});
+      m.completeness_by_depth.push_back(
+          {k == 0 ? 0.0 : edges[k - 1],
+           k < edges.size() ? edges[k] : std::numeric_limits<double>::infinity()});
     }
   }
   if (!Triangles(reconstruction).empty() && !truth_samples.empty()) {

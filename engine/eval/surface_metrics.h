@@ -9,8 +9,8 @@
 //                  triangle centroids within τ: every triangle counts once whatever its size, so it cannot
 //                  see large wrong triangles;
 // - completeness = share of the true surface's samples within τ of the reconstruction, and their mean
-//                  distance. The caller gives the true samples: only the observed part of the scene should count
-//                  (io/eval uses the exact depth maps back-projected to the world).
+//                  distance. The caller gives the true samples: only the observed part of the scene should
+//                  count (io/eval uses the exact depth maps back-projected to the world).
 #pragma once
 
 #include <Eigen/Core>
@@ -25,11 +25,13 @@ namespace semap {
 struct SurfaceMetricsOptions {
   // τ, the distance below which a sample counts as right (m).
   double threshold_m = 0.2;
-  // The two further distance bins of the by-area figures (m): share within / beyond near_m, share beyond far_m.
+  // The two further distance bins of the by-area figures (m): share within / beyond near_m, share beyond
+  // far_m.
   double near_m = 0.5;
   double far_m = 2.0;
   // Points sampled on the reconstruction's surface for the by-area figures, whatever its area: the shares'
-  // standard sampling error is at most 0.5 / sqrt(area_samples) (0.16 % at 100,000), less with stratification.
+  // standard sampling error is at most 0.5 / sqrt(area_samples) (0.16 % at 100,000), less with
+  // stratification.
   int area_samples = 100000;
   // Seed of the area samples: same mesh, same seed, same figures.
   std::uint64_t seed = 1;
@@ -43,19 +45,19 @@ struct SurfaceMetricsOptions {
 struct SurfaceMetrics {
   double threshold_m = 0.0, near_m = 0.0, far_m = 0.0;  // the options' distances the figures use
   // By area (uniform samples on the reconstruction's surface).
-  double area_m2 = 0.0;             // total area of the reconstruction's triangles
-  double accuracy = 0.0;            // share of the area within τ of the truth (the headline accuracy)
-  double area_within_near = 0.0;    // share of the area within near_m
-  double area_beyond_near = 0.0;    // share of the area farther than near_m (= 1 − area_within_near)
-  double area_beyond_far = 0.0;     // share of the area farther than far_m
-  double mean_distance_m = 0.0;     // mean distance to the truth, by area
-  std::int64_t area_samples = 0;    // 0 when the reconstruction has no area
+  double area_m2 = 0.0;           // total area of the reconstruction's triangles
+  double accuracy = 0.0;          // share of the area within τ of the truth (the headline accuracy)
+  double area_within_near = 0.0;  // share of the area within near_m
+  double area_beyond_near = 0.0;  // share of the area farther than near_m (= 1 − area_within_near)
+  double area_beyond_far = 0.0;   // share of the area farther than far_m
+  double mean_distance_m = 0.0;   // mean distance to the truth, by area
+  std::int64_t area_samples = 0;  // 0 when the reconstruction has no area
   // Per vertex and triangle centroid (one sample each, whatever the triangle's size).
-  double vertex_accuracy = 0.0;       // share of those samples within τ of the truth
+  double vertex_accuracy = 0.0;  // share of those samples within τ of the truth
   double vertex_mean_distance_m = 0.0;
   std::int64_t vertex_samples = 0;
   // Completeness.
-  double completeness = 0.0;        // share of truth samples within τ of the reconstruction
+  double completeness = 0.0;  // share of truth samples within τ of the reconstruction
   double mean_completeness_m = 0.0;
   std::int64_t truth_samples = 0;
   // Completeness of the truth samples seen at depths in [from_m, to_m) (to_m infinite for the last band);
@@ -85,8 +87,8 @@ class SurfaceDistance {
 };
 
 // Points uniformly distributed by area on `mesh`'s triangles, stratified: sample k lies in the triangle that
-// holds cumulative area (k + u_k) · A / count (u_k uniform in [0, 1)), at a uniform point of it. Deterministic
-// for a seed. Empty when the mesh has no area.
+// holds cumulative area (k + u_k) · A / count (u_k uniform in [0, 1)), at a uniform point of it.
+// Deterministic for a seed. Empty when the mesh has no area.
 std::vector<Eigen::Vector3d> SampleSurface(const Mesh& mesh, int count, std::uint64_t seed);
 
 // Total area of `mesh`'s triangles (m²).

@@ -44,7 +44,8 @@ Projection MakeProjection(const Eigen::Vector3d& up_in, const TopViewOptions& o)
 
 // Blue → cyan → green → yellow → red for t in [0, 1] (BGR).
 cv::Vec3f HeightColour(double t) {
-  static const cv::Vec3f stops[5] = {{200, 60, 40}, {210, 200, 40}, {60, 190, 60}, {40, 210, 230}, {40, 40, 210}};
+  static const cv::Vec3f stops[5] = {
+      {200, 60, 40}, {210, 200, 40}, {60, 190, 60}, {40, 210, 230}, {40, 40, 210}};
   t = std::clamp(t, 0.0, 1.0) * 4.0;
   const int i = std::min(3, static_cast<int>(t));
   const double f = t - i;
@@ -82,7 +83,8 @@ void DrawLegend(const TopViewOptions& o, double metres_per_px, double low, doubl
   cv::line(image, {x, y}, {x + bar_px, y}, ink, 2);
   cv::line(image, {x, y - 4}, {x, y + 4}, ink, 1);
   cv::line(image, {x + bar_px, y - 4}, {x + bar_px, y + 4}, ink, 1);
-  cv::putText(image, Metres(length), {x + bar_px + 6, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1, cv::LINE_AA);
+  cv::putText(image, Metres(length), {x + bar_px + 6, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1,
+              cv::LINE_AA);
   x += bar_px + 70;
   if (o.colour == TopViewColour::kError) {
     const std::string labels[4] = {"<= " + Metres(o.error_bins_m[0]), "<= " + Metres(o.error_bins_m[1]),
@@ -108,9 +110,12 @@ void DrawLegend(const TopViewOptions& o, double metres_per_px, double low, doubl
 
 const char* TopViewColourName(TopViewColour colour) {
   switch (colour) {
-    case TopViewColour::kMesh: return "mesh";
-    case TopViewColour::kHeight: return "height";
-    case TopViewColour::kError: return "error";
+    case TopViewColour::kMesh:
+      return "mesh";
+    case TopViewColour::kHeight:
+      return "height";
+    case TopViewColour::kError:
+      return "error";
   }
   return "?";
 }
@@ -126,12 +131,14 @@ void TopViewOptions::Check() const {
   SEMAP_CHECK_OPTION(elevation_deg > 0.0 && elevation_deg <= 90.0, "elevation_deg", elevation_deg,
                      "must be in (0, 90]");
   SEMAP_CHECK_OPTION(std::isfinite(azimuth_deg), "azimuth_deg", azimuth_deg, "must be finite");
-  SEMAP_CHECK_OPTION(error_bins_m[0] > 0.0 && error_bins_m[1] > error_bins_m[0] && error_bins_m[2] > error_bins_m[1],
-                     "error_bins_m", error_bins_m[0], "must be increasing and > 0");
+  SEMAP_CHECK_OPTION(
+      error_bins_m[0] > 0.0 && error_bins_m[1] > error_bins_m[0] && error_bins_m[2] > error_bins_m[1],
+      "error_bins_m", error_bins_m[0], "must be increasing and > 0");
 }
 
 Eigen::Vector2d TopView::ToPixel(const Eigen::Vector3d& p) const {
-  return {margin_px + (right.dot(p) - right_min) / metres_per_px, margin_px + (up_max - image_up.dot(p)) / metres_per_px};
+  return {margin_px + (right.dot(p) - right_min) / metres_per_px,
+          margin_px + (up_max - image_up.dot(p)) / metres_per_px};
 }
 
 TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopViewOptions& options,
@@ -140,7 +147,8 @@ TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopView
   options.Check();
   SEMAP_CHECK_OPTION(up.allFinite() && up.norm() > 0.0, "up", up.transpose(), "must be a non-zero direction");
   SEMAP_ASSERT(mesh.IsConsistent(), "inconsistent mesh");
-  SEMAP_ASSERT(options.colour != TopViewColour::kError || distance, "colour by error needs a distance function");
+  SEMAP_ASSERT(options.colour != TopViewColour::kError || distance,
+               "colour by error needs a distance function");
   const Projection proj = MakeProjection(up, options);
   TopView view;
   view.right = proj.right;
@@ -151,7 +159,8 @@ TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopView
   double a_min = std::numeric_limits<double>::infinity(), a_max = -a_min, b_min = a_min, b_max = -a_min;
   const auto extend = [&](const Eigen::Vector3d& p) {
     const double a = proj.right.dot(p), b = proj.image_up.dot(p);
-    a_min = std::min(a_min, a), a_max = std::max(a_max, a), b_min = std::min(b_min, b), b_max = std::max(b_max, b);
+    a_min = std::min(a_min, a), a_max = std::max(a_max, a), b_min = std::min(b_min, b),
+    b_max = std::max(b_max, b);
   };
   for (const auto& t : mesh.triangles) {
     for (std::uint32_t v : t) extend(mesh.vertices[v]);
@@ -166,10 +175,11 @@ TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopView
     a_max = b_max = 1.0;
   }
   const double span_a = std::max(a_max - a_min, 1e-6), span_b = std::max(b_max - b_min, 1e-6);
-  const double px_per_m = std::min((options.max_width_px - 2 * m) / span_a,
-                                   (options.max_height_px - 2 * m - legend_px) / span_b);
+  const double px_per_m =
+      std::min((options.max_width_px - 2 * m) / span_a, (options.max_height_px - 2 * m - legend_px) / span_b);
   const int width = std::min(options.max_width_px, static_cast<int>(std::ceil(span_a * px_per_m)) + 2 * m);
-  const int height = std::min(options.max_height_px - legend_px, static_cast<int>(std::ceil(span_b * px_per_m)) + 2 * m);
+  const int height =
+      std::min(options.max_height_px - legend_px, static_cast<int>(std::ceil(span_b * px_per_m)) + 2 * m);
   view.metres_per_px = 1.0 / px_per_m;
   view.right_min = a_min;
   view.up_max = b_max;
@@ -193,9 +203,11 @@ TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopView
     const double area = (s[1] - s[0]).x() * (s[2] - s[0]).y() - (s[1] - s[0]).y() * (s[2] - s[0]).x();
     if (std::abs(area) < 1e-12) continue;  // edge-on: covers no pixel centre
     const int x0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
-    const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
+    const int x1 =
+        std::min(width - 1, static_cast<int>(std::ceil(std::max({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
     const int y0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
-    const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
+    const int y1 =
+        std::min(height - 1, static_cast<int>(std::ceil(std::max({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         const Eigen::Vector2d c(x + 0.5, y + 0.5);

@@ -1,13 +1,13 @@
-// Pictures of a mesh as a user sees it in a viewer, for reports: an orthographic software rendering (z-buffer,
-// flat shading, no GPU) seen from above along the world frame's up axis, or obliquely. Surfaces that no camera
-// saw straight on (lids over the street, a ceiling of sky) show in them as they do in MeshLab, which the
-// camera-side depth metrics cannot.
+// Pictures of a mesh as a user sees it in a viewer, for reports: an orthographic software rendering
+// (z-buffer, flat shading, no GPU) seen from above along the world frame's up axis, or obliquely. Surfaces
+// that no camera saw straight on (lids over the street, a ceiling of sky) show in them as they do in MeshLab,
+// which the camera-side depth metrics cannot.
 //
 // The view: `up` is the world frame's up direction (for semap's sequences the cameras' −y: +z in KITTI raw's
-// IMU world frame, −y in KITTI odometry's first-camera frame). Image right is the horizontal axis e1 (the world
-// axis least aligned with up, projected and turned by azimuth_deg about up), image up is e2 = up × e1 when seen
-// from straight above, so the picture is never mirrored. With elevation_deg < 90 the view tilts towards e2
-// (looking from −e2's side). The scale fits the mesh's projection into the image size.
+// IMU world frame, −y in KITTI odometry's first-camera frame). Image right is the horizontal axis e1 (the
+// world axis least aligned with up, projected and turned by azimuth_deg about up), image up is e2 = up × e1
+// when seen from straight above, so the picture is never mirrored. With elevation_deg < 90 the view tilts
+// towards e2 (looking from −e2's side). The scale fits the mesh's projection into the image size.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,7 +29,8 @@ enum class TopViewColour {
 const char* TopViewColourName(TopViewColour colour);
 
 struct TopViewOptions {
-  // Largest image size in px: the mesh's projection is fitted into it (the other side shrinks to the content).
+  // Largest image size in px: the mesh's projection is fitted into it (the other side shrinks to the
+  // content).
   int max_width_px = 1400;
   int max_height_px = 1000;
   // Border around the mesh in px.
@@ -48,9 +49,9 @@ struct TopViewOptions {
 };
 
 struct TopView {
-  cv::Mat image;           // CV_8UC3 BGR; white background
-  cv::Mat triangle;        // CV_32SC1: index of the triangle seen at each pixel centre, −1 = background
-  cv::Mat points;          // CV_64FC3: the world point seen at each pixel centre (undefined on background)
+  cv::Mat image;     // CV_8UC3 BGR; white background
+  cv::Mat triangle;  // CV_32SC1: index of the triangle seen at each pixel centre, −1 = background
+  cv::Mat points;    // CV_64FC3: the world point seen at each pixel centre (undefined on background)
   double metres_per_px = 0.0;
   // Pixel of a world point (sub-pixel), for drawing on the image.
   Eigen::Vector2d ToPixel(const Eigen::Vector3d& p) const;
@@ -65,8 +66,8 @@ struct TopView {
 // Renders `mesh` (programmer error if inconsistent) as `options` says; `up` need not be unit (non-zero).
 // `distance` (world point → distance to the true surface, thread-safe) is required for kError and unused
 // otherwise. An empty mesh gives a small white image with no covered pixel. `track` (e.g. the camera centres)
-// is drawn as a dark blue line over the mesh (the view widened to hold it). Throws InvalidOption on bad options
-// or a zero up.
+// is drawn as a dark blue line over the mesh (the view widened to hold it). Throws InvalidOption on bad
+// options or a zero up.
 TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopViewOptions& options,
                       const std::function<double(const Eigen::Vector3d&)>& distance = {},
                       const std::vector<Eigen::Vector3d>& track = {});

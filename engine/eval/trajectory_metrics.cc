@@ -1,10 +1,9 @@
 #include "engine/eval/trajectory_metrics.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
 
 #include "engine/core/check.h"
 
@@ -28,15 +27,16 @@ std::vector<double> Distances(const std::vector<Pose3d>& poses) {
 }
 
 // The error of the estimate's motion from frame a to b against the truth's.
-Pose3d MotionError(const std::vector<Pose3d>& truth, const std::vector<Pose3d>& estimate, size_t a, size_t b) {
+Pose3d MotionError(const std::vector<Pose3d>& truth, const std::vector<Pose3d>& estimate, size_t a,
+                   size_t b) {
   const Pose3d true_motion = truth[a].inverse() * truth[b];
   const Pose3d est_motion = estimate[a].inverse() * estimate[b];
   return true_motion.inverse() * est_motion;
 }
 
 void CheckSameLength(const std::vector<Pose3d>& truth, const std::vector<Pose3d>& estimate) {
-  SEMAP_ASSERT(truth.size() == estimate.size(), "trajectories of " << truth.size() << " and " << estimate.size()
-                                                                   << " poses");
+  SEMAP_ASSERT(truth.size() == estimate.size(),
+               "trajectories of " << truth.size() << " and " << estimate.size() << " poses");
 }
 
 }  // namespace

@@ -68,10 +68,10 @@ struct AbsoluteTrajectoryError {
   double rmse_m = 0.0;
   double mean_m = 0.0;
   double max_m = 0.0;
-  double end_point_m = 0.0;           // last position, both trajectories put at the same first pose
-  double end_point_percent = 0.0;     // of the true path length
-  double end_rotation_deg = 0.0;      // last orientation, same
-  double path_length_m = 0.0;         // of the truth
+  double end_point_m = 0.0;        // last position, both trajectories put at the same first pose
+  double end_point_percent = 0.0;  // of the true path length
+  double end_rotation_deg = 0.0;   // last orientation, same
+  double path_length_m = 0.0;      // of the truth
 };
 AbsoluteTrajectoryError AbsoluteError(const std::vector<Pose3d>& truth, const std::vector<Pose3d>& estimate);
 

@@ -52,7 +52,8 @@ struct MapUpdateResult {
   // Merging the points into live vertices (depth: and the vertices' fused moves and removals); rays: also the
   // conflict regions and the rays through them.
   double locate_ms = 0.0;
-  double insert_ms = 0.0;  // vertex insertion into the triangulation (depth: with each point's conflict region)
+  double insert_ms =
+      0.0;  // vertex insertion into the triangulation (depth: with each point's conflict region)
   double trace_ms = 0.0;     // the votes: retracing the affected rays and tracing the new ones (rays), or
                              // voting the cells from the views (depth)
   double carve_ms = 0.0;     // shrinking and regrowing the manifold free space

@@ -16,21 +16,23 @@ void MapOptions::Check() const {
   SEMAP_CHECK_OPTION(merge_distance_m >= 0.0, "merge_distance_m", merge_distance_m, "must be >= 0");
   SEMAP_CHECK_OPTION(vote_window_frames >= 1, "vote_window_frames", vote_window_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(seen_window_frames >= 1, "seen_window_frames", seen_window_frames, "must be >= 1");
-  SEMAP_CHECK_OPTION(std::isfinite(merge_radius_px) && merge_radius_px > 0.0, "merge_radius_px", merge_radius_px,
-                     "must be finite and > 0");
-  SEMAP_CHECK_OPTION(std::isfinite(merge_depth_fraction) && merge_depth_fraction >= 0.0 && merge_depth_fraction < 1.0,
-                     "merge_depth_fraction", merge_depth_fraction, "must be in [0, 1)");
+  SEMAP_CHECK_OPTION(std::isfinite(merge_radius_px) && merge_radius_px > 0.0, "merge_radius_px",
+                     merge_radius_px, "must be finite and > 0");
+  SEMAP_CHECK_OPTION(
+      std::isfinite(merge_depth_fraction) && merge_depth_fraction >= 0.0 && merge_depth_fraction < 1.0,
+      "merge_depth_fraction", merge_depth_fraction, "must be in [0, 1)");
   SEMAP_CHECK_OPTION(std::isfinite(confirm_beyond_m) && confirm_beyond_m >= 0.0, "confirm_beyond_m",
                      confirm_beyond_m, "must be finite and >= 0");
-  SEMAP_CHECK_OPTION(confirm_window_frames >= 1, "confirm_window_frames", confirm_window_frames, "must be >= 1");
-  SEMAP_CHECK_OPTION(refine_depth_ratio >= 0.0 && refine_depth_ratio < 1.0, "refine_depth_ratio", refine_depth_ratio,
-                     "must be in [0, 1)");
+  SEMAP_CHECK_OPTION(confirm_window_frames >= 1, "confirm_window_frames", confirm_window_frames,
+                     "must be >= 1");
+  SEMAP_CHECK_OPTION(refine_depth_ratio >= 0.0 && refine_depth_ratio < 1.0, "refine_depth_ratio",
+                     refine_depth_ratio, "must be in [0, 1)");
   SEMAP_CHECK_OPTION(refine_noise_sigmas >= 0.0 && refine_noise_sigmas < 1e3, "refine_noise_sigmas",
                      refine_noise_sigmas, "must be in [0, 1000)");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_sigma_px) && disparity_sigma_px >= 0.0, "disparity_sigma_px",
                      disparity_sigma_px, "must be finite and >= 0");
-  SEMAP_CHECK_OPTION(std::isfinite(matter_behind_sigmas) && matter_behind_sigmas >= 0.0, "matter_behind_sigmas",
-                     matter_behind_sigmas, "must be finite and >= 0");
+  SEMAP_CHECK_OPTION(std::isfinite(matter_behind_sigmas) && matter_behind_sigmas >= 0.0,
+                     "matter_behind_sigmas", matter_behind_sigmas, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(fuse_gate_sigmas) && fuse_gate_sigmas >= 0.0, "fuse_gate_sigmas",
                      fuse_gate_sigmas, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(fuse_move_sigmas) && fuse_move_sigmas >= 0.0, "fuse_move_sigmas",
@@ -59,6 +61,8 @@ void MapOptions::Check() const {
                      "must exceed twice the ray extension (ray_extension_factor * sigma_matter_m)");
 }
 
-std::int64_t MapOptions::repair_fill_cost_q() const { return std::llround(repair_fill_cost * kVoteFixedScale); }
+std::int64_t MapOptions::repair_fill_cost_q() const {
+  return std::llround(repair_fill_cost * kVoteFixedScale);
+}
 
 }  // namespace semap

@@ -51,8 +51,8 @@ struct MapOptions {
   double refine_noise_sigmas = 6.0;
   double confirm_beyond_m = 20.0;
   int confirm_window_frames = 3;
-  double sigma_free_m = 0.05;    // paper: 0.05 m
-  double sigma_matter_m = 0.01;  // paper: 0.01 m
+  double sigma_free_m = 0.05;          // paper: 0.05 m
+  double sigma_matter_m = 0.01;        // paper: 0.01 m
   double ray_extension_factor = 10.0;  // paper: 10
   double max_ray_length_m = 0.0;
   double merge_distance_m = 0.05;
@@ -97,15 +97,17 @@ struct MapOptions {
         "depth: σ of the stereo disparity, px; a pixel's depth z is uncertain by z²σ/(f·B): a cell d before "
         "the pixel's point is voted free with weight Φ(d/σ_z) and matter with 1 − Φ(d/σ_z) (0 = exact "
         "points, the paper's votes)");
-    v.Field("matter_behind_sigmas", &matter_behind_sigmas,
-            "depth: matter is voted behind a pixel's point out to the ray extension + this many of its depth σ "
-            "(disparity_sigma_px > 0)");
+    v.Field(
+        "matter_behind_sigmas", &matter_behind_sigmas,
+        "depth: matter is voted behind a pixel's point out to the ray extension + this many of its depth σ "
+        "(disparity_sigma_px > 0)");
     // Each live vertex is the inverse-variance estimate of its sightings, one per view, read off the view's
     // depth at the vertex's pixel (engine/map/internal/depth_filter.h says what each rule approximates).
-    v.Field("fuse_gate_sigmas", &fuse_gate_sigmas,
-            "depth: a view's depth at a live vertex's pixel within this many σ (the view's and the vertex's, "
-            "combined) of the vertex's depth is a sighting of it, fused into its position by inverse variance; "
-            "0 = vertices stay where their first sighting placed them");
+    v.Field(
+        "fuse_gate_sigmas", &fuse_gate_sigmas,
+        "depth: a view's depth at a live vertex's pixel within this many σ (the view's and the vertex's, "
+        "combined) of the vertex's depth is a sighting of it, fused into its position by inverse variance; "
+        "0 = vertices stay where their first sighting placed them");
     // Each move re-triangulates the vertex's star and re-votes its cells: a smaller threshold follows the
     // estimate more closely at a higher cost. On KITTI 04 1σ moved 35,000 vertices in 51 frames (the map's
     // thread +110 ms a frame) for a median 0.008 m lower; 3σ moves 7,600 (its locate step +35 ms)
@@ -115,10 +117,11 @@ struct MapOptions {
             "estimate's σ from it (>= 0)");
     // The output needs no re-triangulation: a vertex the triangulation keeps at its old place is written at
     // its estimate, under a new output id (its triangles go out again in the next mesh delta).
-    v.Field("fuse_output_sigmas", &fuse_output_sigmas,
-            "depth: the output mesh puts a vertex at its fused estimate once that lies farther than this many "
-            "of the estimate's σ from where the output had it (>= 0; fuse_move_sigmas moves it in the "
-            "triangulation too)");
+    v.Field(
+        "fuse_output_sigmas", &fuse_output_sigmas,
+        "depth: the output mesh puts a vertex at its fused estimate once that lies farther than this many "
+        "of the estimate's σ from where the output had it (>= 0; fuse_move_sigmas moves it in the "
+        "triangulation too)");
     v.Field("outlier_sightings", &outlier_sightings,
             "depth: a vertex that at least this many views saw through (their depth at its pixel beyond the "
             "gate, or sky), and more than saw it, leaves the map (an SGBM mismatch, or a moving object that "
@@ -129,10 +132,11 @@ struct MapOptions {
     // falls 6 % and the mesh 14 %, but the strict RMSE rises 3 % and the frame rate falls 14 %; KITTI 04:
     // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/results/map-accuracy.md, "Vertices seen
     // again from nearer").
-    v.Field("refine_depth_ratio", &refine_depth_ratio,
-            "depth: a live vertex that a view sees again from less than this fraction of the depth of the "
-            "sighting that placed it, within refine_noise_sigmas of that sighting's depth σ, is removed where "
-            "that view's points land around it, and they replace it; 0 = never (in [0, 1))");
+    v.Field(
+        "refine_depth_ratio", &refine_depth_ratio,
+        "depth: a live vertex that a view sees again from less than this fraction of the depth of the "
+        "sighting that placed it, within refine_noise_sigmas of that sighting's depth σ, is removed where "
+        "that view's points land around it, and they replace it; 0 = never (in [0, 1))");
     v.Field("refine_noise_sigmas", &refine_noise_sigmas,
             "depth: see refine_depth_ratio: the band, in depth σ of the vertex's sighting, of the sightings "
             "that refine it");
@@ -146,8 +150,9 @@ struct MapOptions {
             "depth: a point farther than this (camera-frame depth, m) that no live vertex explains becomes a "
             "vertex only when a point of a later frame lands on it (within merge_radius_px and "
             "merge_depth_fraction), at the two sightings' mean weighted by 1/z⁴; 0 = every point at once");
-    v.Field("confirm_window_frames", &confirm_window_frames,
-            "depth: frames an unconfirmed far point waits for its second sighting before it is dropped (>= 1)");
+    v.Field(
+        "confirm_window_frames", &confirm_window_frames,
+        "depth: frames an unconfirmed far point waits for its second sighting before it is dropped (>= 1)");
     v.Field("sigma_free_m", &sigma_free_m, "σ_free of the free-space weight 1 - exp(-d²/(2σ²)), metres");
     v.Field("sigma_matter_m", &sigma_matter_m, "σ_matter of the matter weight 1 - exp(-d²/(2σ²)), metres");
     v.Field("ray_extension_factor", &ray_extension_factor,

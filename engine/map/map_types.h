@@ -25,7 +25,8 @@ struct CellVotes {
   std::int64_t free_fixed = 0;
   std::int64_t matter_fixed = 0;
   bool carved = false;  // inside the extracted free-space region
-  bool sealed = false;  // refills a finalised region (incremental map): its carving is fixed, its votes unused
+  bool sealed =
+      false;  // refills a finalised region (incremental map): its carving is fixed, its votes unused
 };
 
 // Sizes and work counters of a map.
@@ -38,7 +39,8 @@ struct MapStatistics {
   std::size_t num_rays = 0;         // live rays
   std::uint64_t rays_traced = 0;    // walks done so far (traces and untraces)
   std::uint64_t cells_visited = 0;  // cells visited by those walks
-  // map.fill_unseen_holes_facets: unseen surface facets taken as seen so far (small holes ringed by seen ones).
+  // map.fill_unseen_holes_facets: unseen surface facets taken as seen so far (small holes ringed by seen
+  // ones).
   std::uint64_t facets_taken_as_seen = 0;
   // map.refine_depth_ratio: vertices replaced by a nearer sighting so far.
   std::uint64_t vertices_refined = 0;

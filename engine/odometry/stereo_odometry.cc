@@ -1,16 +1,15 @@
 #include "engine/odometry/stereo_odometry.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
-#include <stdexcept>
-
-#include <Eigen/Geometry>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <stdexcept>
 
 #include "engine/core/check.h"
 #include "engine/odometry/internal/stereo_pose_refiner.h"
@@ -18,8 +17,8 @@
 namespace semap {
 
 using odometry_internal::RefinedMotion;
-using odometry_internal::RefineStereoMotion;
 using odometry_internal::RefinerOptions;
+using odometry_internal::RefineStereoMotion;
 using odometry_internal::StereoMatch;
 
 namespace {
@@ -85,9 +84,10 @@ void StereoOdometryOptions::Check() const {
   SEMAP_CHECK_OPTION(klt_window_px >= 5 && klt_window_px % 2 == 1, "klt_window_px", klt_window_px,
                      "must be odd and >= 5");
   SEMAP_CHECK_OPTION(klt_levels >= 0 && klt_levels <= 8, "klt_levels", klt_levels, "must be in [0, 8]");
-  SEMAP_CHECK_OPTION(stereo_levels >= 0 && stereo_levels <= 8, "stereo_levels", stereo_levels, "must be in [0, 8]");
-  SEMAP_CHECK_OPTION(std::isfinite(max_epipolar_error_px) && max_epipolar_error_px > 0.0, "max_epipolar_error_px",
-                     max_epipolar_error_px, "must be finite and > 0");
+  SEMAP_CHECK_OPTION(stereo_levels >= 0 && stereo_levels <= 8, "stereo_levels", stereo_levels,
+                     "must be in [0, 8]");
+  SEMAP_CHECK_OPTION(std::isfinite(max_epipolar_error_px) && max_epipolar_error_px > 0.0,
+                     "max_epipolar_error_px", max_epipolar_error_px, "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(max_stereo_check_px) && max_stereo_check_px > 0.0, "max_stereo_check_px",
                      max_stereo_check_px, "must be finite and > 0");
   SEMAP_CHECK_OPTION(std::isfinite(min_disparity_px) && min_disparity_px > 0.0, "min_disparity_px",
@@ -108,19 +108,25 @@ void StereoOdometryOptions::Check() const {
   SEMAP_CHECK_OPTION(keyframe_max_frames >= 1, "keyframe_max_frames", keyframe_max_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(keyframe_min_inlier_ratio >= 0.0 && keyframe_min_inlier_ratio <= 1.0,
                      "keyframe_min_inlier_ratio", keyframe_min_inlier_ratio, "must be in [0, 1]");
-  SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) <= kMaxDisparityOffsetPx,
-                     "disparity_offset_px", disparity_offset_px, "must be finite and within ±5 px");
+  SEMAP_CHECK_OPTION(
+      std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) <= kMaxDisparityOffsetPx,
+      "disparity_offset_px", disparity_offset_px, "must be finite and within ±5 px");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_per_row_px) &&
                          std::abs(disparity_offset_per_row_px) <= kMaxDisparityOffsetPx,
-                     "disparity_offset_per_row_px", disparity_offset_per_row_px, "must be finite and within ±5 px");
+                     "disparity_offset_per_row_px", disparity_offset_per_row_px,
+                     "must be finite and within ±5 px");
 }
 
 const char* OdometryStatusName(OdometryStatus status) {
   switch (status) {
-    case OdometryStatus::kFirst: return "first";
-    case OdometryStatus::kTracked: return "tracked";
-    case OdometryStatus::kBridged: return "bridged";
-    case OdometryStatus::kRestarted: return "restarted";
+    case OdometryStatus::kFirst:
+      return "first";
+    case OdometryStatus::kTracked:
+      return "tracked";
+    case OdometryStatus::kBridged:
+      return "bridged";
+    case OdometryStatus::kRestarted:
+      return "restarted";
   }
   return "?";
 }
@@ -195,16 +201,17 @@ class Matcher {
 
   // Right-image positions of `left_px` (starting from `right_px`, filled in place); ok[i] says whether
   // point i has a stereo match (on its row, positive disparity, consistent back to the left image).
-  void MatchStereo(const FrameImages& f, const std::vector<cv::Point2f>& left_px, std::vector<cv::Point2f>* right_px,
-                   std::vector<bool>* ok) const {
+  void MatchStereo(const FrameImages& f, const std::vector<cv::Point2f>& left_px,
+                   std::vector<cv::Point2f>* right_px, std::vector<bool>* ok) const {
     ok->assign(left_px.size(), false);
     if (left_px.empty()) return;
     const cv::Size win(o_.klt_window_px, o_.klt_window_px);
-    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx);
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
+                                kKltEpsilonPx);
     std::vector<uchar> status, back_status;
     std::vector<float> err;
-    cv::calcOpticalFlowPyrLK(f.left_pyramid, f.right_pyramid, left_px, *right_px, status, err, win, o_.stereo_levels,
-                             term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(f.left_pyramid, f.right_pyramid, left_px, *right_px, status, err, win,
+                             o_.stereo_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
     std::vector<cv::Point2f> back = left_px;
     cv::calcOpticalFlowPyrLK(f.right_pyramid, f.left_pyramid, *right_px, back, back_status, err, win, 1, term,
                              cv::OPTFLOW_USE_INITIAL_FLOW);
@@ -233,10 +240,11 @@ class Matcher {
       const int cy = std::clamp(static_cast<int>(p.y * o_.grid_rows / c_.height_px), 0, o_.grid_rows - 1);
       return cy * o_.grid_cols + cx;
     };
-    cv::Mat occupied = cv::Mat::zeros(c_.height_px / kMinFeatureSpacingPx + 1, c_.width_px / kMinFeatureSpacingPx + 1,
-                                      CV_8UC1);
+    cv::Mat occupied = cv::Mat::zeros(c_.height_px / kMinFeatureSpacingPx + 1,
+                                      c_.width_px / kMinFeatureSpacingPx + 1, CV_8UC1);
     auto occupy = [&](const cv::Point2f& p) {
-      occupied.at<uchar>(static_cast<int>(p.y) / kMinFeatureSpacingPx, static_cast<int>(p.x) / kMinFeatureSpacingPx) = 1;
+      occupied.at<uchar>(static_cast<int>(p.y) / kMinFeatureSpacingPx,
+                         static_cast<int>(p.x) / kMinFeatureSpacingPx) = 1;
     };
     for (const auto& p : existing) {
       ++count[static_cast<size_t>(cell_of(p))];
@@ -276,8 +284,8 @@ Eigen::Vector3d Triangulate(const StereoCalibration& c, const cv::Point2f& l, co
 OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, double timestamp_s) {
   const double cpu0_ms = ThreadCpuMs();
   const cv::Size size(calibration_.width_px, calibration_.height_px);
-  if (left.empty() || right.empty() || left.size() != size || right.size() != size || left.type() != right.type() ||
-      left.depth() != CV_8U) {
+  if (left.empty() || right.empty() || left.size() != size || right.size() != size ||
+      left.type() != right.type() || left.depth() != CV_8U) {
     throw std::invalid_argument("stereo odometry: the images (" + std::to_string(left.cols) + "x" +
                                 std::to_string(left.rows) + ", " + std::to_string(right.cols) + "x" +
                                 std::to_string(right.rows) + ") do not fit the calibration (" +
@@ -343,7 +351,8 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     eo.estimate_offset_terms = options_.estimate_disparity_offset == OffsetEstimate::kPerRow ? 2 : 1;
     eo.rounds = 1;
     eo.iterations = kOffsetIterations;
-    const RefinedMotion e = RefineStereoMotion(calibration_, matches, refined.cur_from_ref, refined.inliers, eo);
+    const RefinedMotion e =
+        RefineStereoMotion(calibration_, matches, refined.cur_from_ref, refined.inliers, eo);
     if (!(e.disparity_offset_sigma_px <= kMaxOffsetSigmaPx) ||
         std::abs(e.disparity_offset.constant_px) > kMaxDisparityOffsetPx ||
         std::abs(e.disparity_offset.per_row_px) > kMaxDisparityOffsetPx) {
@@ -354,7 +363,8 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     const double sigma = e.disparity_offset_sigma_px;
     Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
     if (sigma > 0.0) {
-      const double scale = sigma < kMinOffsetSigmaPx ? (sigma * sigma) / (kMinOffsetSigmaPx * kMinOffsetSigmaPx) : 1.0;
+      const double scale =
+          sigma < kMinOffsetSigmaPx ? (sigma * sigma) / (kMinOffsetSigmaPx * kMinOffsetSigmaPx) : 1.0;
       info = scale * e.offset_information;
     } else {
       info(0, 0) = 1.0 / (kMinOffsetSigmaPx * kMinOffsetSigmaPx);
@@ -381,19 +391,22 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     // Track the reference features into the left image, from where the guessed motion puts them.
     std::vector<cv::Point2f> cur_left(s.ref_left_px.size());
     for (size_t i = 0; i < s.ref_left_px.size(); ++i) {
-      const Eigen::Vector3d p = guess * Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset);
+      const Eigen::Vector3d p =
+          guess * Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset);
       cur_left[i] = s.ref_left_px[i];
       if (p.z() > 0.0) {
         const Eigen::Vector2d uv = calibration_.Project(p);
-        if (calibration_.InImage(uv)) cur_left[i] = cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+        if (calibration_.InImage(uv))
+          cur_left[i] = cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
       }
     }
     const cv::Size win(options_.klt_window_px, options_.klt_window_px);
-    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx);
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
+                                kKltEpsilonPx);
     std::vector<uchar> status;
     std::vector<float> err;
-    cv::calcOpticalFlowPyrLK(s.ref_left_pyramid, frame.left_pyramid, s.ref_left_px, cur_left, status, err, win,
-                             options_.klt_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(s.ref_left_pyramid, frame.left_pyramid, s.ref_left_px, cur_left, status, err,
+                             win, options_.klt_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
     std::vector<size_t> tracked;  // reference feature indices
     std::vector<cv::Point2f> tracked_left, tracked_right;
     for (size_t i = 0; i < cur_left.size(); ++i) {
@@ -419,23 +432,24 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
       m.has_current_right = stereo_ok[k];
       m.cur_right_u_px = tracked_right[k].x;
       const Eigen::Vector3d x = Triangulate(calibration_, s.ref_left_px[i], s.ref_right_px[i], s.offset);
-      object_points.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()));
+      object_points.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()),
+                                 static_cast<float>(x.z()));
       image_points.push_back(tracked_left[k]);
     }
     if (result.features < options_.min_inliers) {
       why = std::to_string(result.features) + " of " + std::to_string(ref_count) + " features tracked";
     } else {
-      const cv::Matx33d k(calibration_.fx_px, 0.0, calibration_.cx_px, 0.0, calibration_.fy_px, calibration_.cy_px,
-                          0.0, 0.0, 1.0);
+      const cv::Matx33d k(calibration_.fx_px, 0.0, calibration_.cx_px, 0.0, calibration_.fy_px,
+                          calibration_.cy_px, 0.0, 0.0, 1.0);
       cv::Mat rvec, tvec;
       std::vector<int> ransac_inliers;
-      const bool solved = cv::solvePnPRansac(object_points, image_points, k, cv::noArray(), rvec, tvec, false,
-                                             options_.ransac_iterations,
-                                             static_cast<float>(options_.ransac_threshold_px), kRansacConfidence,
-                                             ransac_inliers, cv::SOLVEPNP_AP3P);
+      const bool solved =
+          cv::solvePnPRansac(object_points, image_points, k, cv::noArray(), rvec, tvec, false,
+                             options_.ransac_iterations, static_cast<float>(options_.ransac_threshold_px),
+                             kRansacConfidence, ransac_inliers, cv::SOLVEPNP_AP3P);
       if (!solved || static_cast<int>(ransac_inliers.size()) < options_.min_inliers) {
         why = "no motion fits the tracks (" + std::to_string(ransac_inliers.size()) + " RANSAC inliers of " +
-                  std::to_string(result.features) + ")";
+              std::to_string(result.features) + ")";
       } else {
         cv::Matx33d r;
         cv::Rodrigues(rvec, r);
@@ -458,7 +472,7 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
         if (refined.num_inliers < options_.min_inliers ||
             refined.num_inliers < options_.min_inlier_ratio * result.features) {
           why = std::to_string(refined.num_inliers) + " inliers of " + std::to_string(result.features) +
-                    " tracked features";
+                " tracked features";
         } else if (!refined.cur_from_ref.matrix().allFinite() || speed_mps > options_.max_speed_mps) {
           why = "the motion jumps (" + std::to_string(speed_mps) + " m/s > max_speed_mps)";
         } else if (turn_deg_s > options_.max_rotation_rate_deg_s) {
@@ -503,8 +517,8 @@ OdometryResult StereoOdometry::Track(const cv::Mat& left, const cv::Mat& right, 
     return false;
   };
   if (ref_count < options_.min_inliers) {
-    problem = "the reference frame has " + std::to_string(ref_count) + " features with a stereo match (fewer than " +
-              std::to_string(options_.min_inliers) + ")";
+    problem = "the reference frame has " + std::to_string(ref_count) +
+              " features with a stereo match (fewer than " + std::to_string(options_.min_inliers) + ")";
   } else {
     // The constant-velocity prediction first; then the last motion that moved (a duplicated frame stops the
     // velocity for one frame), then standing still (a swapped frame reverses it).

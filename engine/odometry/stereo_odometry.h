@@ -4,11 +4,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "engine/core/calibration.h"
 
@@ -54,14 +53,16 @@ struct StereoOdometryOptions {
     v.Field("grid_rows", &grid_rows, "rows of that grid");
     v.Field("fast_threshold", &fast_threshold, "FAST corner threshold (grey levels)");
     v.Field("klt_window_px", &klt_window_px, "pyramidal KLT window side, px (odd)");
-    v.Field("klt_levels", &klt_levels, "KLT pyramid levels above full resolution for tracking between frames");
+    v.Field("klt_levels", &klt_levels,
+            "KLT pyramid levels above full resolution for tracking between frames");
     v.Field("stereo_levels", &stereo_levels,
             "KLT pyramid levels for left-to-right matching (reaches disparities of about window x 2^levels)");
     v.Field("max_epipolar_error_px", &max_epipolar_error_px,
             "a stereo match may leave the left point's row by this much, px (rectified images)");
     v.Field("max_stereo_check_px", &max_stereo_check_px,
             "left -> right -> left round trip of a stereo match must land this close to the start, px");
-    v.Field("min_disparity_px", &min_disparity_px, "stereo matches below this disparity are not triangulated, px");
+    v.Field("min_disparity_px", &min_disparity_px,
+            "stereo matches below this disparity are not triangulated, px");
     v.Field("ransac_threshold_px", &ransac_threshold_px, "P3P RANSAC inlier reprojection error, px");
     v.Field("ransac_iterations", &ransac_iterations, "P3P RANSAC iterations");
     v.Field("inlier_threshold_px", &inlier_threshold_px,
@@ -72,33 +73,38 @@ struct StereoOdometryOptions {
     v.Field("max_speed_mps", &max_speed_mps, "a motion faster than this is a jump: tracking failed, m/s");
     v.Field("max_rotation_rate_deg_s", &max_rotation_rate_deg_s,
             "a rotation faster than this is a jump: tracking failed, deg/s");
-    v.Field("max_bridged_frames", &max_bridged_frames,
-            "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
-            "frame");
+    v.Field(
+        "max_bridged_frames", &max_bridged_frames,
+        "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
+        "frame");
     v.Field("keyframe_max_frames", &keyframe_max_frames,
             "frames tracked from one reference (keyframe) before the last of them becomes the next: fewer "
             "estimates chained per metre, so less drift (1 = every frame is the next one's reference)");
     v.Field("keyframe_min_inlier_ratio", &keyframe_min_inlier_ratio,
             "a tracked frame becomes the reference at once when fewer than this share of the reference's "
             "features are inliers (the view has moved on)");
-    v.Field("disparity_offset_px", &disparity_offset_px,
-            "added to every measured disparity (true = measured + offset) in the odometry, and with "
-            "offset_in_depth in the depth of the frames it reads: a rectification off by a fraction of a pixel "
-            "scales every step; the start of the estimate when estimate_disparity_offset, px");
+    v.Field(
+        "disparity_offset_px", &disparity_offset_px,
+        "added to every measured disparity (true = measured + offset) in the odometry, and with "
+        "offset_in_depth in the depth of the frames it reads: a rectification off by a fraction of a pixel "
+        "scales every step; the start of the estimate when estimate_disparity_offset, px");
     v.Field("disparity_offset_per_row_px", &disparity_offset_per_row_px,
             "a second term of that offset, growing with the image row: offset = disparity_offset_px + this x "
-            "(v - cy) / fy (a roll between the cameras); the start of its estimate when estimate_disparity_offset "
+            "(v - cy) / fy (a roll between the cameras); the start of its estimate when "
+            "estimate_disparity_offset "
             "is per_row, px");
     v.Enum("estimate_disparity_offset", &estimate_disparity_offset,
-           {{"off", OffsetEstimate::kOff}, {"constant", OffsetEstimate::kConstant},
+           {{"off", OffsetEstimate::kOff},
+            {"constant", OffsetEstimate::kConstant},
             {"per_row", OffsetEstimate::kPerRow}},
            "estimate the offset from the stream (each tracked frame's depths against its motion, averaged by "
            "their information) and use it from the next frame on: off, its constant, or its constant and "
            "per-row term; off by default (docs/odometry.md says when it pays)");
-    v.Field("offset_in_depth", &offset_in_depth,
-            "the depth of the frames the odometry reads (SGBM's disparities: the map's points and votes) uses "
-            "the odometry's offset too; off by default: the offset the odometry finds is that of its own feature "
-            "matches, and SGBM's can differ (KITTI 04: +0.28 against +0.05 to +0.10 px)");
+    v.Field(
+        "offset_in_depth", &offset_in_depth,
+        "the depth of the frames the odometry reads (SGBM's disparities: the map's points and votes) uses "
+        "the odometry's offset too; off by default: the offset the odometry finds is that of its own feature "
+        "matches, and SGBM's can differ (KITTI 04: +0.28 against +0.05 to +0.10 px)");
   }
 
   void Check() const;
@@ -117,17 +123,17 @@ const char* OdometryStatusName(OdometryStatus status);
 struct OdometryResult {
   Pose3d world_from_cam = Pose3d::Identity();
   OdometryStatus status = OdometryStatus::kFirst;
-  int features = 0;        // reference features tracked into this frame
-  int inliers = 0;         // of those, consistent with the estimated motion
+  int features = 0;         // reference features tracked into this frame
+  int inliers = 0;          // of those, consistent with the estimated motion
   int stereo_features = 0;  // features with a stereo match that the next frame is tracked from (0: failed)
   bool keyframe = false;    // this frame became the reference (the first frame, a restart, or see keyframe_*)
-  double cpu_ms = 0.0;     // CPU time of this Track() call (the calling thread's)
+  double cpu_ms = 0.0;      // CPU time of this Track() call (the calling thread's)
   DisparityOffset disparity_offset;  // the disparity offset used for this frame
-  // This frame's own estimate of the offset and the standard deviation of its constant (estimate_disparity_offset,
-  // tracked frames that voted; else zero), px.
+  // This frame's own estimate of the offset and the standard deviation of its constant
+  // (estimate_disparity_offset, tracked frames that voted; else zero), px.
   DisparityOffset frame_offset;
   double frame_offset_sigma_px = 0.0;
-  std::string problem;     // why tracking failed (kBridged, kRestarted); empty otherwise
+  std::string problem;  // why tracking failed (kBridged, kRestarted); empty otherwise
 };
 
 // Keyframe-to-frame stereo odometry. Each frame: the reference frame's features (FAST corners with a stereo
@@ -149,8 +155,8 @@ class StereoOdometry {
   // The pose of the first frame (default identity); only before the first Track().
   void SetFirstPose(const Pose3d& world_from_cam);
 
-  // The pose of the frame (rectified CV_8UC1 or CV_8UC3 pair of the calibration's size) taken at `timestamp_s`.
-  // Throws std::invalid_argument when the images do not fit the calibration.
+  // The pose of the frame (rectified CV_8UC1 or CV_8UC3 pair of the calibration's size) taken at
+  // `timestamp_s`. Throws std::invalid_argument when the images do not fit the calibration.
   OdometryResult Track(const cv::Mat& left, const cv::Mat& right, double timestamp_s);
 
   int frames_tracked() const { return frames_tracked_; }

@@ -5,11 +5,11 @@
 // are therefore FIFO, and the depth workers' output is reordered by sequence number anyway. Thread-safe.
 #pragma once
 
-#include <optional>
-#include <utility>
-
 #include <concurrentqueue/blockingconcurrentqueue.h>
 #include <concurrentqueue/lightweightsemaphore.h>
+
+#include <optional>
+#include <utility>
 
 namespace semap::pipeline_internal {
 

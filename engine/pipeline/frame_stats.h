@@ -58,8 +58,8 @@ struct FrameStats {
   FrameLatency latency;  // this frame
   // kLatencyStepNames' latencies over the run so far (last_ms: this frame's; no queue).
   std::vector<StageTiming> latencies;
-  std::int64_t points_in = 0;    // this frame, before simplification
-  std::int64_t points_kept = 0;  // this frame, after simplification
+  std::int64_t points_in = 0;                 // this frame, before simplification
+  std::int64_t points_kept = 0;               // this frame, after simplification
   std::vector<ClassPointCount> class_counts;  // this frame
   std::int64_t map_vertices = 0;
   std::int64_t map_cells = 0;

@@ -32,19 +32,19 @@ using pipeline_internal::BoundedQueue;
 using pipeline_internal::Clock;
 using pipeline_internal::FramePacer;
 using pipeline_internal::Item;
-using pipeline_internal::kNumDropReasons;
-using pipeline_internal::kStageNames;
-using pipeline_internal::kSegmentStageName;
 using pipeline_internal::kDepth;
 using pipeline_internal::kMap;
+using pipeline_internal::kNumDropReasons;
 using pipeline_internal::kRead;
+using pipeline_internal::kSegmentStageName;
 using pipeline_internal::kSimplify;
+using pipeline_internal::kStageNames;
 using pipeline_internal::MsBetween;
+using pipeline_internal::PinCurrentThread;
 using pipeline_internal::SegmentJob;
 using pipeline_internal::SegmentResult;
-using pipeline_internal::SideEvent;
-using pipeline_internal::PinCurrentThread;
 using pipeline_internal::SetUpThread;
+using pipeline_internal::SideEvent;
 
 void PipelineOptions::Check() const {
   SEMAP_CHECK_OPTION(realtime_rate_hz > 0.0, "realtime_rate_hz", realtime_rate_hz, "must be > 0");
@@ -52,18 +52,21 @@ void PipelineOptions::Check() const {
                      "must be > 0");
   SEMAP_CHECK_OPTION(realtime_frames_in_flight >= 1, "realtime_frames_in_flight", realtime_frames_in_flight,
                      "must be >= 1");
-  SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers, "must be in [1, 64]");
+  SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers,
+                     "must be in [1, 64]");
   SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
   SEMAP_CHECK_OPTION(mesh_every_frames >= 1, "mesh_every_frames", mesh_every_frames, "must be >= 1");
   SEMAP_CHECK_OPTION(feeder_nice >= 0 && feeder_nice <= 19, "feeder_nice", feeder_nice, "must be in [0, 19]");
-  SEMAP_CHECK_OPTION(opencv_threads >= 0, "opencv_threads", opencv_threads, "must be >= 0 (0 = OpenCV's setting)");
+  SEMAP_CHECK_OPTION(opencv_threads >= 0, "opencv_threads", opencv_threads,
+                     "must be >= 0 (0 = OpenCV's setting)");
   SEMAP_CHECK_OPTION(max_speed_mps >= 0.0 && std::isfinite(max_speed_mps), "max_speed_mps", max_speed_mps,
                      "must be >= 0 (0 = no check)");
   cpu_set_t available;
   CPU_ZERO(&available);
   const bool known = sched_getaffinity(0, sizeof(available), &available) == 0;
   for (int cpu : cpu_affinity) {
-    SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu, "CPU ids must be in [0, CPU_SETSIZE)");
+    SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu,
+                       "CPU ids must be in [0, CPU_SETSIZE)");
     // Pinning to a CPU this process may not run on would be silently ignored by the kernel.
     SEMAP_CHECK_OPTION(!known || CPU_ISSET(cpu, &available), "cpu_affinity", cpu,
                        "no such CPU available to this process (it may use " +
@@ -132,10 +135,10 @@ struct Pipeline::Impl {
   std::string fatal_error;
   std::atomic<std::int64_t> frames_read{0};
   std::mutex side_mutex;
-  std::vector<SideEvent> side_events;  // guarded by side_mutex
+  std::vector<SideEvent> side_events;                             // guarded by side_mutex
   std::array<std::int64_t, kNumDropReasons> dropped_by_reason{};  // guarded by side_mutex
   Clock::time_point start;
-  double start_s = 0.0;  // `start` on the pipeline's clock
+  double start_s = 0.0;            // `start` on the pipeline's clock
   ReadState state;                 // the reader thread's (first read before it starts)
   std::optional<Item> first_item;  // realtime: read before the clock started
 
@@ -158,8 +161,9 @@ struct Pipeline::Impl {
     item.error = what.empty() ? "unknown error" : what;
     if (p.options_.on_error == PipelineOptions::OnError::kStop) {
       std::lock_guard<std::mutex> lock(error_mutex);
-      if (fatal_error.empty()) fatal_error = std::string(stage) + " failed on frame " +
-                                             std::to_string(item.frame_id) + ": " + item.error;
+      if (fatal_error.empty())
+        fatal_error =
+            std::string(stage) + " failed on frame " + std::to_string(item.frame_id) + ": " + item.error;
       error_stop.store(true);
     }
   }
@@ -171,8 +175,10 @@ struct Pipeline::Impl {
     if (++*consecutive_failures >= kMaxConsecutiveReadFailures) {
       std::lock_guard<std::mutex> lock(error_mutex);
       if (fatal_error.empty()) {
-        fatal_error = std::to_string(*consecutive_failures) + " frames in a row could not be read or had an "
-                      "unusable pose; last: " + what;
+        fatal_error = std::to_string(*consecutive_failures) +
+                      " frames in a row could not be read or had an "
+                      "unusable pose; last: " +
+                      what;
       }
       error_stop.store(true);
     }
@@ -189,7 +195,6 @@ struct Pipeline::Impl {
     }
     side_events.push_back(std::move(e));
   }
-
 
   // Reads the next frame into `item` (a failed read or an unusable pose is recorded on it); false at the end
   // of the sequence.
@@ -209,7 +214,8 @@ struct Pipeline::Impl {
       if (pose_problem.empty()) {
         state->consecutive_failures = 0;
         if (frame->world_from_cam) {
-          state->last_pose = AcceptedPose{frame->id, frame->timestamp_s, frame->world_from_cam->translation()};
+          state->last_pose =
+              AcceptedPose{frame->id, frame->timestamp_s, frame->world_from_cam->translation()};
         }
         item->frame = std::make_unique<Frame>(std::move(*frame));
       } else {
@@ -357,8 +363,8 @@ struct Pipeline::Impl {
         labels->labels = p.segment_->Process(job->keyframe);
         job->labels.set_value({std::move(labels), MsBetween(t0, Clock::now())});
       } catch (const std::exception& e) {
-        job->labels.set_exception(std::make_exception_ptr(std::runtime_error(
-            "keyframe " + std::to_string(job->keyframe.id) + ": " + e.what())));
+        job->labels.set_exception(std::make_exception_ptr(
+            std::runtime_error("keyframe " + std::to_string(job->keyframe.id) + ": " + e.what())));
       }
     }
   }
@@ -366,7 +372,8 @@ struct Pipeline::Impl {
   // The labels `item` takes: its keyframe's, waited for; in realtime mode, when those are not ready, the
   // newest keyframe's that were ready when it was read. Rethrows the segmenter's error.
   const SegmentResult& LabelsOf(const Item& item) const {
-    if (realtime && item.ready_labels.valid() && !IsReady(item.keyframe_labels)) return item.ready_labels.get();
+    if (realtime && item.ready_labels.valid() && !IsReady(item.keyframe_labels))
+      return item.ready_labels.get();
     return item.keyframe_labels.get();  // waits for the segment thread
   }
 
@@ -396,7 +403,8 @@ struct Pipeline::Impl {
     }
     item->ms[kDepth] = MsBetween(t0, Clock::now());
     item->times.depth_s = clock.NowS();
-    if (!item->keyframe_labels.valid()) item->times.labels_s = item->times.depth_s;  // labelled with the depth
+    if (!item->keyframe_labels.valid())
+      item->times.labels_s = item->times.depth_s;  // labelled with the depth
   }
 
   void DepthLoop(DepthStage* stage) {
@@ -411,7 +419,7 @@ struct Pipeline::Impl {
       Item& item = popped->item;
       item.seq = popped->order;
       if (!item.failed()) ComputeDepth(&item, stage);
-      item.frame.reset();  // images are not needed any more
+      item.frame.reset();         // images are not needed any more
       item.keyframe_labels = {};  // nor the keyframes' labels
       item.ready_labels = {};
       to_simplify.Push(std::move(item));
@@ -485,7 +493,8 @@ struct Pipeline::Impl {
 
   // The output thread: per-frame figures, mesh deltas and the sinks' calls (FrameReporter).
   void OutputLoop(PipelineSummary* summary) {
-    pipeline_internal::FrameReporter reporter(p.sinks_, clock, start, realtime, p.segment_ != nullptr, summary);
+    pipeline_internal::FrameReporter reporter(p.sinks_, clock, start, realtime, p.segment_ != nullptr,
+                                              summary);
     while (auto item = to_output.Pop()) {
       std::vector<SideEvent> events;
       std::array<std::int64_t, kNumDropReasons> dropped{};

@@ -41,7 +41,8 @@ struct PipelineOptions {
   void Describe(Visitor& v) {
     v.Enum("mode", &mode, {{"exhaustive", Mode::kExhaustive}, {"realtime", Mode::kRealtime}},
            "exhaustive: every frame processed (the paper's table); realtime: frames enter at their time "
-           "stamps, as a camera delivers them, and the oldest waiting frame is dropped when the engine is behind");
+           "stamps, as a camera delivers them, and the oldest waiting frame is dropped when the engine is "
+           "behind");
     v.Field("realtime_rate_hz", &realtime_rate_hz,
             "realtime mode: frames are due at their time stamps, or at this rate when the sequence has none");
     v.Field("realtime_speed", &realtime_speed,
@@ -70,10 +71,11 @@ struct PipelineOptions {
     // a tenth of one at 0 under Linux's scheduler; the bounded queues keep the feeders ahead, on the CPU the
     // map leaves. 200 urban frames, PS, 2 cores: 5.02 / 4.79 → 5.54 / 5.01 f/s (bench/results/frame-rate.md,
     // "The map's feeders niced").
-    v.Field("feeder_nice", &feeder_nice,
-            "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
-            "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
-            "first; 0 = all alike");
+    v.Field(
+        "feeder_nice", &feeder_nice,
+        "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
+        "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
+        "first; 0 = all alike");
     // OpenCV runs its parallel loops (SGBM, ENet) on TBB's workers, which the map's votes share: started at
     // the map's priority (StartTbbWorkers), they ran a feeder's SGBM ahead of the map. With one thread SGBM
     // runs on the depth thread that calls it, at the feeders' priority; depth_workers keep frames in
@@ -107,11 +109,11 @@ const char* DropReasonName(DropReason reason);
 using DepthStageFactory = std::function<std::unique_ptr<DepthStage>()>;
 
 struct PipelineSummary {
-  FrameStats final_stats;      // totals, fps, per-stage timing
+  FrameStats final_stats;  // totals, fps, per-stage timing
   std::int64_t frames_read = 0;
-  bool stopped_early = false;  // RequestStop() or a stage error with on_error = stop
-  std::string fatal_error;     // the error that stopped the run, if any
-  std::int64_t sink_errors = 0;   // exceptions thrown by sinks (the run went on)
+  bool stopped_early = false;    // RequestStop() or a stage error with on_error = stop
+  std::string fatal_error;       // the error that stopped the run, if any
+  std::int64_t sink_errors = 0;  // exceptions thrown by sinks (the run went on)
   std::string first_sink_error;
 };
 
@@ -119,8 +121,9 @@ struct PipelineSummary {
 // async-signal-safe (an atomic store), so a SIGINT handler may call it.
 class Pipeline {
  public:
-  Pipeline(const PipelineOptions& options, std::unique_ptr<FrameReader> reader, DepthStageFactory depth_factory,
-           std::unique_ptr<SimplifyStage> simplify, std::unique_ptr<MapStage> map);
+  Pipeline(const PipelineOptions& options, std::unique_ptr<FrameReader> reader,
+           DepthStageFactory depth_factory, std::unique_ptr<SimplifyStage> simplify,
+           std::unique_ptr<MapStage> map);
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;

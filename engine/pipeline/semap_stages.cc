@@ -9,8 +9,8 @@
 
 namespace semap {
 
-StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map,
-                                   bool labels_from_keyframes)
+StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics,
+                                   ClassMap class_map, bool labels_from_keyframes)
     : depth_(depth),
       semantics_(semantics),
       class_map_(std::move(class_map)),
@@ -22,7 +22,8 @@ void StereoLabelStage::Prepare(const Frame& first_frame) {
 }
 
 SegmenterStage::SegmenterStage(const SemanticsOptions& semantics) : segmenter_(MakeSegmenter(semantics)) {
-  SEMAP_ASSERT(segmenter_ != nullptr, "semantics.source " << LabelSourceName(semantics.source) << " has no segmenter");
+  SEMAP_ASSERT(segmenter_ != nullptr,
+               "semantics.source " << LabelSourceName(semantics.source) << " has no segmenter");
 }
 
 cv::Mat SegmenterStage::Process(const Frame& keyframe) { return segmenter_->Segment(keyframe.left); }
@@ -57,8 +58,9 @@ cv::Mat DepthFromDisparity(const cv::Mat& disparity_px, const StereoCalibration&
   return depth_m;
 }
 
-// The label image of `frame` from its keyframe's: the keyframe's own, or carried over (semantics.enet_propagation);
-// reused when a pose is missing or the sizes differ (nothing to reproject with).
+// The label image of `frame` from its keyframe's: the keyframe's own, or carried over
+// (semantics.enet_propagation); reused when a pose is missing or the sizes differ (nothing to reproject
+// with).
 cv::Mat LabelsFromKeyframe(const Frame& frame, const KeyframeLabels& keyframe, const cv::Mat& disparity_px,
                            const SemanticsOptions& semantics, Label unlabelled_id) {
   if (keyframe.frame_id == frame.id || semantics.enet_propagation == LabelPropagation::kReuse ||
@@ -69,8 +71,8 @@ cv::Mat LabelsFromKeyframe(const Frame& frame, const KeyframeLabels& keyframe, c
   StereoCalibration intrinsics = frame.calibration;
   intrinsics.width_px = frame.left.cols;
   intrinsics.height_px = frame.left.rows;
-  return PropagateLabels(keyframe, *frame.world_from_cam, DepthFromDisparity(disparity_px, intrinsics), intrinsics,
-                         unlabelled_id);
+  return PropagateLabels(keyframe, *frame.world_from_cam, DepthFromDisparity(disparity_px, intrinsics),
+                         intrinsics, unlabelled_id);
 }
 
 }  // namespace
@@ -85,8 +87,8 @@ std::optional<Frame> RowAlignmentReader::Next() {
       frames_since_attempt_ >= kRemeasureEveryFrames || (!current_ && frames_read_ < kFirstAttemptFrames);
   ++frames_read_;
   const int type = frame->left.type();
-  if (due && !frame->left.empty() && frame->left.size() == frame->right.size() && type == frame->right.type() &&
-      (type == CV_8UC1 || type == CV_8UC3)) {
+  if (due && !frame->left.empty() && frame->left.size() == frame->right.size() &&
+      type == frame->right.type() && (type == CV_8UC1 || type == CV_8UC3)) {
     frames_since_attempt_ = 0;
     if (std::optional<RowOffsets> fit = FitRowOffsets(frame->left, frame->right)) current_ = *fit;
   }
@@ -106,18 +108,21 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels
   LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
   DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
   if (cloud.size() == 0) {
-    // Nothing to map (uniform, black or unmatched images): the frame is skipped and counted, not mapped empty.
-    throw std::runtime_error("frame " + std::to_string(frame.id) + ": no valid disparity (no point in the depth "
+    // Nothing to map (uniform, black or unmatched images): the frame is skipped and counted, not mapped
+    // empty.
+    throw std::runtime_error("frame " + std::to_string(frame.id) +
+                             ": no valid disparity (no point in the depth "
                              "range; uniform, dark or unmatched images?)");
   }
-  const cv::Mat labels =
-      keyframe_labels != nullptr
-          ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_, class_map_.unlabelled_id())
-          : FrameLabels(frame, semantics_, segmenter_.get());
+  const cv::Mat labels = keyframe_labels != nullptr
+                             ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_,
+                                                  class_map_.unlabelled_id())
+                             : FrameLabels(frame, semantics_, segmenter_.get());
   ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), class_map_.unlabelled_id(),
                          semantics_.size_mismatch);
   if (semantics_.drop_sky && sky_label_ && RemoveLabel(cloud, *sky_label_) > 0 && cloud.size() == 0) {
-    throw std::runtime_error("frame " + std::to_string(frame.id) + ": every point is sky (semantics.drop_sky)");
+    throw std::runtime_error("frame " + std::to_string(frame.id) +
+                             ": every point is sky (semantics.drop_sky)");
   }
   if (semantics_.drop_sky && sky_label_ && labels.size() == frame.left.size() && labels.type() == CV_8UC1) {
     MarkSky(labels, *sky_label_, depth_.options().vote_stride_px, &view);
@@ -153,8 +158,9 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   const bool with_mesh = last_frame_id_ >= *next_mesh_frame_id_;
   if (with_mesh) next_mesh_frame_id_ = last_frame_id_ + mesh_every_frames_;
   MapUpdate u = Report(with_mesh);
-  const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms}, {"votes", r.trace_ms},
+  const double mesh_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms},     {"votes", r.trace_ms},
              {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"mesh", mesh_ms}};
   return u;
 }

@@ -117,7 +117,8 @@ class MapStage {
 class PipelineSink {
  public:
   virtual ~PipelineSink() = default;
-  virtual void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& world_from_cam) = 0;
+  virtual void OnFrame(const FrameStats& stats, const MeshDelta& delta,
+                       const std::optional<Pose3d>& world_from_cam) = 0;
   // A frame that failed in `stage` (read, depth, simplify, map) and was skipped or stopped the run.
   virtual void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) {}
   // A frame read but never integrated because the engine was behind (realtime mode): `reason` is one of

@@ -1,8 +1,7 @@
 #include "engine/semantics/keyframe_labels.h"
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "engine/core/check.h"
 

@@ -8,9 +8,8 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
-
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "engine/core/calibration.h"
 #include "engine/core/class_map.h"
@@ -19,7 +18,8 @@ namespace semap {
 
 // How a frame between keyframes gets its labels.
 enum class LabelPropagation {
-  kReproject,  // through the frame's depth and the relative pose (pixels without depth: as points at infinity)
+  kReproject,  // through the frame's depth and the relative pose (pixels without depth: as points at
+               // infinity)
   kReuse,      // the keyframe's label image as it is
 };
 
@@ -55,9 +55,9 @@ class KeyframeSchedule {
 };
 
 struct PropagationReport {
-  std::int64_t with_depth = 0;     // pixels lifted with their own depth
-  std::int64_t at_infinity = 0;    // pixels without depth, reprojected as points at infinity (rotation only)
-  std::int64_t outside = 0;        // pixels that land outside the keyframe's image or behind it (→ unlabelled)
+  std::int64_t with_depth = 0;   // pixels lifted with their own depth
+  std::int64_t at_infinity = 0;  // pixels without depth, reprojected as points at infinity (rotation only)
+  std::int64_t outside = 0;  // pixels that land outside the keyframe's image or behind it (→ unlabelled)
 };
 
 // The labels of a frame whose left camera is at `world_from_cam`, carried from `keyframe` (same camera

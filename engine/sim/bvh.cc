@@ -21,8 +21,8 @@ constexpr int kSahDepth = 80;
 
 // An axis-aligned box grown point by point. Plain float arithmetic rather than Eigen's expressions: Build()
 // extends boxes a few times per triangle and tree level, and in a sanitized build (-O1, Eigen's expressions
-// not inlined) that form took 60 % of a rendering test's time (perf; bench/results/checks.md, "Sanitizers: the
-// passes before the last whole one").
+// not inlined) that form took 60 % of a rendering test's time (perf; bench/results/checks.md, "Sanitizers:
+// the passes before the last whole one").
 struct Box {
   std::array<float, 3> lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
                           std::numeric_limits<float>::max()};

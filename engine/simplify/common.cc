@@ -51,9 +51,9 @@ GroupPlanes FitGroupPlanes(const MethodInput& in, const SimplifyOptions& options
   }
   GroupPlanes planes;
   for (int g = 1; g < kNumGroups; ++g) {
-    const auto plane = FitPlaneRansac(in.cloud->positions_world, members[g], options.ransac_threshold_m,
-                                      options.ransac_iterations, options.ransac_max_points,
-                                      options.ransac_confidence, rng);
+    const auto plane =
+        FitPlaneRansac(in.cloud->positions_world, members[g], options.ransac_threshold_m,
+                       options.ransac_iterations, options.ransac_max_points, options.ransac_confidence, rng);
     if (plane) {
       planes.plane[g] = *plane;
       planes.has[g] = true;

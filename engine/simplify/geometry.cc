@@ -61,8 +61,8 @@ void PointIndex::Knn(const Eigen::Vector3d& query, int k, std::vector<std::uint3
 }
 
 namespace {
-// Cell coordinates are packed 21 bits per axis (wrapping): cells 2²¹ apart share a key, which only adds points
-// that the distance test then drops.
+// Cell coordinates are packed 21 bits per axis (wrapping): cells 2²¹ apart share a key, which only adds
+// points that the distance test then drops.
 constexpr int kCellBits = 21;
 constexpr std::uint64_t kCellMask = (std::uint64_t{1} << kCellBits) - 1;
 // Keys use 63 bits: this one is never a cell's.
@@ -128,7 +128,8 @@ std::int64_t RadiusGrid::CellOf(double coordinate) const {
 
 std::uint64_t RadiusGrid::Key(std::int64_t x, std::int64_t y, std::int64_t z) const {
   return ((static_cast<std::uint64_t>(x) & kCellMask) << (2 * kCellBits)) |
-         ((static_cast<std::uint64_t>(y) & kCellMask) << kCellBits) | (static_cast<std::uint64_t>(z) & kCellMask);
+         ((static_cast<std::uint64_t>(y) & kCellMask) << kCellBits) |
+         (static_cast<std::uint64_t>(z) & kCellMask);
 }
 
 std::size_t RadiusGrid::Home(std::uint64_t key) const { return HomeSlot(key, slot_bits_); }

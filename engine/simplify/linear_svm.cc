@@ -17,8 +17,8 @@ constexpr int kShrinkEvery = 1000;
 constexpr double kUnshrinkFactor = 10.0;
 }  // namespace
 
-std::optional<LinearSvm> TrainLinearSvm(const std::vector<Eigen::Vector2d>& x, const std::vector<int>& positive,
-                                        const LinearSvmOptions& options) {
+std::optional<LinearSvm> TrainLinearSvm(const std::vector<Eigen::Vector2d>& x,
+                                        const std::vector<int>& positive, const LinearSvmOptions& options) {
   const int n = static_cast<int>(x.size());
   if (n < 2 || positive.size() != x.size()) return std::nullopt;
   // Linear kernel: with z_t = y_t x_t and w = Σ α_t z_t, the dual gradient G = Qα − e is G_t = z_t·w − 1, so

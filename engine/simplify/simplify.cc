@@ -93,8 +93,8 @@ void SimplifyOptions::Check() const {
   SEMAP_CHECK_OPTION(ransac_threshold_m > 0.0, "ransac_threshold_m", ransac_threshold_m, "must be > 0");
   SEMAP_CHECK_OPTION(ransac_iterations >= 1, "ransac_iterations", ransac_iterations, "must be >= 1");
   SEMAP_CHECK_OPTION(ransac_max_points >= 3, "ransac_max_points", ransac_max_points, "must be >= 3");
-  SEMAP_CHECK_OPTION(ransac_confidence > 0.0 && ransac_confidence <= 1.0, "ransac_confidence", ransac_confidence,
-                     "must be in (0, 1]");
+  SEMAP_CHECK_OPTION(ransac_confidence > 0.0 && ransac_confidence <= 1.0, "ransac_confidence",
+                     ransac_confidence, "must be in (0, 1]");
   SEMAP_CHECK_OPTION(gb_flatness_threshold >= 0.0 && gb_flatness_threshold <= 1.0 / 3.0,
                      "gb_flatness_threshold", gb_flatness_threshold, "must be in [0, 1/3]");
   SEMAP_CHECK_OPTION(gb_flat_keep_probability >= 0.0 && gb_flat_keep_probability <= 1.0,

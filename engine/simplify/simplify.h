@@ -125,7 +125,8 @@ struct SimplifyOptions {
     v.Field("ps_svm_max_samples", &ps_svm_max_samples,
             "PS: training points per SVM at most (evenly strided over the region)");
     v.Field("ransac_threshold_m", &ransac_threshold_m, "class planes: RANSAC inlier distance to the plane");
-    v.Field("ransac_iterations", &ransac_iterations, "class planes: RANSAC hypotheses per class group, at most");
+    v.Field("ransac_iterations", &ransac_iterations,
+            "class planes: RANSAC hypotheses per class group, at most");
     v.Field("ransac_max_points", &ransac_max_points,
             "class planes: hypotheses scored on at most this many random points of the group (the best is "
             "then refitted to its inliers among all the group's points)");

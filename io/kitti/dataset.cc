@@ -19,7 +19,8 @@ bool IsStereo2015(const fs::path& p) {
   return fs::is_directory(p / "image_2") && fs::exists(p / "calib_cam_to_cam.txt");
 }
 
-std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path, const FrameSourceOptions& options) {
+std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path,
+                                                     const FrameSourceOptions& options) {
   options.Check();
   std::error_code ec;
   if (!fs::is_directory(path, ec)) DetectLayout(path);  // throws the missing-folder / not-a-folder error
@@ -40,7 +41,8 @@ std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path, const
 // The selected frames read options.loops times (see OpenFrameSource). Each pass re-opens the dataset.
 class LoopedSource : public FrameSource {
  public:
-  LoopedSource(fs::path path, const FrameSourceOptions& options, std::unique_ptr<kitti_internal::SequenceSource> first)
+  LoopedSource(fs::path path, const FrameSourceOptions& options,
+               std::unique_ptr<kitti_internal::SequenceSource> first)
       : path_(std::move(path)), options_(options), source_(std::move(first)) {
     id_span_ = source_->info().last_frame_id - source_->info().first_frame_id + 1;
     pass_frames_ = source_->size();
@@ -57,7 +59,8 @@ class LoopedSource : public FrameSource {
         frame = source_->Next();
       } catch (const FrameError& e) {
         if (pass_ == 0) throw;
-        throw FrameError(e.frame_id() + pass_ * id_span_, "pass " + std::to_string(pass_ + 1) + ": " + e.what());
+        throw FrameError(e.frame_id() + pass_ * id_span_,
+                         "pass " + std::to_string(pass_ + 1) + ": " + e.what());
       }
       if (frame) return Shifted(std::move(*frame));
       if (pass_ + 1 >= options_.loops) return std::nullopt;
@@ -71,7 +74,8 @@ class LoopedSource : public FrameSource {
     f.id += pass_ * id_span_;
     f.timestamp_s += time_offset_s_;
     if (f.world_from_cam) {
-      f.world_from_cam = Pose3d(Eigen::Translation3d(static_cast<double>(pass_) * shift_)) * *f.world_from_cam;
+      f.world_from_cam =
+          Pose3d(Eigen::Translation3d(static_cast<double>(pass_) * shift_)) * *f.world_from_cam;
     }
     return f;
   }

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-
 #include <lcm/lcm-cpp.hpp>
+#include <map>
 
 #include "io/file_error.h"
 #include "io/lcm/lcm_publisher.h"
@@ -61,14 +60,16 @@ class MeshMessageSink {
       ++out_->mesh_events;
     } else {
       ++out_->skipped;
-      if (out_->skipped_reasons.size() < kMaxReasons) out_->skipped_reasons.push_back(where + " on " + channel + ": " + error);
+      if (out_->skipped_reasons.size() < kMaxReasons)
+        out_->skipped_reasons.push_back(where + " on " + channel + ": " + error);
     }
     return ok;
   }
 
   std::string OtherChannels() const {
     std::string s;
-    for (const auto& [c, n] : other_channels_) s += (s.empty() ? "" : ", ") + c + " (" + std::to_string(n) + ")";
+    for (const auto& [c, n] : other_channels_)
+      s += (s.empty() ? "" : ", ") + c + " (" + std::to_string(n) + ")";
     return s.empty() ? "none" : s;
   }
 
@@ -155,7 +156,8 @@ std::optional<LcmLogEvent> LcmLogReader::Next() {
     pos_ = next;
   }
   if (pos_ < size_) {
-    if (problem_.empty()) problem_ = "truncated: " + std::to_string(size_ - pos_) + " bytes at the end are no event";
+    if (problem_.empty())
+      problem_ = "truncated: " + std::to_string(size_ - pos_) + " bytes at the end are no event";
     damaged_bytes_ += size_ - pos_;
     pos_ = size_;
   }
@@ -178,14 +180,15 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
   MeshMessageSink sink(options.channel_prefix, &out);
   MeshBlockAssembler assembler;  // the subscriber (joining late with join_after_s)
   MeshBlockAssembler early;      // with join_after_s: one that listened from the start
-  MeshReplay early_counts;  // not reported
+  MeshReplay early_counts;       // not reported
   MeshMessageSink early_sink(options.channel_prefix, &early_counts);
   std::int64_t first_us = 0, last_us = 0;
   bool converged = false;
   while (auto e = reader.Next()) {
     if (out.events == 0) first_us = e->timestamp_us;
     last_us = e->timestamp_us;
-    const double t = 1e-6 * (static_cast<double>(e->timestamp_us) - static_cast<double>(first_us));  // any int64
+    const double t =
+        1e-6 * (static_cast<double>(e->timestamp_us) - static_cast<double>(first_us));  // any int64
     const std::string where = "event " + std::to_string(e->eventnum);
     if (options.join_after_s < 0) {
       sink.Feed(e->channel, e->data.data(), e->data.size(), where, &assembler);
@@ -207,12 +210,13 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
   out.damaged_bytes = reader.damaged_bytes();
   out.log_problem = reader.problem();
   if (out.events == 0) {
-    throw FileError(log_path, reader.damaged_bytes() > 0 ? "not an LCM log (no event found)" : "empty LCM log (no event)");
+    throw FileError(log_path, reader.damaged_bytes() > 0 ? "not an LCM log (no event found)"
+                                                         : "empty LCM log (no event)");
   }
   if (out.mesh_events == 0) {
-    std::string why = "no valid mesh message on " + options.channel_prefix + "MESH_BLOCK / " + options.channel_prefix +
-                      "MESH_END among " + std::to_string(out.events) + " events (other channels: " +
-                      sink.OtherChannels() + ")";
+    std::string why = "no valid mesh message on " + options.channel_prefix + "MESH_BLOCK / " +
+                      options.channel_prefix + "MESH_END among " + std::to_string(out.events) +
+                      " events (other channels: " + sink.OtherChannels() + ")";
     if (!out.skipped_reasons.empty()) why += "; skipped: " + out.skipped_reasons.front();
     throw FileError(log_path, why);
   }
@@ -238,7 +242,8 @@ MeshReplay ReceiveMeshLive(const std::string& url, double seconds, const std::st
   const auto start = std::chrono::steady_clock::now();
   const auto deadline = start + std::chrono::duration<double>(seconds);
   while (std::chrono::steady_clock::now() < deadline) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (lcm.handleTimeout(static_cast<int>(std::clamp<std::int64_t>(left.count(), 1, 200))) < 0) break;
     const auto& c = assembler.counters();
     if (c.run_ended || (c.closing_seen && assembler.Complete())) break;

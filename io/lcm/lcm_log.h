@@ -34,7 +34,8 @@ class LcmLogReader {
   std::optional<LcmLogEvent> Next();
   std::int64_t damaged_bytes() const { return damaged_bytes_; }  // bytes skipped between events
   std::int64_t damaged_headers() const { return damaged_headers_; }
-  // "" or what ended or interrupted the log ("event at byte N claims M bytes, the file has K", ...): the first.
+  // "" or what ended or interrupted the log ("event at byte N claims M bytes, the file has K", ...): the
+  // first.
   const std::string& problem() const { return problem_; }
 
  private:
@@ -60,22 +61,22 @@ struct MeshReplayOptions {
 };
 
 struct MeshReplay {
-  Mesh mesh;                          // every block held, at its latest complete version
+  Mesh mesh;  // every block held, at its latest complete version
   MeshBlockAssembler::Counters blocks;
-  std::vector<std::string> missing;   // blocks still lacking (MeshBlockAssembler::Missing)
-  bool index_complete = false;        // every block of the run's latest index is held
-  std::int64_t events = 0;            // events read (live: messages received)
-  std::int64_t mesh_events = 0;       // block and index messages accepted
-  std::int64_t skipped = 0;           // mesh messages skipped as invalid (bad counts, NaN, unknown vertex...)
+  std::vector<std::string> missing;  // blocks still lacking (MeshBlockAssembler::Missing)
+  bool index_complete = false;       // every block of the run's latest index is held
+  std::int64_t events = 0;           // events read (live: messages received)
+  std::int64_t mesh_events = 0;      // block and index messages accepted
+  std::int64_t skipped = 0;          // mesh messages skipped as invalid (bad counts, NaN, unknown vertex...)
   std::vector<std::string> skipped_reasons;  // the first few, naming the event and the problem
-  std::int64_t other_events = 0;      // events on other channels
-  std::int64_t mesh_bytes = 0;        // bytes of mesh block and index messages
-  std::int64_t largest_message = 0;   // bytes of the largest event on any channel
-  std::int64_t damaged_bytes = 0;     // log bytes skipped between events (damaged headers)
-  std::string log_problem;            // LcmLogReader::problem
-  double duration_s = 0.0;            // first to last event
-  double converged_after_s = -1.0;    // with join_after_s: seconds after joining until the late subscriber held
-                                      // every block the early one held (-1: never)
+  std::int64_t other_events = 0;             // events on other channels
+  std::int64_t mesh_bytes = 0;               // bytes of mesh block and index messages
+  std::int64_t largest_message = 0;          // bytes of the largest event on any channel
+  std::int64_t damaged_bytes = 0;            // log bytes skipped between events (damaged headers)
+  std::string log_problem;                   // LcmLogReader::problem
+  double duration_s = 0.0;                   // first to last event
+  double converged_after_s = -1.0;  // with join_after_s: seconds after joining until the late subscriber held
+                                    // every block the early one held (-1: never)
 };
 
 // Rebuilds the mesh of a semap run from an lcm-logger log; damaged events and invalid messages are skipped
@@ -85,6 +86,7 @@ MeshReplay ReplayMeshLog(const std::filesystem::path& log_path, const MeshReplay
 
 // Subscribes to `url` and rebuilds the mesh until the run's last message arrives, every block of its closing
 // index is held, or `seconds` pass. Throws LcmError naming the URL if it cannot be opened.
-MeshReplay ReceiveMeshLive(const std::string& url, double seconds, const std::string& channel_prefix = "SEMAP_");
+MeshReplay ReceiveMeshLive(const std::string& url, double seconds,
+                           const std::string& channel_prefix = "SEMAP_");
 
 }  // namespace semap::io

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <lcm/lcm-cpp.hpp>
 #include <random>
 #include <thread>
-
-#include <lcm/lcm-cpp.hpp>
 
 #include "engine/core/check.h"
 #include "io/lcm/lcm_codec.h"
@@ -24,8 +23,8 @@ class Pacer {
   Clock::time_point next() const { return next_; }
   // Books a message of `bytes` sent now.
   void Book(size_t bytes, Clock::time_point now) {
-    next_ = std::max(next_, now) +
-            std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(bytes) / bytes_per_s_));
+    next_ = std::max(next_, now) + std::chrono::duration_cast<Clock::duration>(
+                                       std::chrono::duration<double>(double(bytes) / bytes_per_s_));
   }
   // Waits until a message may go, then books it.
   void Wait(size_t bytes) {
@@ -42,14 +41,15 @@ class Pacer {
 
 void LcmOptions::Check() const {
   SEMAP_CHECK_OPTION(!url.empty(), "url", "''", "must not be empty");
-  SEMAP_CHECK_OPTION(std::isfinite(block_size_m) && block_size_m >= 0.05 && block_size_m <= 1e4, "block_size_m",
-                     block_size_m, "must be in [0.05, 10000] metres");
+  SEMAP_CHECK_OPTION(std::isfinite(block_size_m) && block_size_m >= 0.05 && block_size_m <= 1e4,
+                     "block_size_m", block_size_m, "must be in [0.05, 10000] metres");
   SEMAP_CHECK_OPTION(max_message_bytes >= 1024 && max_message_bytes <= (1 << 24), "max_message_bytes",
                      max_message_bytes, "must be in [1024, 16777216]");
   SEMAP_CHECK_OPTION(std::isfinite(resend_bytes_per_s) && resend_bytes_per_s >= 1000.0, "resend_bytes_per_s",
                      resend_bytes_per_s, "must be >= 1000");
-  SEMAP_CHECK_OPTION(std::isfinite(max_bytes_per_s) && max_bytes_per_s >= resend_bytes_per_s, "max_bytes_per_s",
-                     max_bytes_per_s, "must be >= resend_bytes_per_s (" << resend_bytes_per_s << ")");
+  SEMAP_CHECK_OPTION(std::isfinite(max_bytes_per_s) && max_bytes_per_s >= resend_bytes_per_s,
+                     "max_bytes_per_s", max_bytes_per_s,
+                     "must be >= resend_bytes_per_s (" << resend_bytes_per_s << ")");
   SEMAP_CHECK_OPTION(closing_rounds >= 0 && closing_rounds <= 100, "closing_rounds", closing_rounds,
                      "must be in [0, 100]");
   SEMAP_CHECK_OPTION(std::isfinite(closing_max_s) && closing_max_s >= 0.0, "closing_max_s", closing_max_s,
@@ -71,7 +71,8 @@ struct LcmPublisher::PendingMesh {
     for (auto id : d.removed_triangle_ids) {
       if (added.erase(id) == 0) removed.push_back(id);
     }
-    for (size_t i = 0; i < d.added_triangle_ids.size(); ++i) added[d.added_triangle_ids[i]] = d.added_triangles[i];
+    for (size_t i = 0; i < d.added_triangle_ids.size(); ++i)
+      added[d.added_triangle_ids[i]] = d.added_triangles[i];
     for (size_t i = 0; i < d.vertex_ids.size(); ++i) {
       vertex_store.vertex_ids.push_back(d.vertex_ids[i]);
       vertex_store.vertex_positions.push_back(d.vertex_positions[i]);
@@ -150,7 +151,8 @@ void LcmPublisher::PublishFrameStats(const FrameStats& stats) {
   wake_.notify_one();
 }
 
-void LcmPublisher::PublishCameraPose(std::int64_t frame_id, double timestamp_s, const Pose3d& world_from_cam) {
+void LcmPublisher::PublishCameraPose(std::int64_t frame_id, double timestamp_s,
+                                     const Pose3d& world_from_cam) {
   auto msg = ToLcmPose(frame_id, timestamp_s, world_from_cam, NowUtime());
   const std::string channel = options_.channel_prefix + "CAMERA_POSE";
   {
@@ -219,10 +221,11 @@ void LcmPublisher::Close(MeshBlockSender& blocks, Counters* c) {
 }
 
 void LcmPublisher::Run() {
-  MeshBlockSender blocks(options_.block_size_m, options_.max_message_bytes,
-                         static_cast<std::int64_t>((std::uint64_t(std::random_device{}()) << 32) ^ std::random_device{}()));
-  Pacer link(options_.max_bytes_per_s);        // every mesh message
-  Pacer resend(options_.resend_bytes_per_s);   // the steady re-sends
+  MeshBlockSender blocks(
+      options_.block_size_m, options_.max_message_bytes,
+      static_cast<std::int64_t>((std::uint64_t(std::random_device{}()) << 32) ^ std::random_device{}()));
+  Pacer link(options_.max_bytes_per_s);       // every mesh message
+  Pacer resend(options_.resend_bytes_per_s);  // the steady re-sends
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     const auto ready = [this] { return stop_ || pending_mesh_ || !queue_.empty(); };

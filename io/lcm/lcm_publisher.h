@@ -89,14 +89,15 @@ class LcmError : public std::runtime_error {
 class LcmPublisher {
  public:
   struct Counters {
-    std::int64_t mesh_messages = 0;   // block messages carrying changes (deltas, new versions, finalised blocks)
-    std::int64_t resent_messages = 0; // block messages re-sent (steady and closing rounds)
-    std::int64_t index_messages = 0;  // mesh_end_t messages
-    std::int64_t mesh_bytes = 0;      // bytes of all mesh messages (block and index, re-sends included)
-    std::int64_t largest_message = 0; // bytes of the largest mesh message
-    std::int64_t other_messages = 0;  // stats + poses sent
+    std::int64_t mesh_messages =
+        0;  // block messages carrying changes (deltas, new versions, finalised blocks)
+    std::int64_t resent_messages = 0;  // block messages re-sent (steady and closing rounds)
+    std::int64_t index_messages = 0;   // mesh_end_t messages
+    std::int64_t mesh_bytes = 0;       // bytes of all mesh messages (block and index, re-sends included)
+    std::int64_t largest_message = 0;  // bytes of the largest mesh message
+    std::int64_t other_messages = 0;   // stats + poses sent
     std::int64_t send_failures = 0;
-    std::int64_t dropped = 0;         // stats/poses dropped on a full queue
+    std::int64_t dropped = 0;  // stats/poses dropped on a full queue
   };
 
   // Throws LcmError naming the URL when LCM cannot be initialised with it.
@@ -128,11 +129,11 @@ class LcmPublisher {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable idle_;
-  std::unique_ptr<PendingMesh> pending_mesh_;  // guarded by mutex_
+  std::unique_ptr<PendingMesh> pending_mesh_;        // guarded by mutex_
   std::deque<std::function<int(lcm::LCM&)>> queue_;  // guarded by mutex_
-  bool busy_ = false;    // guarded by mutex_
-  bool stop_ = false;    // guarded by mutex_
-  Counters counters_;    // guarded by mutex_
+  bool busy_ = false;                                // guarded by mutex_
+  bool stop_ = false;                                // guarded by mutex_
+  Counters counters_;                                // guarded by mutex_
   std::thread thread_;
 };
 

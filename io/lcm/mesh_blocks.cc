@@ -68,11 +68,13 @@ std::optional<Msg> CheckedDecode(const void* data, size_t size, int num_counts, 
 }  // namespace
 
 std::string BlockKey::ToString() const {
-  return "(" + std::to_string(x) + "," + std::to_string(y) + "," + std::to_string(z) + ")#" + std::to_string(serial);
+  return "(" + std::to_string(x) + "," + std::to_string(y) + "," + std::to_string(z) + ")#" +
+         std::to_string(serial);
 }
 
 std::int64_t MeshBlockEncodedSize(std::int64_t removed, std::int64_t vertices, std::int64_t triangles) {
-  return kBlockFixedBytes + kBytesPerRemoved * removed + kBytesPerVertex * vertices + kBytesPerTriangle * triangles;
+  return kBlockFixedBytes + kBytesPerRemoved * removed + kBytesPerVertex * vertices +
+         kBytesPerTriangle * triangles;
 }
 
 std::int64_t MeshEndEncodedSize(std::int64_t blocks) { return kEndFixedBytes + kBytesPerIndexEntry * blocks; }
@@ -86,7 +88,8 @@ std::optional<semap_lcm::mesh_block_t> DecodeMeshBlock(const void* data, size_t 
   if (m.version < 1) {
     bad = "version " + std::to_string(m.version) + " < 1";
   } else if (m.base_version < 0 || m.base_version >= m.version) {
-    bad = "base_version " + std::to_string(m.base_version) + " not in [0, version " + std::to_string(m.version) + ")";
+    bad = "base_version " + std::to_string(m.base_version) + " not in [0, version " +
+          std::to_string(m.version) + ")";
   } else if (m.num_parts < 1 || m.num_parts > kMaxParts || m.part < 0 || m.part >= m.num_parts) {
     bad = "part " + std::to_string(m.part) + " of " + std::to_string(m.num_parts);
   } else if (m.base_version > 0 && (m.num_parts != 1 || m.finalised)) {
@@ -129,8 +132,8 @@ std::optional<semap_lcm::mesh_end_t> DecodeMeshEnd(const void* data, size_t size
   if (msg->num_parts < 1 || msg->num_parts > kMaxParts || msg->part < 0 || msg->part >= msg->num_parts ||
       msg->total_blocks < msg->num_blocks || msg->rounds_left < -1) {
     *error = "index part " + std::to_string(msg->part) + " of " + std::to_string(msg->num_parts) + " with " +
-             std::to_string(msg->num_blocks) + " of " + std::to_string(msg->total_blocks) + " blocks, rounds_left " +
-             std::to_string(msg->rounds_left);
+             std::to_string(msg->num_blocks) + " of " + std::to_string(msg->total_blocks) +
+             " blocks, rounds_left " + std::to_string(msg->rounds_left);
     return std::nullopt;
   }
   return msg;
@@ -198,7 +201,8 @@ void MeshBlockSender::AddItem(semap_lcm::mesh_block_t* m, std::unordered_map<Ver
   ++m->num_triangles;
 }
 
-std::vector<EncodedMessage> MeshBlockSender::EncodeWhole(const BlockKey& key, std::int32_t version, bool finalised,
+std::vector<EncodedMessage> MeshBlockSender::EncodeWhole(const BlockKey& key, std::int32_t version,
+                                                         bool finalised,
                                                          const std::vector<Item>& items) const {
   std::vector<semap_lcm::mesh_block_t> parts(1, Header(key, version));
   std::unordered_map<VertexId, std::int32_t> local;
@@ -228,8 +232,8 @@ std::optional<EncodedMessage> MeshBlockSender::EncodeDelta(const BlockKey& key, 
                                                            std::int32_t version, std::int32_t block_triangles,
                                                            const std::vector<TriangleId>& removed,
                                                            const std::vector<Item>& items) const {
-  if (MeshBlockEncodedSize(static_cast<std::int64_t>(removed.size()), 0, static_cast<std::int64_t>(items.size())) >
-      max_message_bytes_) {
+  if (MeshBlockEncodedSize(static_cast<std::int64_t>(removed.size()), 0,
+                           static_cast<std::int64_t>(items.size())) > max_message_bytes_) {
     return std::nullopt;
   }
   auto m = Header(key, version);
@@ -315,7 +319,8 @@ std::vector<EncodedMessage> MeshBlockSender::Apply(const MeshDelta& delta) {
     std::vector<Item> added;
     for (const auto& [id, t] : block.added) added.push_back({id, t});
     std::optional<EncodedMessage> as_delta;
-    const auto whole_estimate = kBlockFixedBytes + kWholeBytesPerTriangle * std::int64_t(block.triangles.size());
+    const auto whole_estimate =
+        kBlockFixedBytes + kWholeBytesPerTriangle * std::int64_t(block.triangles.size());
     if (block.version > 0) {
       as_delta = EncodeDelta(key, block.version, version, static_cast<std::int32_t>(block.triangles.size()),
                              block.removed, added);
@@ -367,7 +372,8 @@ std::optional<EncodedMessage> MeshBlockSender::NextResend(bool* end_of_round) {
 }
 
 std::vector<EncodedMessage> MeshBlockSender::Index(std::int32_t rounds_left) const {
-  const std::int64_t per_part = std::max<std::int64_t>(1, (max_message_bytes_ - kEndFixedBytes) / kBytesPerIndexEntry);
+  const std::int64_t per_part =
+      std::max<std::int64_t>(1, (max_message_bytes_ - kEndFixedBytes) / kBytesPerIndexEntry);
   const std::int64_t total = static_cast<std::int64_t>(order_.size());
   const std::int64_t num_parts = std::max<std::int64_t>(1, (total + per_part - 1) / per_part);
   std::vector<EncodedMessage> out;
@@ -450,7 +456,8 @@ void MeshBlockAssembler::Add(const semap_lcm::mesh_block_t& m) {
     b.version = m.version;
     if (b.pending_version <= b.version) b.pending_version = 0;
     ++counters_.messages;
-    if (static_cast<std::int64_t>(b.triangles.size()) != m.block_triangles) {  // should not happen: wait for a re-send
+    if (static_cast<std::int64_t>(b.triangles.size()) !=
+        m.block_triangles) {  // should not happen: wait for a re-send
       b.version = 0;
       b.triangles.clear();
     }
@@ -541,11 +548,13 @@ std::vector<std::string> MeshBlockAssembler::Missing() const {
   std::vector<std::string> out;
   for (const auto& [key, b] : blocks_) {
     std::int32_t target = b.latest_seen;
-    if (auto it = complete_.versions.find(key); it != complete_.versions.end()) target = std::max(target, it->second);
+    if (auto it = complete_.versions.find(key); it != complete_.versions.end())
+      target = std::max(target, it->second);
     if (b.version >= target) continue;
-    std::string line = key.ToString() + ": " +
-                       (b.version > 0 ? "holds version " + std::to_string(b.version) : std::string("holds nothing")) +
-                       ", lacks version " + std::to_string(target);
+    std::string line =
+        key.ToString() + ": " +
+        (b.version > 0 ? "holds version " + std::to_string(b.version) : std::string("holds nothing")) +
+        ", lacks version " + std::to_string(target);
     if (b.pending_version == target) {
       const auto got = std::count(b.pending_got.begin(), b.pending_got.end(), true);
       line += " (parts " + std::to_string(got) + "/" + std::to_string(b.pending_got.size()) + " received)";
@@ -553,7 +562,8 @@ std::vector<std::string> MeshBlockAssembler::Missing() const {
     out.push_back(line);
   }
   for (const auto& [key, version] : complete_.versions) {
-    if (blocks_.count(key) == 0) out.push_back(key.ToString() + ": never received (version " + std::to_string(version) + ")");
+    if (blocks_.count(key) == 0)
+      out.push_back(key.ToString() + ": never received (version " + std::to_string(version) + ")");
   }
   return out;
 }

@@ -65,9 +65,9 @@ class MeshBlockSender {
     std::int32_t version = 0;  // last version sent (0: never)
     std::int32_t next_serial = 1;
     std::map<TriangleId, Triangle> triangles;
-    std::vector<TriangleId> removed;          // since the last version, of triangles sent in it
-    std::map<TriangleId, Triangle> added;     // since the last version
-    std::vector<EncodedMessage> whole;        // the whole state's parts at `version` (built lazily)
+    std::vector<TriangleId> removed;       // since the last version, of triangles sent in it
+    std::map<TriangleId, Triangle> added;  // since the last version
+    std::vector<EncodedMessage> whole;     // the whole state's parts at `version` (built lazily)
     bool changed = false;
   };
   struct FinalBlock {
@@ -85,10 +85,12 @@ class MeshBlockSender {
   std::vector<EncodedMessage> EncodeWhole(const BlockKey& key, std::int32_t version, bool finalised,
                                           const std::vector<Item>& items) const;
   std::optional<EncodedMessage> EncodeDelta(const BlockKey& key, std::int32_t base, std::int32_t version,
-                                            std::int32_t block_triangles, const std::vector<TriangleId>& removed,
+                                            std::int32_t block_triangles,
+                                            const std::vector<TriangleId>& removed,
                                             const std::vector<Item>& items) const;
   semap_lcm::mesh_block_t Header(const BlockKey& key, std::int32_t version) const;
-  void AddItem(semap_lcm::mesh_block_t* msg, std::unordered_map<VertexId, std::int32_t>* local, const Item& item) const;
+  void AddItem(semap_lcm::mesh_block_t* msg, std::unordered_map<VertexId, std::int32_t>* local,
+               const Item& item) const;
   const std::vector<EncodedMessage>& PartsOf(size_t order_index);
 
   double block_size_m_;
@@ -119,13 +121,14 @@ std::optional<semap_lcm::mesh_end_t> DecodeMeshEnd(const void* data, size_t size
 class MeshBlockAssembler {
  public:
   struct Counters {
-    std::int64_t messages = 0;          // block messages accepted
-    std::int64_t duplicates = 0;        // parts or versions already held, or older than held
-    std::int64_t deltas_without_base = 0;  // deltas skipped: their base version is not held (a re-send fixes it)
-    std::int64_t runs = 0;              // run ids seen (a new one resets the mesh)
+    std::int64_t messages = 0;    // block messages accepted
+    std::int64_t duplicates = 0;  // parts or versions already held, or older than held
+    std::int64_t deltas_without_base =
+        0;                  // deltas skipped: their base version is not held (a re-send fixes it)
+    std::int64_t runs = 0;  // run ids seen (a new one resets the mesh)
     std::int64_t index_messages = 0;
-    bool closing_seen = false;          // an index of the run's closing rounds (rounds_left >= 0) arrived
-    bool run_ended = false;             // the last message of the run (mesh_end_t with rounds_left 0) arrived
+    bool closing_seen = false;  // an index of the run's closing rounds (rounds_left >= 0) arrived
+    bool run_ended = false;     // the last message of the run (mesh_end_t with rounds_left 0) arrived
   };
   void Add(const semap_lcm::mesh_block_t& msg);
   void Add(const semap_lcm::mesh_end_t& msg);

@@ -145,7 +145,8 @@ std::vector<std::array<std::uint8_t, 3>> ReadRgb(const PlyElement& e) {
   const PlyProperty* g = Optional(e, "green");
   const PlyProperty* b = Optional(e, "blue");
   if (r == nullptr || g == nullptr || b == nullptr) return {};
-  const bool unit = r->type == mesh_internal::PlyType::kFloat32 || r->type == mesh_internal::PlyType::kFloat64;
+  const bool unit =
+      r->type == mesh_internal::PlyType::kFloat32 || r->type == mesh_internal::PlyType::kFloat64;
   std::vector<std::array<std::uint8_t, 3>> out(e.count);
   for (size_t i = 0; i < out.size(); ++i) {
     out[i] = {ToByte(r->values[i], unit), ToByte(g->values[i], unit), ToByte(b->values[i], unit)};

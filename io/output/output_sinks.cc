@@ -1,7 +1,6 @@
 #include "io/output/output_sinks.h"
 
 #include <algorithm>
-
 #include <nlohmann/json.hpp>
 
 #include "engine/core/check.h"
@@ -34,7 +33,8 @@ nlohmann::json StatsJson(const FrameStats& s) {
   }
   j["points_in"] = s.points_in;
   j["points_kept"] = s.points_kept;
-  for (const auto& c : s.class_counts) j["classes"][std::to_string(c.label)] = {{"in", c.in}, {"kept", c.kept}};
+  for (const auto& c : s.class_counts)
+    j["classes"][std::to_string(c.label)] = {{"in", c.in}, {"kept", c.kept}};
   j["map_vertices"] = s.map_vertices;
   j["map_cells"] = s.map_cells;
   j["map_rays"] = s.map_rays;
@@ -177,7 +177,8 @@ void StatsFileSink::OpenOnce() {
 
 void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::optional<Pose3d>&) {
   OpenOnce();
-  const std::vector<FrameFigure> figures = figure_source_ ? figure_source_(s.frame_id) : std::vector<FrameFigure>();
+  const std::vector<FrameFigure> figures =
+      figure_source_ ? figure_source_(s.frame_id) : std::vector<FrameFigure>();
   if (!header_written_) {
     csv_ << "frame_id,timestamp_s,elapsed_s,fps,frames_processed,frames_dropped,frames_failed";
     // A step of a stage ("map.votes") has a time and no queue of its own.
@@ -186,7 +187,8 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
       if (!IsStageStep(st.name)) csv_ << "," << st.name << "_queue";
     }
     csv_ << ",points_in,points_kept,map_vertices,map_cells,map_rays,mesh_triangles,rss_mb,cpu_s";
-    // The figures measured outside the stages (e.g. visual odometry's): the first frame's names are the columns.
+    // The figures measured outside the stages (e.g. visual odometry's): the first frame's names are the
+    // columns.
     for (const auto& f : figures) {
       csv_ << "," << f.name;
       figure_columns_.push_back(f.name);
@@ -202,8 +204,8 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
     csv_ << '\n';
     header_written_ = true;
   }
-  csv_ << s.frame_id << ',' << s.timestamp_s << ',' << s.elapsed_s << ',' << s.fps << ',' << s.frames_processed
-       << ',' << s.frames_dropped << ',' << s.frames_failed;
+  csv_ << s.frame_id << ',' << s.timestamp_s << ',' << s.elapsed_s << ',' << s.fps << ','
+       << s.frames_processed << ',' << s.frames_dropped << ',' << s.frames_failed;
   for (const auto& st : s.stages) {
     csv_ << ',' << st.last_ms;
     if (!IsStageStep(st.name)) csv_ << ',' << st.queue_occupancy;
@@ -212,11 +214,13 @@ void StatsFileSink::OnFrame(const FrameStats& s, const MeshDelta&, const std::op
        << s.map_rays << ',' << s.mesh_triangles << ',' << s.rss_mb << ',' << s.cpu_s;
   for (const auto& name : figure_columns_) {
     csv_ << ',';
-    const auto it = std::find_if(figures.begin(), figures.end(), [&](const FrameFigure& f) { return f.name == name; });
+    const auto it =
+        std::find_if(figures.begin(), figures.end(), [&](const FrameFigure& f) { return f.name == name; });
     if (it != figures.end()) csv_ << it->value;  // empty when this frame lacks it
   }
   const FrameLatency& l = s.latency;
-  csv_ << ',' << l.depth_ms << ',' << l.labels_ms << ',' << l.map_ms << ',' << l.published_ms << ',' << l.late_ms;
+  csv_ << ',' << l.depth_ms << ',' << l.labels_ms << ',' << l.map_ms << ',' << l.published_ms << ','
+       << l.late_ms;
   for (const auto& reason : drop_columns_) {
     const auto it = std::find_if(s.dropped_by_reason.begin(), s.dropped_by_reason.end(),
                                  [&](const auto& d) { return d.first == reason; });
@@ -243,7 +247,8 @@ void StatsFileSink::OnFrameError(std::int64_t frame_id, const std::string& stage
 
 void StatsFileSink::OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string& reason) {
   OpenOnce();
-  errors_ << nlohmann::json{{"frame_id", frame_id}, {"timestamp_s", timestamp_s}, {"dropped", reason}}.dump() << '\n';
+  errors_ << nlohmann::json{{"frame_id", frame_id}, {"timestamp_s", timestamp_s}, {"dropped", reason}}.dump()
+          << '\n';
   errors_.flush();
   if (!errors_) throw FileError(dir_ / "errors.jsonl", "write failed");
 }

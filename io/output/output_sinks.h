@@ -88,11 +88,12 @@ using FrameFigureSource = std::function<std::vector<FrameFigure>(std::int64_t fr
 
 // frames.csv + frames.jsonl (one line per integrated frame: its figures, its latency per step, the drops so
 // far by reason) and summary.json at the end (with the run's latency per step: mean, p50, p95, max); frames
-// that failed or were dropped go to errors.jsonl, a line each. The constructor checks that the folder is writable (throws FileError naming it); the
-// per-frame files are opened (and a previous run's files replaced) at the first frame, so that a run that
-// fails to start leaves them alone. They are written in place and flushed every frame (they can be followed
-// live and keep every frame when the process dies); summary.json is written last, atomically, and removed
-// when the run starts: a folder without it holds a run that did not finish.
+// that failed or were dropped go to errors.jsonl, a line each. The constructor checks that the folder is
+// writable (throws FileError naming it); the per-frame files are opened (and a previous run's files replaced)
+// at the first frame, so that a run that fails to start leaves them alone. They are written in place and
+// flushed every frame (they can be followed live and keep every frame when the process dies); summary.json is
+// written last, atomically, and removed when the run starts: a folder without it holds a run that did not
+// finish.
 class StatsFileSink : public PipelineSink {
  public:
   explicit StatsFileSink(const OutputOptions& options);

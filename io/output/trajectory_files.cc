@@ -1,12 +1,11 @@
 #include "io/output/trajectory_files.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <Eigen/Geometry>
 
 #include "io/atomic_file.h"
 #include "io/kitti/sequence_files.h"
@@ -76,7 +75,8 @@ std::vector<StampedPose> ReadTumTrajectory(const std::filesystem::path& path) {
     while (n < 8 && is >> v[n] && std::isfinite(v[n])) ++n;
     std::string rest;
     if (n != 8 || (is >> rest)) {
-      throw FileError(path, "line " + std::to_string(line_no) + " is not 8 finite numbers (t tx ty tz qx qy qz qw)");
+      throw FileError(
+          path, "line " + std::to_string(line_no) + " is not 8 finite numbers (t tx ty tz qx qy qz qw)");
     }
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     if (std::abs(q.norm() - 1.0) > kUnitQuaternionTolerance) {

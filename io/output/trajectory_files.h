@@ -21,12 +21,12 @@ struct StampedPose {
   Pose3d world_from_cam = Pose3d::Identity();
 };
 
-// TUM format: "timestamp tx ty tz qx qy qz qw" per line (seconds, metres, unit quaternion). Written atomically;
-// throws FileError.
+// TUM format: "timestamp tx ty tz qx qy qz qw" per line (seconds, metres, unit quaternion). Written
+// atomically; throws FileError.
 void WriteTumTrajectory(const std::filesystem::path& path, const std::vector<StampedPose>& poses);
 
-// A TUM trajectory; lines starting with '#' and blank lines are skipped. Throws FileError naming the line when
-// one is not 8 finite numbers or its quaternion is far from unit length.
+// A TUM trajectory; lines starting with '#' and blank lines are skipped. Throws FileError naming the line
+// when one is not 8 finite numbers or its quaternion is far from unit length.
 std::vector<StampedPose> ReadTumTrajectory(const std::filesystem::path& path);
 
 }  // namespace semap::io

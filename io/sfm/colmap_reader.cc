@@ -1,6 +1,4 @@
 // Reading COLMAP models (text and binary) into an SfmReconstruction: io/sfm/colmap.h.
-#include "io/sfm/colmap.h"
-
 #include <Eigen/Geometry>
 #include <bit>
 #include <cctype>
@@ -13,6 +11,7 @@
 #include <string_view>
 #include <unordered_set>
 
+#include "io/sfm/colmap.h"
 #include "io/sfm/internal/camera_models.h"
 #include "io/sfm/internal/sfm_checks.h"
 

@@ -1,12 +1,11 @@
 // Writing an SfmReconstruction as a COLMAP model (text and binary): io/sfm/colmap.h.
-#include "io/sfm/colmap.h"
-
 #include <Eigen/Geometry>
 #include <array>
 #include <bit>
 #include <fstream>
 #include <system_error>
 
+#include "io/sfm/colmap.h"
 #include "io/sfm/internal/camera_models.h"
 #include "io/sfm/internal/sfm_checks.h"
 

@@ -5,10 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <string_view>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "io/sfm/internal/sfm_checks.h"
 
@@ -29,7 +28,8 @@ constexpr double kIntrinsicsTolerance = 1e-6;
 EntryRef Line(const std::filesystem::path& file, int line) { return {file, "line " + std::to_string(line)}; }
 
 // The numbers of one line, exactly `count` of them.
-std::vector<double> Numbers(const EntryRef& at, const std::string& field, const std::string& text, int count) {
+std::vector<double> Numbers(const EntryRef& at, const std::string& field, const std::string& text,
+                            int count) {
   std::vector<double> values;
   std::size_t i = 0;
   while (i < text.size()) {
@@ -67,12 +67,13 @@ std::vector<std::string> ReadLines(const std::filesystem::path& file) {
                       std::to_string(lines.size()));
   }
   if (static_cast<int>(lines.size()) > kCameraLines)
-    Line(file, kCameraLines + 1).Fail("", "unexpected: a camera file has " + std::to_string(kCameraLines) + " lines");
+    Line(file, kCameraLines + 1)
+        .Fail("", "unexpected: a camera file has " + std::to_string(kCameraLines) + " lines");
   return lines;
 }
 
-Eigen::Matrix3d ReadMatrix(const std::filesystem::path& file, const std::vector<std::string>& lines, int first_line,
-                           const std::string& name) {
+Eigen::Matrix3d ReadMatrix(const std::filesystem::path& file, const std::vector<std::string>& lines,
+                           int first_line, const std::string& name) {
   Eigen::Matrix3d m;
   for (int row = 0; row < 3; ++row) {
     const int line = first_line + row;
@@ -85,8 +86,9 @@ Eigen::Matrix3d ReadMatrix(const std::filesystem::path& file, const std::vector<
 
 void CheckIntrinsics(const std::filesystem::path& file, const Eigen::Matrix3d& K) {
   const EntryRef at{file, "lines 1-3"};
-  const bool triangular = std::abs(K(1, 0)) <= kIntrinsicsTolerance && std::abs(K(2, 0)) <= kIntrinsicsTolerance &&
-                          std::abs(K(2, 1)) <= kIntrinsicsTolerance && std::abs(K(2, 2) - 1.0) <= kIntrinsicsTolerance;
+  const bool triangular =
+      std::abs(K(1, 0)) <= kIntrinsicsTolerance && std::abs(K(2, 0)) <= kIntrinsicsTolerance &&
+      std::abs(K(2, 1)) <= kIntrinsicsTolerance && std::abs(K(2, 2) - 1.0) <= kIntrinsicsTolerance;
   if (!triangular) at.Fail("K", "not a pinhole matrix: rows 2 and 3 must start 0 and 0 0 1");
   if (!(K(0, 0) > 0.0) || !(K(1, 1) > 0.0))
     at.Fail("K", "focal lengths must be > 0 (got " + NumberText(K(0, 0)) + ", " + NumberText(K(1, 1)) + ")");
@@ -127,7 +129,8 @@ std::vector<StrechaView> ReadStrechaSet(const std::filesystem::path& root) {
   for (const auto& entry : std::filesystem::directory_iterator(images)) {
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-    if (entry.is_regular_file() && (ext == ".jpg" || ext == ".jpeg" || ext == ".png")) files.push_back(entry.path());
+    if (entry.is_regular_file() && (ext == ".jpg" || ext == ".jpeg" || ext == ".png"))
+      files.push_back(entry.path());
   }
   if (files.empty()) throw FileError(images, "no images (.jpg, .jpeg, .png)");
   std::sort(files.begin(), files.end());
@@ -142,9 +145,9 @@ std::vector<StrechaView> ReadStrechaSet(const std::filesystem::path& root) {
     if (pixels.empty()) throw FileError(image, "cannot be read as an image");
     if (pixels.cols != view.width_px || pixels.rows != view.height_px) {
       Line(camera_file, kSizeLine)
-          .Fail("width height", "says " + std::to_string(view.width_px) + "x" + std::to_string(view.height_px) +
-                                    ", but " + image.filename().string() + " is " + std::to_string(pixels.cols) +
-                                    "x" + std::to_string(pixels.rows));
+          .Fail("width height", "says " + std::to_string(view.width_px) + "x" +
+                                    std::to_string(view.height_px) + ", but " + image.filename().string() +
+                                    " is " + std::to_string(pixels.cols) + "x" + std::to_string(pixels.rows));
     }
     views.push_back(std::move(view));
   }

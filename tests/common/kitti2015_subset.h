@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -97,7 +97,8 @@ inline Stereo2015Frame LoadStereo2015Frame(const std::filesystem::path& dir, con
   options.load_velodyne = true;
   auto source = io::OpenFrameSource(dir, options);
   std::optional<Frame> frame = source->Next();
-  if (!frame || frame->id != options.first_frame) throw std::runtime_error("no frame " + name + " in " + dir.string());
+  if (!frame || frame->id != options.first_frame)
+    throw std::runtime_error("no frame " + name + " in " + dir.string());
   Stereo2015Frame f;
   f.name = name;
   f.frame = std::move(*frame);

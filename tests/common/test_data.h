@@ -2,11 +2,11 @@
 // under CI (CI=true) a missing ../shared is a failure; elsewhere the test is skipped with a message.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace semap::test {
 
@@ -32,14 +32,14 @@ std::vector<std::string> CsvCells(const std::string& line);
 }  // namespace semap::test
 
 // Use at the start of a test that needs `relative` under ../shared.
-#define SEMAP_REQUIRE_SHARED(relative)                                                               \
-  do {                                                                                               \
-    const auto semap_req_path_ = ::semap::test::SharedDir() / (relative);                            \
-    if (!std::filesystem::exists(semap_req_path_)) {                                                 \
-      if (::semap::test::UnderCi()) {                                                                \
-        FAIL() << "shared data missing under CI: " << semap_req_path_;                               \
-      } else {                                                                                       \
-        GTEST_SKIP() << "shared data not found at " << semap_req_path_ << " (set SEMAP_SHARED)";     \
-      }                                                                                              \
-    }                                                                                                \
+#define SEMAP_REQUIRE_SHARED(relative)                                                           \
+  do {                                                                                           \
+    const auto semap_req_path_ = ::semap::test::SharedDir() / (relative);                        \
+    if (!std::filesystem::exists(semap_req_path_)) {                                             \
+      if (::semap::test::UnderCi()) {                                                            \
+        FAIL() << "shared data missing under CI: " << semap_req_path_;                           \
+      } else {                                                                                   \
+        GTEST_SKIP() << "shared data not found at " << semap_req_path_ << " (set SEMAP_SHARED)"; \
+      }                                                                                          \
+    }                                                                                            \
   } while (false)

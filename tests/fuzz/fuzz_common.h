@@ -21,7 +21,8 @@ inline std::filesystem::path ScratchDir() {
 
 inline std::filesystem::path WriteInput(const std::string& name, const std::uint8_t* data, std::size_t size) {
   const auto path = ScratchDir() / name;
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
 }
 

@@ -7,9 +7,9 @@
 #include <string_view>
 #include <vector>
 
+#include "app/sfm/sfm_mapping.h"
 #include "io/sfm/colmap.h"
 #include "io/sfm/openmvg.h"
-#include "app/sfm/sfm_mapping.h"
 #include "io/sfm/slam_json.h"
 #include "tests/fuzz/fuzz_common.h"
 

@@ -20,9 +20,11 @@ TEST(SemapAllocator, VersionNamesTheAllocatorServingMalloc) {
 }
 
 #ifdef SEMAP_EXPECT_MIMALLOC
-// Freed memory stays committed for a second (tools/allocator.h), unless the user's environment says otherwise.
+// Freed memory stays committed for a second (tools/allocator.h), unless the user's environment says
+// otherwise.
 TEST(SemapAllocator, TheDecommitDelayIsASecondUnlessTheEnvironmentSetsIt) {
-  const test::CliRun r = test::RunShell("MIMALLOC_DECOMMIT_DELAY=25 " + std::string(SEMAP_EXE) + " --version");
+  const test::CliRun r =
+      test::RunShell("MIMALLOC_DECOMMIT_DELAY=25 " + std::string(SEMAP_EXE) + " --version");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.Has(", decommit delay 25 ms)")) << r.output;
 }

@@ -1,9 +1,9 @@
 // Failures that looked like success, end to end through the `semap` executable: each must be an
 // error naming what is wrong, with a non-zero exit code.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "tests/common/test_data.h"
 #include "tests/io/kitti/tiny_kitti.h"

@@ -94,18 +94,19 @@ TEST(SemapCompare, IncrementalModeWritesTableCsvAndPlot) {
 TEST(SemapCompare, SingleFrameModeBuildsOneMapPerFrame) {
   const fs::path seq = test::SmallGeneratedSequence(3);
   const fs::path out = test::TempDir() / "cmp1";
-  const CliRun r = RunSemap("compare " + seq.string() + " --mode single-frame --frames 2 --methods O PS voxel --out " +
-                            out.string());
+  const CliRun r = RunSemap("compare " + seq.string() +
+                            " --mode single-frame --frames 2 --methods O PS voxel --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.Has("compare: frame 1")) << r.output;
   ExpectComparison(out);
-  EXPECT_TRUE(std::isnan(ReadCsv(out / "compare.csv").at("PS").at("area_accuracy")));  // batch maps: not measured
+  EXPECT_TRUE(
+      std::isnan(ReadCsv(out / "compare.csv").at("PS").at("area_accuracy")));  // batch maps: not measured
 }
 
 TEST(SemapCompare, UnknownMethodOrModeIsAUsageError) {
   const fs::path seq = test::SmallGeneratedSequence(3);
-  const CliRun bad_method = RunSemap("compare " + seq.string() + " --methods O XYZ --out " +
-                                     (test::TempDir() / "b").string());
+  const CliRun bad_method =
+      RunSemap("compare " + seq.string() + " --methods O XYZ --out " + (test::TempDir() / "b").string());
   EXPECT_EQ(bad_method.exit_code, 2) << bad_method.output;
   EXPECT_TRUE(bad_method.Has("XYZ")) << bad_method.output;
   EXPECT_EQ(RunSemap("compare " + seq.string() + " --mode batch").exit_code, 2);

@@ -21,9 +21,8 @@ constexpr const char* kSubset = "data/kitti_stereo2015_subset";
 TEST(SemapDepth, RealFrameWritesDisparityPngsAndCloud) {
   SEMAP_REQUIRE_SHARED(kSubset);
   const auto out = test::TempDir() / "out";
-  const auto r =
-      test::RunSemap("depth " + (test::SharedDir() / kSubset).string() + " --frame 2 --out " + out.string() +
-                     " --set depth.max_points_per_frame=0");
+  const auto r = test::RunSemap("depth " + (test::SharedDir() / kSubset).string() + " --frame 2 --out " +
+                                out.string() + " --set depth.max_points_per_frame=0");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const cv::Mat disparity = cv::imread((out / "disparity_000002.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(disparity.type(), CV_16UC1);

@@ -1,19 +1,19 @@
 // Visual odometry end to end: `semap run` on a generated drive whose poses were taken away (input.poses: auto
 // falls back to odometry), its outputs, `semap eval-poses` against the drive's own poses, input.poses errors,
 // and the hostile input of the README's Faults table (blank, duplicated, swapped and dropped frames).
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <Eigen/Core>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
@@ -54,8 +54,8 @@ class Odometry : public ::testing::Test {
 
   static void SetUpTestSuite() {
     fs::remove_all(Pristine());
-    const CliRun r = test::RunSemap("synth --preset urban --frames " + std::to_string(kFrames) + " --seed 5 --out " +
-                                    Pristine().string() + kSize);
+    const CliRun r = test::RunSemap("synth --preset urban --frames " + std::to_string(kFrames) +
+                                    " --seed 5 --out " + Pristine().string() + kSize);
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
 
@@ -108,8 +108,10 @@ TEST_F(Odometry, SequenceWithoutPosesIsMappedFromOdometry) {
   EXPECT_EQ(Lines(out_ / "poses_odometry.tum").size(), static_cast<size_t>(kFrames));
   const std::vector<std::string> csv = Lines(out_ / "frames.csv");
   ASSERT_EQ(csv.size(), static_cast<size_t>(kFrames + 1));
-  EXPECT_NE(csv[0].find("odometry_status,odometry_features,odometry_inliers,odometry_cpu_ms,odometry_ms,odometry_disparity_offset_px,odometry_disparity_offset_per_row_px,odometry_keyframe"),
-            std::string::npos);
+  EXPECT_NE(
+      csv[0].find("odometry_status,odometry_features,odometry_inliers,odometry_cpu_ms,odometry_ms,odometry_"
+                  "disparity_offset_px,odometry_disparity_offset_per_row_px,odometry_keyframe"),
+      std::string::npos);
   EXPECT_GT(fs::file_size(out_ / "mesh.ply"), 1000u);
 
   const fs::path json = dir_ / "eval_poses.json";
@@ -146,11 +148,13 @@ TEST_F(Odometry, PosesTheSequenceLacksAreAnErrorNamingTheKey) {
 
 TEST_F(Odometry, EvalPosesOfATrajectoryOfAnotherLengthNamesBothCounts) {
   std::ofstream(dir_ / "short.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
-  const CliRun r = test::RunSemap("eval-poses " + Pristine().string() + " --poses " + (dir_ / "short.txt").string());
+  const CliRun r =
+      test::RunSemap("eval-poses " + Pristine().string() + " --poses " + (dir_ / "short.txt").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(r.Has("has 1 poses but the sequence has 12 frames")) << r.output;
   // Nothing to evaluate against: the copy without poses.
-  const CliRun none = test::RunSemap("eval-poses " + (dir_ / "seq").string() + " --poses " + (dir_ / "short.txt").string());
+  const CliRun none =
+      test::RunSemap("eval-poses " + (dir_ / "seq").string() + " --poses " + (dir_ / "short.txt").string());
   EXPECT_EQ(none.exit_code, 1) << none.output;
   EXPECT_TRUE(none.Has("frame 0 has no pose")) << none.output;
 }

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "tests/common/test_data.h"
-#include "tests/tools/cli_run.h"
 #include "tests/io/kitti/tiny_kitti.h"
+#include "tests/tools/cli_run.h"
 
 namespace semap::tools {
 namespace {

@@ -1,10 +1,10 @@
-// `semap lcm-mesh` as a user meets it on damaged logs: a clear error and a non-zero exit, or the damage skipped
-// and reported, never a crash; an empty or unusable log is never an empty mesh with exit 0.
+// `semap lcm-mesh` as a user meets it on damaged logs: a clear error and a non-zero exit, or the damage
+// skipped and reported, never a crash; an empty or unusable log is never an empty mesh with exit 0.
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <limits>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "io/lcm/lcm_log.h"
 #include "io/mesh/ply_off.h"
@@ -146,7 +146,8 @@ TEST_F(LcmMeshCommand, HugeCountsNanAndUnknownVerticesAreSkipped) {
 TEST_F(LcmMeshCommand, UsageErrors) {
   auto r = test::RunSemap("lcm-mesh --out " + (dir_ / "m.ply").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  r = test::RunSemap("lcm-mesh --live --url nosuchprovider://x --seconds 1 --out " + (dir_ / "m.ply").string());
+  r = test::RunSemap("lcm-mesh --live --url nosuchprovider://x --seconds 1 --out " +
+                     (dir_ / "m.ply").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(r.Has("nosuchprovider://x")) << r.output;
 }

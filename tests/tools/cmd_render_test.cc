@@ -28,7 +28,8 @@ int NonWhiteAboveLegend(const cv::Mat& image) {
 // A 20 m × 10 m rectangle at height 1 (z-up) with a coloured quarter, and a 10 m wall standing on its edge.
 Mesh RectangleAndWall() {
   Mesh m;
-  m.vertices = {{0, 0, 1}, {20, 0, 1}, {20, 10, 1}, {0, 10, 1}, {0, 0, 1}, {10, 0, 1}, {10, 0, 11}, {0, 0, 11}};
+  m.vertices = {{0, 0, 1}, {20, 0, 1}, {20, 10, 1}, {0, 10, 1},
+                {0, 0, 1}, {10, 0, 1}, {10, 0, 11}, {0, 0, 11}};
   m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
   m.colors_rgb.assign(m.vertices.size(), {200, 30, 30});
   return m;
@@ -37,8 +38,8 @@ Mesh RectangleAndWall() {
 TEST(SemapRender, TopViewCoversTheMeshsShapeAndNothingElse) {
   const fs::path dir = test::TempDir();
   io::WriteMeshPly(dir / "m.ply", RectangleAndWall());
-  const CliRun r = RunSemap("render " + (dir / "m.ply").string() + " --up z --width 424 --height 1000 --out " +
-                            (dir / "top.png").string());
+  const CliRun r = RunSemap("render " + (dir / "m.ply").string() +
+                            " --up z --width 424 --height 1000 --out " + (dir / "top.png").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const cv::Mat image = cv::imread((dir / "top.png").string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty());
@@ -52,19 +53,21 @@ TEST(SemapRender, TopViewCoversTheMeshsShapeAndNothingElse) {
   EXPECT_GT(centre[2], 2 * centre[1]);
 
   // From the side (elevation 10°, looking along +y) the wall is seen face on: more pixels than its edge.
-  const CliRun side = RunSemap("render " + (dir / "m.ply").string() + " --up z --elevation 10 --colour height --out " +
-                               (dir / "side.png").string());
+  const CliRun side = RunSemap("render " + (dir / "m.ply").string() +
+                               " --up z --elevation 10 --colour height --out " + (dir / "side.png").string());
   ASSERT_EQ(side.exit_code, 0) << side.output;
   EXPECT_FALSE(cv::imread((dir / "side.png").string()).empty());
 
   // Along −y (a camera frame's up) the rectangle is edge-on and the wall, 10 m × 10 m, is seen face on:
   // x spans 20 m in 1400 − 24 px (68.8 px/m), so the wall covers 688 × 688 px.
-  const CliRun y_down = RunSemap("render " + (dir / "m.ply").string() + " --up=-y --out " + (dir / "y.png").string());
+  const CliRun y_down =
+      RunSemap("render " + (dir / "m.ply").string() + " --up=-y --out " + (dir / "y.png").string());
   ASSERT_EQ(y_down.exit_code, 0) << y_down.output;
   const cv::Mat wall = cv::imread((dir / "y.png").string());
   EXPECT_NEAR(NonWhiteAboveLegend(wall), 688 * 688, 2 * 688);
   // auto takes the thinnest axis of the bounding box (y and z tie at 10 m: y, as down): the same picture.
-  const CliRun guess = RunSemap("render " + (dir / "m.ply").string() + " --out " + (dir / "auto.png").string());
+  const CliRun guess =
+      RunSemap("render " + (dir / "m.ply").string() + " --out " + (dir / "auto.png").string());
   ASSERT_EQ(guess.exit_code, 0) << guess.output;
   cv::Mat difference;
   cv::absdiff(cv::imread((dir / "auto.png").string()), wall, difference);
@@ -89,8 +92,8 @@ TEST(SemapRender, ErrorColoursNeedATruthAndBadOptionsAreUsageErrors) {
   EXPECT_GT(centre[1], centre[0]);
 
   EXPECT_EQ(RunSemap("render " + (dir / "m.ply").string() + " --up w --out x.png").exit_code, 2);
-  const CliRun flat = RunSemap("render " + (dir / "m.ply").string() + " --elevation 0 --out " +
-                               (dir / "f.png").string());
+  const CliRun flat =
+      RunSemap("render " + (dir / "m.ply").string() + " --elevation 0 --out " + (dir / "f.png").string());
   EXPECT_EQ(flat.exit_code, 2) << flat.output;
   EXPECT_TRUE(flat.Has("elevation_deg")) << flat.output;
   EXPECT_NE(RunSemap("render /nonexistent.ply --out " + (dir / "n.png").string()).exit_code, 0);

@@ -1,12 +1,12 @@
 // `semap run` with ENet labels on keyframes (semantics.enet_every_frames), end to end on a small
-// generated sequence: the segment thread is reported, and the result depends on the configuration only, not on
-// the threads' timing (the same mesh, byte for byte, from a run with 1 depth worker and one with 3).
+// generated sequence: the segment thread is reported, and the result depends on the configuration only, not
+// on the threads' timing (the same mesh, byte for byte, from a run with 1 depth worker and one with 3).
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "tests/common/test_data.h"
 #include "tests/io/kitti/tiny_kitti.h"
@@ -26,22 +26,23 @@ class RunEnet : public ::testing::Test {
 
   static void SetUpTestSuite() {
     fs::remove_all(Sequence());
-    const CliRun r = test::RunSemap(
-        "synth --preset urban --frames 7 --seed 95 --out " + Sequence().string() +
-        " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
-        " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256");
+    const CliRun r =
+        test::RunSemap("synth --preset urban --frames 7 --seed 95 --out " + Sequence().string() +
+                       " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160"
+                       " --set synth.cy_px=48 --set synth.lidar_azimuth_steps=256");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
 
   // `semap run` with ENet on keyframes every `every` frames into `out`; returns `out`.
   static fs::path RunWithEnet(const fs::path& out, int every, int depth_workers) {
-    const CliRun r = test::RunSemap(
-        "run " + Sequence().string() + " --out " + out.string() + " --progress-interval 100" +
-        " --set semantics.source=enet --set semantics.enet_model_path=" + (test::SharedDir() / kModel).string() +
-        " --set semantics.enet_input_width_px=512 --set semantics.enet_input_height_px=256" +
-        " --set semantics.enet_every_frames=" + std::to_string(every) +
-        " --set pipeline.depth_workers=" + std::to_string(depth_workers) +
-        " --set depth.max_points_per_frame=1500");
+    const CliRun r =
+        test::RunSemap("run " + Sequence().string() + " --out " + out.string() + " --progress-interval 100" +
+                       " --set semantics.source=enet --set semantics.enet_model_path=" +
+                       (test::SharedDir() / kModel).string() +
+                       " --set semantics.enet_input_width_px=512 --set semantics.enet_input_height_px=256" +
+                       " --set semantics.enet_every_frames=" + std::to_string(every) +
+                       " --set pipeline.depth_workers=" + std::to_string(depth_workers) +
+                       " --set depth.max_points_per_frame=1500");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return out;
   }

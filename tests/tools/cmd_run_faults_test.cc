@@ -1,6 +1,7 @@
 // Faults while streaming, end to end through `semap run` on a small generated sequence that each test damages
 // in its own copy: what the README's "Faults" table documents, checked one fault at a time. No run may crash
 // or hang (every run is bounded by `timeout`; a hang is exit code 124).
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -8,15 +9,13 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -141,7 +140,8 @@ class RunFaults : public ::testing::Test {
     EXPECT_EQ(Lines(out_ / "frames.csv").size(), static_cast<size_t>(kFrames - failed.size() + 1));
     const auto errors = Lines(out_ / "errors.jsonl");
     ASSERT_EQ(errors.size(), failed.size());
-    for (size_t i = 0; i < failed.size(); ++i) EXPECT_EQ(nlohmann::json::parse(errors[i])["frame_id"], failed[i]);
+    for (size_t i = 0; i < failed.size(); ++i)
+      EXPECT_EQ(nlohmann::json::parse(errors[i])["frame_id"], failed[i]);
     EXPECT_GT(io::ReadMeshPly(out_ / "mesh.ply").num_triangles(), 0u);
   }
 
@@ -169,9 +169,9 @@ class RunFaults : public ::testing::Test {
   // `semap eval` leaves that frame out, counts it and names the file (and `problem`, when given).
   void ExpectScanLeftOutOfEvaluation(const fs::path& scan, const std::string& problem) const {
     ExpectSkipped(Run(), {});
-    const CliRun eval = test::RunShell("timeout " + std::to_string(kRunTimeoutS) + " " + std::string(SEMAP_EXE) +
-                                       " eval " + (dir_ / "seq").string() + " --mesh " +
-                                       (out_ / "mesh.ply").string());
+    const CliRun eval =
+        test::RunShell("timeout " + std::to_string(kRunTimeoutS) + " " + std::string(SEMAP_EXE) + " eval " +
+                       (dir_ / "seq").string() + " --mesh " + (out_ / "mesh.ply").string());
     EXPECT_EQ(eval.exit_code, 0) << eval.output;
     EXPECT_TRUE(eval.Has(std::to_string(kFrames - 1) + " evaluated (" + std::to_string(kFrames - 1) +
                          " with Velodyne"))
@@ -263,7 +263,8 @@ TEST_F(RunFaults, NanPoseIsSkippedNamingTheFile) {
   EditOxts(drive_, 5, 3, "nan");  // roll
   ExpectSkipped(Run(), {5});
   const auto e = FirstError();
-  EXPECT_NE(e["error"].get<std::string>().find((drive_ / "oxts/data" / Frame(5, "txt")).string()), std::string::npos)
+  EXPECT_NE(e["error"].get<std::string>().find((drive_ / "oxts/data" / Frame(5, "txt")).string()),
+            std::string::npos)
       << e.dump();
   EXPECT_NE(e["error"].get<std::string>().find("not finite"), std::string::npos) << e.dump();
 }
@@ -347,10 +348,11 @@ TEST_F(RunFaults, SigtermStopsCleanlyWithTheMeshSoFar) {
 TEST_F(RunFaults, SigtermWithEnetOnItsOwnThreadStopsCleanly) {
   // The segment thread (ENet on keyframes) drains with the frames in flight: none waits for ever.
   SEMAP_REQUIRE_SHARED("models/enet-cityscapes/enet-model.net");
-  ExpectStopsCleanlyOn(SIGTERM, " --set semantics.source=enet --set semantics.enet_every_frames=2"
-                                " --set semantics.enet_input_width_px=256 --set semantics.enet_input_height_px=128"
-                                " --set semantics.enet_model_path=" +
-                                    (test::SharedDir() / "models/enet-cityscapes/enet-model.net").string());
+  ExpectStopsCleanlyOn(SIGTERM,
+                       " --set semantics.source=enet --set semantics.enet_every_frames=2"
+                       " --set semantics.enet_input_width_px=256 --set semantics.enet_input_height_px=128"
+                       " --set semantics.enet_model_path=" +
+                           (test::SharedDir() / "models/enet-cityscapes/enet-model.net").string());
 }
 
 TEST_F(RunFaults, ClosedOutputPipeDoesNotKillTheRun) {

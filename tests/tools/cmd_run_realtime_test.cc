@@ -1,16 +1,16 @@
-// `semap run --realtime [SPEED]` end to end on a small generated sequence: frames played at their time stamps,
-// every frame accounted for (integrated in frames.csv, or dropped or failed in errors.jsonl), the latency
-// figures written, and a bad speed refused by name.
+// `semap run --realtime [SPEED]` end to end on a small generated sequence: frames played at their time
+// stamps, every frame accounted for (integrated in frames.csv, or dropped or failed in errors.jsonl), the
+// latency figures written, and a bad speed refused by name.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -29,8 +29,8 @@ class RunRealtime : public ::testing::Test {
   static fs::path Sequence() { return test::ProcessTempRoot() / "RunRealtime_sequence"; }
   static void SetUpTestSuite() {
     fs::remove_all(Sequence());
-    const CliRun r = test::RunSemap("synth --preset urban --frames " + std::to_string(kFrames) + " --seed 3 --out " +
-                                    Sequence().string() + test::kSmallSynth);
+    const CliRun r = test::RunSemap("synth --preset urban --frames " + std::to_string(kFrames) +
+                                    " --seed 3 --out " + Sequence().string() + test::kSmallSynth);
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   fs::path out_ = test::TempDir() / "run";
@@ -52,7 +52,8 @@ TEST_F(RunRealtime, EveryFrameIsIntegratedOrDroppedWithItsReasonAndTheLatencyIsW
     EXPECT_LE(l["p95"].get<double>(), l["max"].get<double>()) << step;
     EXPECT_GT(l["max"].get<double>(), 0.0) << step;
   }
-  EXPECT_LE(summary["latency_ms"]["map"]["max"].get<double>(), summary["latency_ms"]["published"]["max"].get<double>());
+  EXPECT_LE(summary["latency_ms"]["map"]["max"].get<double>(),
+            summary["latency_ms"]["published"]["max"].get<double>());
   // frames.csv: a row per integrated frame, with its latency; errors.jsonl: a line per dropped frame.
   const std::vector<std::string> rows = test::NonEmptyLines(out_ / "frames.csv");
   ASSERT_EQ(rows.size(), static_cast<std::size_t>(integrated + 1));
@@ -85,7 +86,8 @@ TEST_F(RunRealtime, EveryFrameIsIntegratedOrDroppedWithItsReasonAndTheLatencyIsW
 
 // `--realtime` alone plays the sensor's own rate; a speed that is not positive is refused, naming the key.
 TEST_F(RunRealtime, NoSpeedIsTheSensorsRateAndABadSpeedIsRefusedByName) {
-  const CliRun r = test::RunSemap("run " + Sequence().string() + " --realtime --frames 3 --out " + out_.string());
+  const CliRun r =
+      test::RunSemap("run " + Sequence().string() + " --realtime --frames 3 --out " + out_.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.Has("realtime mode at 1x the sensor's rate")) << r.output;
   const CliRun bad = test::RunSemap("run " + Sequence().string() + " --realtime 0 --out " + out_.string());

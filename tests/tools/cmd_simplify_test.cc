@@ -1,7 +1,8 @@
-// `semap simplify` run as a user would: a labelled cloud PLY in, per-class counts printed, the kept cloud out.
-#include <random>
-
+// `semap simplify` run as a user would: a labelled cloud PLY in, per-class counts printed, the kept cloud
+// out.
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -49,8 +50,8 @@ TEST(SemapSimplify, PrintsPerClassCountsAndWritesTheKeptCloud) {
   size_t road_in = 0, car_in = 0, road_out = 0, car_out = 0;
   for (auto l : in.labels) (l == kRoad ? road_in : car_in) += 1;
   for (auto l : out.labels) (l == kRoad ? road_out : car_out) += 1;
-  EXPECT_EQ(car_out, car_in);           // cars are never simplified
-  EXPECT_LT(road_out, road_in * 0.8);   // the road is
+  EXPECT_EQ(car_out, car_in);          // cars are never simplified
+  EXPECT_LT(road_out, road_in * 0.8);  // the road is
   EXPECT_GT(road_out, 0u);
 }
 

@@ -31,7 +31,8 @@ TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
   EXPECT_TRUE(fs::exists(out / "small" / "O" / "mesh.ply"));
   EXPECT_TRUE(fs::exists(out / "small" / "PS" / "mesh.ply"));
   for (const char* method : {"O", "PS"}) {
-    const test::ManifoldReport m = test::CheckManifold(io::ReadMeshPly(out / "small" / method / "mesh.ply"), true);
+    const test::ManifoldReport m =
+        test::CheckManifold(io::ReadMeshPly(out / "small" / method / "mesh.ply"), true);
     EXPECT_TRUE(m.ok()) << method << "\n" << m.Summary();
   }
 
@@ -57,7 +58,8 @@ TEST(SemapTable, RunsOAndPsAndWritesThePaperTable) {
     EXPECT_TRUE(fs::exists(out / "small" / row["method"].get<std::string>() / "top_view.png"));
     EXPECT_TRUE(fs::exists(out / "small" / row["method"].get<std::string>() / "top_view_error.png"));
   }
-  EXPECT_NE(text.find("| area (m²) | area within τ | within 0.5 m | beyond 2 m | mean distance (m) |"), std::string::npos)
+  EXPECT_NE(text.find("| area (m²) | area within τ | within 0.5 m | beyond 2 m | mean distance (m) |"),
+            std::string::npos)
       << text;
   // PS keeps fewer points, so its mesh is smaller.
   EXPECT_LT(ps["mesh_mb"].get<double>(), o["mesh_mb"].get<double>());

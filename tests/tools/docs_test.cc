@@ -1,7 +1,10 @@
 // The user documentation holds together: every relative link in README.md, CHANGELOG.md, docs/*.md,
-// bench/RESULTS.md and bench/results/*.md names a file that exists (and, with #anchor, a heading of it), and every
-// `semap` command written in README.md and docs/*.md names a subcommand and options that the built executable's
+// bench/RESULTS.md and bench/results/*.md names a file that exists (and, with #anchor, a heading of it), and
+// every `semap` command written in README.md and docs/*.md names a subcommand and options that the built
+// executable's
 // --help knows.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -12,8 +15,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
@@ -84,7 +85,8 @@ std::string Slug(const std::string& heading) {
     const size_t len = c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : 2;
     unsigned cp = c & (len == 2 ? 0x1F : len == 3 ? 0x0F : 0x07);
     for (size_t k = 1; k < len && i + k < heading.size(); ++k) cp = (cp << 6) | (heading[i + k] & 0x3F);
-    const bool letter = (cp >= 0xC0 && cp <= 0x24F && cp != 0xD7 && cp != 0xF7) || (cp >= 0x370 && cp <= 0x3FF);
+    const bool letter =
+        (cp >= 0xC0 && cp <= 0x24F && cp != 0xD7 && cp != 0xF7) || (cp >= 0x370 && cp <= 0x3FF);
     if (letter) slug += heading.substr(i, len);
     i += len;
   }
@@ -139,7 +141,8 @@ std::vector<Located> SemapCommands(const std::string& markdown) {
   std::string line;
   bool fenced = false;
   int number = 0;
-  static const std::regex start(R"re(^(?:(?:taskset -c \S+|nice -n \d+|\S+=\S+)\s+)*(?:\.?/?build/tools/)?semap\s)re");
+  static const std::regex start(
+      R"re(^(?:(?:taskset -c \S+|nice -n \d+|\S+=\S+)\s+)*(?:\.?/?build/tools/)?semap\s)re");
   static const std::regex span("`([^`]*)`");
   std::string pending;
   int pending_line = 0;
@@ -151,8 +154,8 @@ std::vector<Located> SemapCommands(const std::string& markdown) {
       continue;
     }
     if (fenced || line.rfind("    ", 0) == 0) {
-      std::string code = line.substr(line.find_first_not_of(' ') == std::string::npos ? line.size()
-                                                                                       : line.find_first_not_of(' '));
+      std::string code = line.substr(
+          line.find_first_not_of(' ') == std::string::npos ? line.size() : line.find_first_not_of(' '));
       if (pending.empty()) pending_line = number;
       const size_t comment = code.find(" #");
       if (comment != std::string::npos) code.resize(comment);
@@ -198,7 +201,8 @@ std::set<std::string> Subcommands(const std::string& help) {
   static const std::regex item(R"re(^\s+([a-z][a-z0-9-]*)\b.*)re");
   while (std::getline(in, line)) {
     std::string lower = line;
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (lower.rfind("subcommands:", 0) == 0) {
       listing = true;
       continue;
@@ -227,7 +231,8 @@ std::vector<std::string> UnknownWords(const std::string& command, const HelpText
   std::string sub = *(semap + 1);
   const bool root = sub[0] == '-';
   // A placeholder (`semap <cmd> --help`), or a message quoted from the program (`semap view: port ...`).
-  if (!root && (sub.find_first_of("<>") != std::string::npos || sub == "SUB" || sub.back() == ':')) return unknown;
+  if (!root && (sub.find_first_of("<>") != std::string::npos || sub == "SUB" || sub.back() == ':'))
+    return unknown;
   if (!root && help.subcommands.count(sub) == 0) {
     unknown.push_back("subcommand '" + sub + "'");
     return unknown;
@@ -237,7 +242,8 @@ std::vector<std::string> UnknownWords(const std::string& command, const HelpText
   for (auto it = root ? semap + 1 : semap + 2; it != words.end(); ++it) {
     std::smatch m;
     if (!std::regex_search(*it, m, option)) continue;
-    if (known.count(m[1].str()) == 0) unknown.push_back("option '" + m[1].str() + "' of semap " + (root ? "" : sub));
+    if (known.count(m[1].str()) == 0)
+      unknown.push_back("option '" + m[1].str() + "' of semap " + (root ? "" : sub));
   }
   return unknown;
 }
@@ -320,7 +326,8 @@ TEST(DocsCheck, FindsAnUnknownSubcommandAndOption) {
   help.options["run"] = {"--method", "--out", "--eval", "--help"};
   help.options["table"] = {"--out", "--help"};
   EXPECT_TRUE(UnknownWords(commands[0].text, help).empty());
-  EXPECT_EQ(UnknownWords(commands[1].text, help), std::vector<std::string>{"option '--frobnicate' of semap table"});
+  EXPECT_EQ(UnknownWords(commands[1].text, help),
+            std::vector<std::string>{"option '--frobnicate' of semap table"});
   EXPECT_EQ(UnknownWords(commands[2].text, help), std::vector<std::string>{"subcommand 'evaluate'"});
   EXPECT_TRUE(UnknownWords(commands[3].text, help).empty());
   EXPECT_TRUE(UnknownWords(commands[4].text, help).empty());
@@ -352,7 +359,8 @@ TEST(Docs, CommandsNameSubcommandsAndOptionsThatSemapKnows) {
     if (file.filename() == "README.md") readme_commands = commands.size();
     for (const auto& [line, command] : commands) {
       for (const auto& u : UnknownWords(command, help)) {
-        unknown.push_back(file.filename().string() + ":" + std::to_string(line) + ": " + u + " in: " + command);
+        unknown.push_back(file.filename().string() + ":" + std::to_string(line) + ": " + u +
+                          " in: " + command);
       }
     }
   }

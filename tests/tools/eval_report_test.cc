@@ -1,4 +1,5 @@
-// `semap run --eval` and `semap eval --json` (app/eval/eval_report): per-frame accuracy files a user can plot.
+// `semap run --eval` and `semap eval --json` (app/eval/eval_report): per-frame accuracy files a user can
+// plot.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -25,8 +26,8 @@ using test::RunSemap;
 // `semap eval` of the mesh.ply a run wrote to `out`, as its --json (empty when the command failed).
 nlohmann::json EvalOfWrittenMesh(const fs::path& seq, const fs::path& out) {
   const fs::path json = out / "again.json";
-  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (out / "mesh.ply").string() + " --json " +
-                               json.string());
+  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (out / "mesh.ply").string() +
+                               " --json " + json.string());
   EXPECT_EQ(eval.exit_code, 0) << eval.output;
   if (eval.exit_code != 0) return {};
   return nlohmann::json::parse(std::ifstream(json));
@@ -37,21 +38,22 @@ nlohmann::json EvalOfWrittenMesh(const fs::path& seq, const fs::path& out) {
 TEST(SemapRunEval, InProcessEvaluationRoundsEveryVertexAsThePlyStoresIt) {
   const fs::path seq = test::SmallGeneratedSequence(3);
   const fs::path out = test::TempDir() / "run";
-  const CliRun run = RunSemap("run " + seq.string() + " --method PS --set map.confirm_beyond_m=20 --eval --out " +
-                              out.string());
+  const CliRun run = RunSemap("run " + seq.string() +
+                              " --method PS --set map.confirm_beyond_m=20 --eval --out " + out.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto a = nlohmann::json::parse(std::ifstream(out / "eval.json"));
   const auto b = EvalOfWrittenMesh(seq, out);
   ASSERT_TRUE(b.contains("lidar"));
   EXPECT_EQ(a["lidar"]["rmse_m"].get<double>(), b["lidar"]["rmse_m"].get<double>());
-  EXPECT_EQ(a["lidar"]["compared_pixels"].get<std::int64_t>(), b["lidar"]["compared_pixels"].get<std::int64_t>());
+  EXPECT_EQ(a["lidar"]["compared_pixels"].get<std::int64_t>(),
+            b["lidar"]["compared_pixels"].get<std::int64_t>());
 }
 
 TEST(SemapRunEval, WritesPerFrameAccuracyThatAgreesWithSemapEval) {
   const fs::path seq = test::SmallGeneratedSequence(3);
   const fs::path out = test::TempDir() / "run";
-  const CliRun run = RunSemap("run " + seq.string() + " --method PS --eval --progress-interval 100 --out " +
-                              out.string());
+  const CliRun run =
+      RunSemap("run " + seq.string() + " --method PS --eval --progress-interval 100 --out " + out.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_TRUE(run.Has("vs Velodyne")) << run.output;
   std::ifstream csv(out / "eval_frames.csv");
@@ -74,7 +76,8 @@ TEST(SemapRunEval, WritesPerFrameAccuracyThatAgreesWithSemapEval) {
   ASSERT_TRUE(b.contains("lidar"));
   const double rmse_a = a["lidar"]["rmse_m"].get<double>(), rmse_b = b["lidar"]["rmse_m"].get<double>();
   EXPECT_NEAR(rmse_a, rmse_b, 1e-9 * rmse_a);
-  EXPECT_EQ(a["lidar"]["compared_pixels"].get<std::int64_t>(), b["lidar"]["compared_pixels"].get<std::int64_t>());
+  EXPECT_EQ(a["lidar"]["compared_pixels"].get<std::int64_t>(),
+            b["lidar"]["compared_pixels"].get<std::int64_t>());
   ASSERT_EQ(b["per_frame"].size(), 3u);
   EXPECT_TRUE(b["per_frame"][2].contains("exact_depth"));
 
@@ -82,7 +85,8 @@ TEST(SemapRunEval, WritesPerFrameAccuracyThatAgreesWithSemapEval) {
   const auto& scene = a["scene_mesh"];
   EXPECT_EQ(scene["area_samples"].get<int>(), 100000);
   EXPECT_GT(scene["area_m2"].get<double>(), 10.0);
-  for (const char* share : {"accuracy", "area_within_near", "area_beyond_near", "area_beyond_far", "vertex_accuracy"}) {
+  for (const char* share :
+       {"accuracy", "area_within_near", "area_beyond_near", "area_beyond_far", "vertex_accuracy"}) {
     EXPECT_GE(scene[share].get<double>(), 0.0) << share;
     EXPECT_LE(scene[share].get<double>(), 1.0) << share;
   }
@@ -105,8 +109,8 @@ TEST(SemapEval, TheExactSceneMeshIsAccurateAndComplete) {
   const fs::path json = test::TempDir() / "scene.json";
   const fs::path scene = seq / "2026_01_01" / "2026_01_01_drive_0001_sync" / "scene_mesh.ply";
   const fs::path pictures = test::TempDir() / "pictures";
-  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + scene.string() + " --json " + json.string() +
-                               " --pictures " + pictures.string());
+  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + scene.string() + " --json " +
+                               json.string() + " --pictures " + pictures.string());
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   EXPECT_TRUE(eval.Has("vs scene mesh accuracy 100.0 %")) << eval.output;
   const auto j = nlohmann::json::parse(std::ifstream(json));
@@ -150,8 +154,8 @@ std::int64_t Compared(const nlohmann::json& bins) {
   return n;
 }
 
-// Pixels of the picture part (above the legend band) that are coloured (neither grey, no reference, nor black,
-// a hole), and those that are black.
+// Pixels of the picture part (above the legend band) that are coloured (neither grey, no reference, nor
+// black, a hole), and those that are black.
 struct ErrorImagePixels {
   int coloured = 0;
   int holes = 0;
@@ -250,9 +254,9 @@ TEST(SemapEval, ReportFolderHasBothProtocolsTheBreakdownAndErrorImages) {
     ASSERT_FALSE(image.empty()) << name;
     EXPECT_EQ(image.cols, 480) << name;
     ASSERT_GT(image.rows, 144 + 29) << name;
-    // Velodyne (512 azimuth steps here) has a reference in about 5 % of the picture, exact depth in most of it
-    // (the sky has none); the mesh covers most of those pixels (it is open where no view saw a surface: the
-    // holes are black).
+    // Velodyne (512 azimuth steps here) has a reference in about 5 % of the picture, exact depth in most of
+    // it (the sky has none); the mesh covers most of those pixels (it is open where no view saw a surface:
+    // the holes are black).
     const int share = std::string(name).find("lidar") != std::string::npos ? 40 : 3;
     const ErrorImagePixels n = CountPixels(image, 144);
     std::cout << name << ": " << n.coloured << " coloured, " << n.holes << " holes\n";

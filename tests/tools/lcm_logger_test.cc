@@ -2,16 +2,16 @@
 // and by a second one started after half the frames, and received by `semap lcm-mesh --live` started after
 // half the frames too; then `semap lcm-mesh` rebuilds the mesh from each log and from filtered copies of the
 // first (5 % of the mesh messages lost at random; every event of the first half lost). Everything runs inside
-// a private network namespace (unshare -n) whose loopback carries the multicast route, so no packet leaves the
-// test, and the kernel's receive buffers are left as they are (net.core.rmem_default, not raised).
+// a private network namespace (unshare -n) whose loopback carries the multicast route, so no packet leaves
+// the test, and the kernel's receive buffers are left as they are (net.core.rmem_default, not raised).
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <iostream>
 #include <map>
 #include <random>
 #include <set>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "io/lcm/lcm_log.h"
 #include "io/lcm/lcm_publisher.h"
@@ -56,7 +56,8 @@ class LcmLogger : public ::testing::Test {
   static constexpr int kFrames = 24;
 
   static void SetUpTestSuite() {
-    if (test::RunShell("unshare -n true").exit_code != 0 || test::RunShell("which lcm-logger ip").exit_code != 0) {
+    if (test::RunShell("unshare -n true").exit_code != 0 ||
+        test::RunShell("which lcm-logger ip").exit_code != 0) {
       skip_ = true;
       return;
     }
@@ -65,42 +66,49 @@ class LcmLogger : public ::testing::Test {
     const std::string exe = SEMAP_EXE;
     const std::string url = "udpm://239.255.76.67:7667?ttl=0";
     const std::string small =
-        " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160 --set synth.cy_px=48"
+        " --set synth.image_width_px=320 --set synth.image_height_px=96 --set synth.cx_px=160 --set "
+        "synth.cy_px=48"
         " --set synth.lidar_azimuth_steps=256";
-    const auto synth = test::RunSemap("synth --preset urban --frames " + std::to_string(kFrames) + " --seed 3 --out " +
-                                      (dir / "seq").string() + small);
+    const auto synth = test::RunSemap("synth --preset urban --frames " + std::to_string(kFrames) +
+                                      " --seed 3 --out " + (dir / "seq").string() + small);
     ASSERT_EQ(synth.exit_code, 0) << synth.output;
     // In the namespace: loopback up with the multicast route; the first logger in the background; the run
-    // (finalising early, so that finalised blocks are published too; at the sequence's 10 Hz, as a stream: run
-    // as fast as it goes, 12 small frames took 0.16 s and the late subscribers below could start after the
-    // last closing round had begun, and miss blocks) in the background; after half the
-    // frames, the second logger and `lcm-mesh --live`; then stop the loggers (SIGINT lets them flush and
-    // close the log). The loggers are stopped whatever happens (trap), every output goes to a file so that
-    // nothing holds the test's pipe open, and `timeout` bounds the whole thing.
+    // (finalising early, so that finalised blocks are published too; at the sequence's 10 Hz, as a stream:
+    // run as fast as it goes, 12 small frames took 0.16 s and the late subscribers below could start after
+    // the last closing round had begun, and miss blocks) in the background; after half the frames, the second
+    // logger and `lcm-mesh --live`; then stop the loggers (SIGINT lets them flush and close the log). The
+    // loggers are stopped whatever happens (trap), every output goes to a file so that nothing holds the
+    // test's pipe open, and `timeout` bounds the whole thing.
     const auto at = [&](const char* name) { return (dir / name).string(); };
     // The progress line of any frame from half on: the line of one frame may be skipped (the output loop
     // reports the latest frame when two finish together).
     std::string half_or_later;
-    for (int f = kFrames / 2; f <= kFrames; ++f) half_or_later += (half_or_later.empty() ? "" : "|") + std::to_string(f);
+    for (int f = kFrames / 2; f <= kFrames; ++f)
+      half_or_later += (half_or_later.empty() ? "" : "|") + std::to_string(f);
     const std::string logger = "lcm-logger -q -f --lcm-url='" + url + "' ";
     const std::string script =
         "set -e; ip link set lo up; ip route add 224.0.0.0/4 dev lo; "
-        "echo rmem_default \\$(cat /proc/sys/net/core/rmem_default) > " + at("rmem.txt") + "; " +
-        logger + at("early.lcmlog") + " >" + at("logger1.txt") + " 2>&1 & l1=\\$!; l2=; "
+        "echo rmem_default \\$(cat /proc/sys/net/core/rmem_default) > " +
+        at("rmem.txt") + "; " + logger + at("early.lcmlog") + " >" + at("logger1.txt") +
+        " 2>&1 & l1=\\$!; l2=; "
         "trap 'kill -INT \\$l1 \\$l2 2>/dev/null; wait \\$l1 \\$l2 2>/dev/null || true' EXIT; sleep 0.5; " +
         exe + " run " + at("seq") + " --out " + at("out") + " --lcm-url '" + url +
         "' --progress-interval 0.01 --set depth.max_points_per_frame=1500 --set pipeline.depth_workers=1"
-        " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set map.finalise_every_frames=2"
-        // Every far point inserted at once, each vertex where its first sighting put it: the mesh these checks
-        // were set on (over 1,000 triangles, several LCM blocks); with far points waiting for confirmation
-        // this small street has ~600; fused sightings and the votes by each point's σ make it smaller too (475
-        // triangles), so it keeps every surface triangle, seen or not.
-        " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --set map.drop_unseen_surface=false --mode realtime"
-        " >" + at("run.txt") + " 2>&1 & run=\\$!; "
-        "until grep -qE '^frame (" + half_or_later + ")/' " + at("run.txt") +
-        "; do kill -0 \\$run; sleep 0.02; done; " +
-        logger + at("late.lcmlog") + " >" + at("logger2.txt") + " 2>&1 & l2=\\$!; " +
-        exe + " lcm-mesh --live --url '" + url + "' --seconds 120 --out " + at("live.ply") + " >" + at("live.txt") +
+        " --set map.finalise_age_frames=3 --set map.finalise_min_age_frames=1 --set "
+        "map.finalise_every_frames=2"
+        // Every far point inserted at once, each vertex where its first sighting put it: the mesh these
+        // checks were set on (over 1,000 triangles, several LCM blocks); with far points waiting for
+        // confirmation this small street has ~600; fused sightings and the votes by each point's σ make it
+        // smaller too (475 triangles), so it keeps every surface triangle, seen or not.
+        " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --set map.drop_unseen_surface=false "
+        "--mode realtime"
+        " >" +
+        at("run.txt") +
+        " 2>&1 & run=\\$!; "
+        "until grep -qE '^frame (" +
+        half_or_later + ")/' " + at("run.txt") + "; do kill -0 \\$run; sleep 0.02; done; " + logger +
+        at("late.lcmlog") + " >" + at("logger2.txt") + " 2>&1 & l2=\\$!; " + exe +
+        " lcm-mesh --live --url '" + url + "' --seconds 120 --out " + at("live.ply") + " >" + at("live.txt") +
         " 2>&1 & live=\\$!; "
         "wait \\$run; wait \\$live; sleep 0.3";
     run_ = new test::CliRun(test::RunShell("timeout 300 unshare -n bash -c \"" + script + "\""));
@@ -111,7 +119,8 @@ class LcmLogger : public ::testing::Test {
   }
   void SetUp() override {
     if (skip_) {
-      if (test::UnderCi()) FAIL() << "unshare -n, ip and lcm-logger are needed under CI (scripts/setup installs them)";
+      if (test::UnderCi())
+        FAIL() << "unshare -n, ip and lcm-logger are needed under CI (scripts/setup installs them)";
       GTEST_SKIP() << "needs unshare -n (root), iproute2 and lcm-logger";
     }
     ASSERT_EQ(run_->exit_code, 0) << run_->output << Text("run.txt") << Text("live.txt");

@@ -55,9 +55,11 @@ TEST(WrittenMeshes, LongGeneratedDriveThatFinalisesIsManifold) {
   for (const std::string run : {"PS rays", "O rays", "PS depth"}) {
     const std::string method = run.substr(0, run.find(' ')), visibility = run.substr(run.find(' ') + 1);
     const fs::path out = test::TempDir() / (method + "_" + visibility);
-    const CliRun r = RunSemap("run " + seq.string() + " --method " + method + " --set map.visibility=" + visibility +
-                              " --set depth.max_points_per_frame=1500 --set map.finalise_age_frames=10"
-                              " --set map.finalise_every_frames=5 --progress-interval 0 --out " + out.string());
+    const CliRun r =
+        RunSemap("run " + seq.string() + " --method " + method + " --set map.visibility=" + visibility +
+                 " --set depth.max_points_per_frame=1500 --set map.finalise_age_frames=10"
+                 " --set map.finalise_every_frames=5 --progress-interval 0 --out " +
+                 out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(MapShrankOnce(out)) << "no finalisation ran";
     ExpectWrittenMeshesManifold(out);
@@ -75,10 +77,12 @@ TEST(WrittenMeshes, TheSameFramesGiveTheSameMeshFileRunAfterRun) {
   std::string first;
   for (int attempt = 0; attempt < 2; ++attempt) {
     const fs::path out = test::TempDir() / ("repeat_" + std::to_string(attempt));
-    const CliRun r = RunSemap("run " + seq.string() + " --method PS --set input.loops=3"
+    const CliRun r = RunSemap("run " + seq.string() +
+                              " --method PS --set input.loops=3"
                               " --set depth.max_points_per_frame=1500 --set map.finalise_age_frames=10"
                               " --set map.finalise_every_frames=5 --set map.refine_depth_ratio=0.75"
-                              " --progress-interval 0 --out " + out.string());
+                              " --progress-interval 0 --out " +
+                              out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     ASSERT_TRUE(MapShrankOnce(out)) << "no finalisation ran";
     const std::string bytes = test::ReadFile(out / "mesh.ply");
@@ -106,9 +110,11 @@ TEST(WrittenMeshes, RealKittiFramesAreManifold) {
   ExpectWrittenMeshesManifold(one);
 
   const fs::path drive = test::TempDir() / "odometry04";
-  r = RunSemap("run " + (test::SharedDir() / "data/kitti_odometry_04").string() +
-               " --frames 14 --method PS --set depth.max_points_per_frame=4000 --set map.finalise_age_frames=4"
-               " --set map.finalise_every_frames=2 --progress-interval 0 --out " + drive.string());
+  r = RunSemap(
+      "run " + (test::SharedDir() / "data/kitti_odometry_04").string() +
+      " --frames 14 --method PS --set depth.max_points_per_frame=4000 --set map.finalise_age_frames=4"
+      " --set map.finalise_every_frames=2 --progress-interval 0 --out " +
+      drive.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(MapShrankOnce(drive)) << "no finalisation ran";
   ExpectWrittenMeshesManifold(drive);

@@ -53,14 +53,15 @@ TEST(OneFramePreset, CoversMoreOfARealFrameAtALikeAccuracy) {
   SEMAP_REQUIRE_SHARED("data/kitti_stereo2015_subset");
   const fs::path seq = test::SharedDir() / "data/kitti_stereo2015_subset";
   const fs::path preset = test::SourceDir() / "config" / "one_frame.yaml";
-  const int frame = 2;  // one of the four frames (2, 44, 76, 123) of the one-frame figures in bench/RESULTS.md
+  const int frame =
+      2;  // one of the four frames (2, 44, 76, 123) of the one-frame figures in bench/RESULTS.md
   const fs::path tmp = test::TempDir();  // (each call empties it)
   const OneFrameFigures stream_defaults =
       OneFrameMap(seq, frame, "--set input.one_frame_preset=false", tmp / "one_frame_stream");
   const fs::path out = tmp / "one_frame_preset";
   const OneFrameFigures with_preset = OneFrameMap(seq, frame, "--config " + preset.string(), out);
-  // bench/results/map-accuracy.md, "one-frame maps": over the 20 frames 70 → 82 % with PS and ENet; this frame, O, no
-  // labels: 55 → 71 %.
+  // bench/results/map-accuracy.md, "one-frame maps": over the 20 frames 70 → 82 % with PS and ENet; this
+  // frame, O, no labels: 55 → 71 %.
   EXPECT_GE(with_preset.strict_completeness, stream_defaults.strict_completeness + 0.10);
   EXPECT_LE(with_preset.paper_rmse_m, stream_defaults.paper_rmse_m + 0.10);
   const test::ManifoldReport r =

@@ -22,18 +22,17 @@
 //    quarter of the run is at most 1.5× the median over the quarter after warm-up (a cost that grows with the
 //    drive would multiply it over 10,000 frames). CPU time, not wall time, so that other processes sharing
 //    the cores do not decide the verdict; the wall time per frame is recorded next to it.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -47,11 +46,12 @@ namespace fs = std::filesystem;
 
 constexpr int kSequenceFrames = 200;  // generated once, looped
 constexpr int kEvery = 100;           // a soak.csv row every kEvery frames
-// Small images, 200 map points per frame and a live map of 10 frames (finalised after that): about 10 frames/s
-// on 2 cores, so 10,000 frames take ~17 min. The soak is about length (memory, time, accounting), not load:
-// per-frame load is measured by scripts/bench.
+// Small images, 200 map points per frame and a live map of 10 frames (finalised after that): about 10
+// frames/s on 2 cores, so 10,000 frames take ~17 min. The soak is about length (memory, time, accounting),
+// not load: per-frame load is measured by scripts/bench.
 const std::string kSynth =
-    " --set synth.image_width_px=416 --set synth.image_height_px=128 --set synth.cx_px=208 --set synth.cy_px=64"
+    " --set synth.image_width_px=416 --set synth.image_height_px=128 --set synth.cx_px=208 --set "
+    "synth.cy_px=64"
     " --set synth.lidar_azimuth_steps=256";
 const std::string kRun =
     " --set depth.max_points_per_frame=200 --set map.finalise_age_frames=10 --set map.finalise_every_frames=5"
@@ -111,8 +111,8 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
 
   // 3 h is far beyond the expected ~17 min: reaching it means a deadlock.
-  const auto run = test::RunShell("timeout 10800 " + std::string(SEMAP_EXE) + " run " + seq.string() + " --out " +
-                                  out.string() + " --set input.loops=" + std::to_string(loops) +
+  const auto run = test::RunShell("timeout 10800 " + std::string(SEMAP_EXE) + " run " + seq.string() +
+                                  " --out " + out.string() + " --set input.loops=" + std::to_string(loops) +
                                   " --lcm-url 'udpm://239.255.76.70:7691?ttl=0'" + kRun + " > " +
                                   (dir / "run.log").string());
   const std::string log = test::ReadFile(dir / "run.log");
@@ -132,8 +132,9 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
 
   const Csv csv = ReadCsv(out / "frames.csv");
   ASSERT_EQ(static_cast<std::int64_t>(csv.rows.size()), processed);
-  const int c_elapsed = csv.Col("elapsed_s"), c_cpu = csv.Col("cpu_s"), c_rss = csv.Col("rss_mb"), c_vertices = csv.Col("map_vertices"),
-            c_cells = csv.Col("map_cells"), c_tris = csv.Col("mesh_triangles"), c_map_ms = csv.Col("map_ms"),
+  const int c_elapsed = csv.Col("elapsed_s"), c_cpu = csv.Col("cpu_s"), c_rss = csv.Col("rss_mb"),
+            c_vertices = csv.Col("map_vertices"), c_cells = csv.Col("map_cells"),
+            c_tris = csv.Col("mesh_triangles"), c_map_ms = csv.Col("map_ms"),
             c_depth_q = csv.Col("depth_queue"), c_simplify_q = csv.Col("simplify_queue"),
             c_map_q = csv.Col("map_queue");
 
@@ -150,9 +151,9 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
     const double cpu_ms = 1000.0 * (r[c_cpu] - prev[c_cpu]) / (kEvery - 1);
     double map_ms = 0.0;
     for (size_t j = i - kEvery; j < i; ++j) map_ms += csv.rows[j][c_map_ms] / kEvery;
-    curve << i << ',' << r[c_rss] << ',' << r[c_vertices] << ',' << r[c_cells] << ',' << r[c_tris] << ',' << ms
-          << ',' << map_ms << ',' << r[c_depth_q] << ',' << r[c_simplify_q] << ',' << r[c_map_q] << ',' << cpu_ms
-          << '\n';
+    curve << i << ',' << r[c_rss] << ',' << r[c_vertices] << ',' << r[c_cells] << ',' << r[c_tris] << ','
+          << ms << ',' << map_ms << ',' << r[c_depth_q] << ',' << r[c_simplify_q] << ',' << r[c_map_q] << ','
+          << cpu_ms << '\n';
     at.push_back(static_cast<int>(i - 1));
     frame_cpu_ms.push_back(cpu_ms);
   }
@@ -189,9 +190,11 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
                                << " ms at the end";
 
   // The mesh of a run that finalised all the time: one manifold across every seam.
-  const test::ManifoldReport manifold = test::CheckManifold(io::ReadMeshPly(out / "mesh.ply"), /*allow_boundary=*/true);
+  const test::ManifoldReport manifold =
+      test::CheckManifold(io::ReadMeshPly(out / "mesh.ply"), /*allow_boundary=*/true);
   EXPECT_TRUE(manifold.ok()) << manifold.num_nonmanifold_edges << " non-manifold edges, "
-                             << manifold.num_nonmanifold_vertices << " non-manifold vertices\n" << manifold.Summary();
+                             << manifold.num_nonmanifold_vertices << " non-manifold vertices\n"
+                             << manifold.Summary();
 
   std::ofstream(dir / "soak_summary.json")
       << nlohmann::json{{"frames", frames},

@@ -37,14 +37,16 @@ TEST(SkyKittiOdometry04, SkyPixelsGivePointsOnlyWhenAsked) {
   depth.half_resolution = true;
   depth.max_points_per_frame = 0;
   semantics.drop_sky = false;
-  const LabelledCloud with_sky = StereoLabelStage(depth, semantics, ClassMap::Cityscapes()).Process(*frame, nullptr);
+  const LabelledCloud with_sky =
+      StereoLabelStage(depth, semantics, ClassMap::Cityscapes()).Process(*frame, nullptr);
   std::size_t sky = 0;
   for (Label l : with_sky.labels) sky += l == kSky ? 1 : 0;
   RecordProperty("sky_points_without_drop", std::to_string(sky));
   ASSERT_GT(sky, 100u) << "ENet + SGBM give sky points on this frame: the test below would prove nothing";
 
   semantics.drop_sky = true;
-  const LabelledCloud without = StereoLabelStage(depth, semantics, ClassMap::Cityscapes()).Process(*frame, nullptr);
+  const LabelledCloud without =
+      StereoLabelStage(depth, semantics, ClassMap::Cityscapes()).Process(*frame, nullptr);
   EXPECT_EQ(without.size(), with_sky.size() - sky);
   for (Label l : without.labels) ASSERT_NE(l, kSky);
 }
@@ -55,8 +57,8 @@ TEST(SkyKittiOdometry04, NoMeshVertexIsSky) {
   const fs::path out = test::TempDir() / "run";
   const CliRun r = RunSemap("run " + (test::SharedDir() / "data/kitti_odometry_04").string() +
                             " --method PS --frames 4 --progress-interval 100 --set semantics.source=enet"
-                            " --set semantics.enet_model_path=" + EnetModel().string() +
-                            " --set depth.half_resolution=true --out " + out.string());
+                            " --set semantics.enet_model_path=" +
+                            EnetModel().string() + " --set depth.half_resolution=true --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Mesh mesh = io::ReadMeshPly(out / "mesh.ply");
   ASSERT_GT(mesh.num_vertices(), 1000u);

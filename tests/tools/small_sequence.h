@@ -17,10 +17,12 @@ namespace semap::test {
 inline std::filesystem::path SmallGeneratedSequence(int frames) {
   const std::filesystem::path dir = ProcessTempRoot() / ("small_urban_" + std::to_string(frames));
   if (!std::filesystem::exists(dir / "done")) {
-    const CliRun r = RunSemap("synth --preset urban --seed 1 --frames " + std::to_string(frames) +
-                              " --set synth.image_width_px=480 --set synth.image_height_px=144"
-                              " --set synth.cx_px=240 --set synth.cy_px=72 --set synth.lidar_azimuth_steps=512"
-                              " --out " + dir.string());
+    const CliRun r =
+        RunSemap("synth --preset urban --seed 1 --frames " + std::to_string(frames) +
+                 " --set synth.image_width_px=480 --set synth.image_height_px=144"
+                 " --set synth.cx_px=240 --set synth.cy_px=72 --set synth.lidar_azimuth_steps=512"
+                 " --out " +
+                 dir.string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     std::filesystem::create_directories(dir / "done");
   }

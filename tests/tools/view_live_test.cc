@@ -11,7 +11,6 @@
 namespace semap::tools {
 namespace {
 
-
 TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
   if (test::RunShell("unshare -n true").exit_code != 0 || test::RunShell("command -v ip").exit_code != 0) {
     if (test::UnderCi()) FAIL() << "unshare -n (root) and ip are needed under CI";
@@ -30,8 +29,8 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
   const std::string url = "udpm://239.255.76.67:7667?ttl=0";
   // In the namespace: loopback up with the multicast route; the viewer; the page (page_check.mjs) until it is
   // connected; then the run (finalising early, so that finalised blocks are shown too; at the sequence's
-  // 10 Hz, as a stream: flat out, its 20 small frames were over before the page had drawn three counts, 2 runs
-  // in 7); then wait for the page to reach the count of the run's mesh.ply. The viewer and the page are
+  // 10 Hz, as a stream: flat out, its 20 small frames were over before the page had drawn three counts, 2
+  // runs in 7); then wait for the page to reach the count of the run's mesh.ply. The viewer and the page are
   // stopped whatever happens.
   const std::string script =
       "set -eu\n"
@@ -57,7 +56,8 @@ TEST(ViewLive, PageFollowsALiveRunToItsFinalTriangleCount) {
       // below were set on (over 1,000 triangles); with far points waiting for confirmation this small street
       // has ~600; fused sightings and the votes by each point's σ make it smaller too (434 triangles), so it
       // keeps every surface triangle, seen or not (1,140 triangles).
-      " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --set map.drop_unseen_surface=false --mode realtime > " +
+      " --set map.confirm_beyond_m=0 --set map.fuse_gate_sigmas=0 --set map.drop_unseen_surface=false --mode "
+      "realtime > " +
       at("run.txt") +
       " 2>&1\n"
       "status=0; wait $p || status=$?; p=\n"

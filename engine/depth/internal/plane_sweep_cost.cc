@@ -1,11 +1,10 @@
 #include "engine/depth/internal/plane_sweep_cost.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-
-#include <Eigen/LU>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -61,15 +60,15 @@ ReferenceWindows MakeReferenceWindows(const cv::Mat& grey, int window_px, double
 }
 
 Eigen::Matrix3d PlaneHomography(const Eigen::Matrix3d& K_reference, const Eigen::Matrix3d& K_neighbour,
-                                const Pose3d& neighbour_from_reference, const Eigen::Vector3d& normal_reference,
-                                double offset_m) {
+                                const Pose3d& neighbour_from_reference,
+                                const Eigen::Vector3d& normal_reference, double offset_m) {
   const Eigen::Matrix3d R = neighbour_from_reference.linear();
   const Eigen::Vector3d t = neighbour_from_reference.translation();
   return K_neighbour * (R + t * normal_reference.transpose() / offset_m) * K_reference.inverse();
 }
 
-void WarpBand(const cv::Mat& neighbour, const Eigen::Matrix3d& reference_to_neighbour, int first_row, int rows,
-              int width, WarpedBand* band) {
+void WarpBand(const cv::Mat& neighbour, const Eigen::Matrix3d& reference_to_neighbour, int first_row,
+              int rows, int width, WarpedBand* band) {
   // Band pixel (u, y) is reference pixel (u, first_row + y).
   Eigen::Matrix3d shift = Eigen::Matrix3d::Identity();
   shift(1, 2) = first_row;
@@ -77,8 +76,8 @@ void WarpBand(const cv::Mat& neighbour, const Eigen::Matrix3d& reference_to_neig
   cv::Matx33d H_cv;
   cv::eigen2cv(H, H_cv);
   // WARP_INVERSE_MAP: band(x) = neighbour(H x); outside the neighbour: 0, never a wrapped lookup.
-  cv::warpPerspective(neighbour, band->image, H_cv, cv::Size(width, rows), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                      cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::warpPerspective(neighbour, band->image, H_cv, cv::Size(width, rows),
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
   band->inside.create(rows, width, CV_8UC1);
   // The bilinear lookup reads pixels up to one to the right and below: inside means within [0, size − 1].
   const double max_x = neighbour.cols - 1, max_y = neighbour.rows - 1;
@@ -101,8 +100,7 @@ void BandCost(const ReferenceWindows& reference, const WarpedBand& band, int ban
               int rows, double min_stddev, CostScratch* scratch, cv::Mat* cost) {
   const int width = band.image.cols;
   const int half = reference.window_px / 2;
-  const cv::Mat reference_band =
-      reference.image(cv::Rect(0, band_first_row, width, band.image.rows));
+  const cv::Mat reference_band = reference.image(cv::Rect(0, band_first_row, width, band.image.rows));
   WindowMean(band.image, reference.window_px, &scratch->mean);
   cv::multiply(band.image, band.image, scratch->product);
   WindowMean(scratch->product, reference.window_px, &scratch->square_mean);

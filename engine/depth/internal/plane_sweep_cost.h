@@ -4,9 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "engine/core/calibration.h"
 
@@ -21,7 +20,8 @@ struct ReferenceWindows {
   cv::Mat image;   // grey levels, centred on mid-grey (smaller sums, less cancellation in the variances)
   cv::Mat mean;    // window mean of `image`
   cv::Mat stddev;  // window standard deviation, floored at the options' min_window_stddev
-  cv::Mat textured;  // CV_8UC1, 255 where the window lies inside the image and its deviation reaches the floor
+  cv::Mat
+      textured;  // CV_8UC1, 255 where the window lies inside the image and its deviation reaches the floor
 };
 ReferenceWindows MakeReferenceWindows(const cv::Mat& grey, int window_px, double min_stddev);
 
@@ -31,17 +31,18 @@ cv::Mat CentredGrey(const cv::Mat& grey);
 // Reference pixels → neighbour pixels for the plane nᵀX = d of the reference frame (plane_sweep.h's
 // convention): K_n (R + t nᵀ / d) K_ref⁻¹ with [R | t] = neighbour_from_reference.
 Eigen::Matrix3d PlaneHomography(const Eigen::Matrix3d& K_reference, const Eigen::Matrix3d& K_neighbour,
-                                const Pose3d& neighbour_from_reference, const Eigen::Vector3d& normal_reference,
-                                double offset_m);
+                                const Pose3d& neighbour_from_reference,
+                                const Eigen::Vector3d& normal_reference, double offset_m);
 
 // A band of reference rows [first_row, first_row + rows) seen through a homography from one neighbour.
 struct WarpedBand {
   cv::Mat image;  // CV_32F, rows × reference width; bilinear; 0 where the pixel maps outside
-  cv::Mat inside;  // CV_8UC1: 1 where the pixel maps in front of the neighbour, inside its image (never wrapped)
+  cv::Mat
+      inside;  // CV_8UC1: 1 where the pixel maps in front of the neighbour, inside its image (never wrapped)
 };
 // Warps `neighbour` (CentredGrey) into `band` (its buffers reused when their size fits).
-void WarpBand(const cv::Mat& neighbour, const Eigen::Matrix3d& reference_to_neighbour, int first_row, int rows,
-              int width, WarpedBand* band);
+void WarpBand(const cv::Mat& neighbour, const Eigen::Matrix3d& reference_to_neighbour, int first_row,
+              int rows, int width, WarpedBand* band);
 
 // Scratch buffers of BandCost, reused across calls by one thread.
 struct CostScratch {
@@ -58,10 +59,10 @@ void BandCost(const ReferenceWindows& reference, const WarpedBand& band, int ban
 
 // How the neighbours' costs at one pixel and plane become one cost.
 struct Aggregation {
-  int best_views = 0;     // mean of the lowest best_views costs (0 = all)
-  int min_views = 1;      // fewer valid costs than this: kNoCost
+  int best_views = 0;      // mean of the lowest best_views costs (0 = all)
+  int min_views = 1;       // fewer valid costs than this: kNoCost
   std::vector<bool> left;  // per neighbour: in the left subset (used when subsets is true)
-  bool subsets = false;   // the lower of the left and right subsets' aggregates
+  bool subsets = false;    // the lower of the left and right subsets' aggregates
 };
 // `costs`: one per neighbour, NaN = that neighbour does not see the window. `scratch` holds at least as many.
 float AggregateCosts(const Aggregation& a, const float* costs, int count, float* scratch);

@@ -91,12 +91,12 @@ class DepthIntegrator {
 
   Delaunay* dt_;
   DepthVoteGeometry geometry_;
-  std::size_t window_frames_;       // map.vote_window_frames
-  std::size_t seen_window_frames_;  // map.seen_window_frames
-  bool track_seen_;               // map.drop_unseen_surface
-  std::deque<VotingView> views_;  // the window, newest last
+  std::size_t window_frames_;          // map.vote_window_frames
+  std::size_t seen_window_frames_;     // map.seen_window_frames
+  bool track_seen_;                    // map.drop_unseen_surface
+  std::deque<VotingView> views_;       // the window, newest last
   std::deque<VotingView> seen_views_;  // the views MarkSeenSurface looks in, newest last (shared with views_)
-  Marks marks_;                   // the running Integrate's
+  Marks marks_;                        // the running Integrate's
   // Scratch, keeping its capacity between frames: the created cells and those in the newest view (~100 k on a
   // street; every live cell, ~650 k on a long drive, when the walk cannot start), which allocated anew (and
   // paged in, and zeroed) every frame cost more than the serial part of the votes.

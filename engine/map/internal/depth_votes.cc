@@ -50,15 +50,16 @@ PixelQuad QuadAround(const DepthView& v, const Eigen::Vector2d& uv) {
   const int u0 = int(std::floor(uv.x())), v0 = int(std::floor(uv.y()));
   if (!(u0 >= 0 && v0 >= 0 && u0 + 1 < v.depth_m.cols && v0 + 1 < v.depth_m.rows)) return quad;
   quad.inside = true;
-  quad.depth_m = {v.depth_m.at<float>(v0, u0), v.depth_m.at<float>(v0, u0 + 1), v.depth_m.at<float>(v0 + 1, u0),
-                  v.depth_m.at<float>(v0 + 1, u0 + 1)};
+  quad.depth_m = {v.depth_m.at<float>(v0, u0), v.depth_m.at<float>(v0, u0 + 1),
+                  v.depth_m.at<float>(v0 + 1, u0), v.depth_m.at<float>(v0 + 1, u0 + 1)};
   quad.a = uv.x() - u0;
   quad.b = uv.y() - v0;
   return quad;
 }
 
 double PixelQuad::InterpolatedDepth() const {
-  const double inverse = (1 - b) * ((1 - a) / depth_m[0] + a / depth_m[1]) + b * ((1 - a) / depth_m[2] + a / depth_m[3]);
+  const double inverse =
+      (1 - b) * ((1 - a) / depth_m[0] + a / depth_m[1]) + b * ((1 - a) / depth_m[2] + a / depth_m[3]);
   return 1.0 / inverse;
 }
 
@@ -68,7 +69,8 @@ VotingView::VotingView(std::shared_ptr<const DepthView> v) : view(std::move(v)) 
   cam_from_world_rotation = cam_from_world.linear();
   cam_from_world_translation = cam_from_world.translation();
   image_area_px = double(view->depth_m.cols) * double(view->depth_m.rows);
-  focal_baseline_m_px = view->intrinsics.fx_px * std::sqrt(view->rays_per_pixel) * view->intrinsics.baseline_m;
+  focal_baseline_m_px =
+      view->intrinsics.fx_px * std::sqrt(view->rays_per_pixel) * view->intrinsics.baseline_m;
 }
 
 VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, const VotingView& view,
@@ -109,7 +111,8 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
   std::array<Eigen::Vector3d, kSamplesPerCell> samples;
   std::array<float, kSamplesPerCell> depths;
   for (int s = 0; s < kSamplesPerCell; ++s) {
-    const Eigen::Vector3d& x = samples[s] = s == 0 ? centroid : Eigen::Vector3d(0.5 * (centroid + cam[s - 1]));
+    const Eigen::Vector3d& x = samples[s] =
+        s == 0 ? centroid : Eigen::Vector3d(0.5 * (centroid + cam[s - 1]));
     if (x.z() <= 0.0) {
       depths[s] = 0.0f;
       continue;
@@ -130,7 +133,7 @@ VoteIncrement VoteCell(const std::array<Eigen::Vector3d, 4>& vertices_world, con
     }
     const double depth_m = depth;
     const double d = range * (depth_m / x.z() - 1.0);  // the sample is d before the pixel's point
-    if (geometry.disparity_sigma_px == 0.0) {  // exact points: the paper's weights
+    if (geometry.disparity_sigma_px == 0.0) {          // exact points: the paper's weights
       if (d > geometry.free_saturation_m) {
         free += 1.0;  // the Gaussian term is below a quarter of a fixed-point unit
       } else if (d > 0.0) {

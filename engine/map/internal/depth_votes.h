@@ -79,15 +79,15 @@ struct VotingView {
   double DepthSigma(double depth_m, double disparity_sigma_px) const {
     return depth_m * depth_m * disparity_sigma_px / focal_baseline_m_px;
   }
-  double image_area_px = 0.0;  // width · height of the view's depth map
+  double image_area_px = 0.0;        // width · height of the view's depth map
   double focal_baseline_m_px = 0.0;  // f·B at full resolution: depth z has disparity f·B / z
 };
 
 // The four pixels of a depth map around continuous pixel coordinates (pixel centres at integers).
 struct PixelQuad {
-  bool inside = false;  // all four pixels lie in the map (else the rest is unset)
+  bool inside = false;             // all four pixels lie in the map (else the rest is unset)
   std::array<float, 4> depth_m{};  // (u0, v0), (u0 + 1, v0), (u0, v0 + 1), (u0 + 1, v0 + 1)
-  double a = 0.0, b = 0.0;  // the coordinates' fractions past (u0, v0)
+  double a = 0.0, b = 0.0;         // the coordinates' fractions past (u0, v0)
   static bool Valid(float depth) { return depth > 0.0f && depth != kFreeToFarRange; }
   bool AllValid() const {
     return inside && Valid(depth_m[0]) && Valid(depth_m[1]) && Valid(depth_m[2]) && Valid(depth_m[3]);

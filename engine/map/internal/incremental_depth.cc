@@ -79,7 +79,8 @@ class ProjectionGrid {
   template <typename F>
   void ForAround(int gu, int gv, F f) const {
     for (int v = std::max(0, gv - 1); v <= std::min(height_ - 1, gv + 1); ++v) {
-      for (int u = std::max(0, gu - 1); u <= std::min(width_ - 1, gu + 1); ++u) f(std::size_t(v) * width_ + u);
+      for (int u = std::max(0, gu - 1); u <= std::min(width_ - 1, gu + 1); ++u)
+        f(std::size_t(v) * width_ + u);
     }
   }
 
@@ -218,7 +219,8 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
         const auto record = points_.find(v->info().id);
         const double sighting_m = record == points_.end() ? 0.0 : record->second.sighting_depth_m;
         if (seen_m < options_.refine_depth_ratio * sighting_m &&
-            std::abs(depth - seen_m) <= band_per_depth2 * sighting_m * sighting_m && Refinable(v->info().id)) {
+            std::abs(depth - seen_m) <= band_per_depth2 * sighting_m * sighting_m &&
+            Refinable(v->info().id)) {
           candidates.push_back({v->info().id, c, gu, gv});
           v->info().stamp = refined_mark;
           continue;
@@ -239,7 +241,9 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
   const bool confirm = options_.confirm_beyond_m > 0.0;
   if (confirm) {
     unconfirmed_.erase(std::remove_if(unconfirmed_.begin(), unconfirmed_.end(),
-                                      [&](const Unconfirmed& u) { return frame_ - u.frame > options_.confirm_window_frames; }),
+                                      [&](const Unconfirmed& u) {
+                                        return frame_ - u.frame > options_.confirm_window_frames;
+                                      }),
                        unconfirmed_.end());
   }
   const std::size_t earlier = unconfirmed_.size();
@@ -275,10 +279,10 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
     // merge_depth_fraction says (at 10 m on KITTI 3 % is 1.2 σ_z: most sightings would become new vertices,
     // each as noisy as one frame).
     const VotingView& view = integrator_.views()[first_view + camera];
-    const double merge_tolerance_m =
-        std::max(options_.merge_depth_fraction * depth,
-                 fuse && in_view ? options_.fuse_gate_sigmas * view.DepthSigma(depth, options_.disparity_sigma_px)
-                                 : 0.0);
+    const double merge_tolerance_m = std::max(
+        options_.merge_depth_fraction * depth,
+        fuse && in_view ? options_.fuse_gate_sigmas * view.DepthSigma(depth, options_.disparity_sigma_px)
+                        : 0.0);
     std::uint32_t target = in_view ? grid.Match(gu, gv, depth, merge_tolerance_m) : kNoId;
     if (target != kNoId) {
       ++result->merged;
@@ -337,7 +341,7 @@ void IncrementalState::ClassifyByProjection(const LabelledCloud& frame, MapUpdat
 }
 
 std::uint32_t IncrementalState::FilterVertex(VertexHandle v, const VotingView& view, MapUpdateResult* result,
-                                            std::vector<PendingVertex>* pending) {
+                                             std::vector<PendingVertex>* pending) {
   const std::uint32_t id = v->info().id;
   PointRecord& record = points_.at(id);
   if (!record.filter.started()) return id;  // placed out of its view: no sighting to start from
@@ -412,13 +416,13 @@ void IncrementalState::RemoveRefined(MapUpdateResult* result) {
   }
   // The cells refilling the holes start empty and uncarved, as an insertion's do, and are voted from every
   // stored view: each removal marks the cells it creates (created_mark_) as CGAL hands them over. A cell a
-  // later removal destroys was marked in vain; its slot, when reused, holds a new cell of that removal, marked
-  // in its turn (tests/engine/map/triangulation_test.cc). One at a time, not CGAL's remove_cluster with a stamp
-  // of the cells around the link before and a pass after: the map's CPU a frame −11 % on KITTI 04 at half
-  // resolution (bench/results/frame-rate.md, "the map's removals one at a time"). The seen bits of the holes'
-  // boundary facets live on in the outer cells.
-  const auto mark_created = boost::make_function_output_iterator(
-      [this](CellHandle c) { c->info().created = created_mark_; });
+  // later removal destroys was marked in vain; its slot, when reused, holds a new cell of that removal,
+  // marked in its turn (tests/engine/map/triangulation_test.cc). One at a time, not CGAL's remove_cluster
+  // with a stamp of the cells around the link before and a pass after: the map's CPU a frame −11 % on KITTI
+  // 04 at half resolution (bench/results/frame-rate.md, "the map's removals one at a time"). The seen bits of
+  // the holes' boundary facets live on in the outer cells.
+  const auto mark_created =
+      boost::make_function_output_iterator([this](CellHandle c) { c->info().created = created_mark_; });
   for (const VertexHandle v : removed) dt_.remove_and_give_new_cells(v, mark_created);
   for (std::uint32_t id : refined_) points_.erase(id);
   const std::size_t refined = refined_.size() - result->vertices_moved - result->vertices_outliers;
@@ -457,10 +461,10 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
   // one is left out. Such a cell is never destroyed, so it is in the region of every later point in its
   // sphere: the points left out are those whose region in the old triangulation held one (a cell of the old
   // triangulation goes iff a new point lies in its sphere), as a pass over the old triangulation before the
-  // insertions would find. A cell created now is uncarved and unsealed: never one. A pinned cell carved across
-  // none of its facets may go: the cells replacing it are uncarved as it was (and pinned where they touch a
-  // frozen vertex), so no surface changes. Without that, frozen vertices on the convex hull, or big sealed
-  // cells, would keep the map from growing (a drive's new ground lies outside the hull).
+  // insertions would find. A cell created now is uncarved and unsealed: never one. A pinned cell carved
+  // across none of its facets may go: the cells replacing it are uncarved as it was (and pinned where they
+  // touch a frozen vertex), so no surface changes. Without that, frozen vertices on the convex hull, or big
+  // sealed cells, would keep the map from growing (a drive's new ground lies outside the hull).
   const auto blocks = [](CellHandle cc) { return IsPinned(cc) && cc->info().CarvedAcrossAny(); };
   std::vector<CellHandle> hole;
   std::vector<Delaunay::Facet> boundary;
@@ -503,8 +507,8 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
       parents.push_back({outside, outside->index(inside), inside->info().free_q, inside->info().matter_q,
                          FacetSeen(inside, f.second)});
     }
-    const VertexHandle v = dt_.insert_in_hole(p, hole.begin(), hole.end(), boundary.front().first,
-                                              boundary.front().second);
+    const VertexHandle v =
+        dt_.insert_in_hole(p, hole.begin(), hole.end(), boundary.front().first, boundary.front().second);
     for (const Parent& parent : parents) {
       CellInfo& info = parent.outside->neighbor(parent.facet)->info();
       info.free_q = parent.free_q;
@@ -517,7 +521,8 @@ void IncrementalState::InsertVerticesInheriting(std::vector<PendingVertex>* pend
   }
 }
 
-void IncrementalState::MergeCoincident(const PendingVertex& pv, VertexHandle existing, MapUpdateResult* result) {
+void IncrementalState::MergeCoincident(const PendingVertex& pv, VertexHandle existing,
+                                       MapUpdateResult* result) {
   if (pv.point_id == kNoId) return;  // a Steiner node on a point: not needed there
   const bool onto_point = !existing->info().steiner;
   for (std::uint32_t& id : result->point_ids) {

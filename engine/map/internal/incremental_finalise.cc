@@ -43,7 +43,8 @@ void IncrementalState::Finalise(MapUpdateResult* result) {
   for (std::uint32_t id : finalised) removed.push_back(points_.at(id).vertex);
   for (LatticeKey node : released_nodes) {
     auto it = steiner_.find(node);
-    if (it == steiner_.end()) continue;  // never inserted: it would have cut into a seam (see DropPinnedConflicts)
+    if (it == steiner_.end())
+      continue;  // never inserted: it would have cut into a seam (see DropPinnedConflicts)
     removed.push_back(it->second);
     steiner_.erase(it);
   }

@@ -230,7 +230,7 @@ void IncrementalState::ClassifyPoints(const LabelledCloud& frame,
 }
 
 std::uint32_t IncrementalState::NewPoint(const LabelledCloud& frame, std::uint32_t i,
-                                        std::vector<PendingVertex>* pending) {
+                                         std::vector<PendingVertex>* pending) {
   const std::uint32_t id = next_point_id_++;
   PointRecord& record = points_[id];
   record.position = frame.positions_world[i];
@@ -264,9 +264,7 @@ void IncrementalState::CollectConflicts(const std::vector<PendingVertex>& pendin
     // (and pinned where they touch a frozen vertex), so no surface changes. Without that, frozen vertices on
     // the convex hull, or big sealed cells, would keep the map from growing (a drive's new ground lies
     // outside the hull).
-    const auto blocks = [&](CellHandle cc) {
-      return IsPinned(cc) && cc->info().CarvedAcrossAny();
-    };
+    const auto blocks = [&](CellHandle cc) { return IsPinned(cc) && cc->info().CarvedAcrossAny(); };
     if (std::any_of(conflict_scratch_.begin(), conflict_scratch_.end(), blocks)) {
       (*conflicts_pinned)[k] = 1;
       continue;
@@ -319,7 +317,8 @@ void IncrementalState::CollectBoundary(std::uint32_t excluded_vertex_mark) {
   for (const CellHandle c : destroyed_) AddVerticesToBoundary(c, mark, excluded_vertex_mark);
 }
 
-void IncrementalState::AddVerticesToBoundary(CellHandle c, std::uint32_t mark, std::uint32_t excluded_vertex_mark) {
+void IncrementalState::AddVerticesToBoundary(CellHandle c, std::uint32_t mark,
+                                             std::uint32_t excluded_vertex_mark) {
   for (int k = 0; k < 4; ++k) {
     const VertexHandle v = c->vertex(k);
     if (dt_.is_infinite(v) || v->info().stamp == mark || v->info().stamp == excluded_vertex_mark) continue;
@@ -387,7 +386,8 @@ std::uint32_t IncrementalState::CollectAffectedRays(std::vector<std::uint32_t>* 
   // A margin against rounding (the walk's own test projects the same vertices the same way).
   for (std::size_t i = first; i < affected->size(); ++i) {
     RayRecord& r = rays_[(*affected)[i]];
-    const double margin = kSpanMarginFraction * (std::abs(r.span_to_m) + std::abs(r.span_from_m)) + kSpanMarginM;
+    const double margin =
+        kSpanMarginFraction * (std::abs(r.span_to_m) + std::abs(r.span_from_m)) + kSpanMarginM;
     r.span_from_m -= margin;
     r.span_to_m += margin;
   }

@@ -58,19 +58,21 @@ class IncrementalState {
   // created from the window of stored views; the manifold carved where a cell's free/matter state changed.
   MapUpdateResult UpdateFromDepth(const LabelledCloud& frame);
   // The steps after the merging: the Steiner nodes around `pending`, their conflict regions, the insertions,
-  // the votes of the cells they create (and, with `newest_view_votes`, of the old cells the newest view sees),
-  // the carving and the finalisation. `nodes`: the lattice nodes already in use by this update.
-  void InsertAndVote(std::vector<PendingVertex>* pending, std::vector<LatticeKey>* nodes, bool newest_view_votes,
-                     MapUpdateResult* result, std::chrono::steady_clock::time_point* lap);
+  // the votes of the cells they create (and, with `newest_view_votes`, of the old cells the newest view
+  // sees), the carving and the finalisation. `nodes`: the lattice nodes already in use by this update.
+  void InsertAndVote(std::vector<PendingVertex>* pending, std::vector<LatticeKey>* nodes,
+                     bool newest_view_votes, MapUpdateResult* result,
+                     std::chrono::steady_clock::time_point* lap);
   // The frame's points that no live vertex explains (see MapOptions::merge_radius_px) go to `pending`; the
   // others add to the support of the vertex they land on.
-  void ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result, std::vector<PendingVertex>* pending);
+  void ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result,
+                            std::vector<PendingVertex>* pending);
   // InsertVertices, each cell the insertion creates starting with the votes of the destroyed cell it was
   // built on (the one inside the hole across its facet opposite the new vertex): what the map knew there.
   // A point whose conflict region holds a pinned cell carved across a facet is not inserted and flagged in
   // `conflicts_pinned` (one entry per pending vertex; DropPinnedConflicts drops it). Counts in
-  // result->cells_destroyed the cells of the triangulation before the pass that it destroys; boundary_ = their
-  // finite vertices.
+  // result->cells_destroyed the cells of the triangulation before the pass that it destroys; boundary_ =
+  // their finite vertices.
   void InsertVerticesInheriting(std::vector<PendingVertex>* pending, MapUpdateResult* result,
                                 std::vector<char>* conflicts_pinned);
   // A pending data point exactly at `existing`: its frame points become that point (or are dropped, on a
@@ -114,9 +116,9 @@ class IncrementalState {
                       MapUpdateResult* result, std::vector<PendingVertex>* pending,
                       std::vector<std::pair<std::uint32_t, std::uint32_t>>* new_rays);
   // destroyed_ = the cells in conflict with `pending`, except for the vertices whose conflict zone holds a
-  // pinned cell: those are flagged in `conflicts_pinned` (one entry per pending vertex). map.visibility: rays,
-  // whose rays through destroyed_ are untraced before the insertions; the depth path finds the same while
-  // inserting (InsertVerticesInheriting).
+  // pinned cell: those are flagged in `conflicts_pinned` (one entry per pending vertex). map.visibility:
+  // rays, whose rays through destroyed_ are untraced before the insertions; the depth path finds the same
+  // while inserting (InsertVerticesInheriting).
   void CollectConflicts(const std::vector<PendingVertex>& pending, std::vector<char>* conflicts_pinned);
   // boundary_ = the finite vertices of destroyed_, except those stamped `excluded_vertex_mark`.
   void CollectBoundary(std::uint32_t excluded_vertex_mark);
@@ -128,8 +130,8 @@ class IncrementalState {
   std::size_t ShrinkNonFree();
   // The live rays listed in destroyed_ (appended to `affected`, marked with the returned mark).
   std::uint32_t CollectAffectedRays(std::vector<std::uint32_t>* affected);
-  // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`, and appends those
-  // it marks (not marked before) to `newly_marked` (may be null).
+  // Marks as created in this update the cells incident to `vertices` not stamped `old_mark`, and appends
+  // those it marks (not marked before) to `newly_marked` (may be null).
   void MarkCreatedCells(const std::vector<VertexHandle>& vertices, std::uint32_t old_mark,
                         std::vector<CellHandle>* newly_marked = nullptr);
   void InsertVertices(std::vector<PendingVertex>* pending, MapUpdateResult* result);
@@ -188,8 +190,8 @@ class IncrementalState {
   std::unordered_map<std::uint32_t, PointRecord> points_;
   std::unordered_map<std::uint32_t, CameraRecord> cameras_;
   std::unordered_map<LatticeKey, VertexHandle> steiner_;
-  // Live point ids by the frame they were last seen in, oldest first (for finalisation by age). An entry whose
-  // frame is not its point's last_seen (seen again since, or gone) is stale and skipped.
+  // Live point ids by the frame they were last seen in, oldest first (for finalisation by age). An entry
+  // whose frame is not its point's last_seen (seen again since, or gone) is stale and skipped.
   struct Arrival {
     std::uint32_t id;
     std::int64_t frame;
@@ -219,13 +221,13 @@ class IncrementalState {
     std::int64_t frame;  // the frame that saw it
   };
   std::vector<Unconfirmed> unconfirmed_;
-  std::vector<std::uint32_t> refined_;       // kDepth: points whose vertex a nearer sighting replaces
-  std::vector<VertexHandle> refined_link_;   // the vertices around the refined ones removed
+  std::vector<std::uint32_t> refined_;      // kDepth: points whose vertex a nearer sighting replaces
+  std::vector<VertexHandle> refined_link_;  // the vertices around the refined ones removed
   std::vector<CellHandle> conflict_scratch_;
   std::vector<VertexHandle> repair_later_;  // vertices ShrinkNonFree leaves to Regrow's repair
-  std::vector<CellHandle> created_cells_;  // kDepth: the cells this update created (CollectCreatedCells)
-  std::vector<CellHandle> newly_seen_;     // kDepth: cells the integrator marked facets of seen
-  std::vector<CellHandle> carve_changed_;  // Regrow: cells whose carving it changed (may repeat touched_)
+  std::vector<CellHandle> created_cells_;   // kDepth: the cells this update created (CollectCreatedCells)
+  std::vector<CellHandle> newly_seen_;      // kDepth: cells the integrator marked facets of seen
+  std::vector<CellHandle> carve_changed_;   // Regrow: cells whose carving it changed (may repeat touched_)
 
   Mesher mesher_;  // the output: live surface, finalised triangles
   MapStatistics counters_;

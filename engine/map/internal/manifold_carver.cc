@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
-
-#include "engine/core/check.h"
 #include <queue>
 #include <unordered_map>
+
+#include "engine/core/check.h"
 
 namespace semap::map_internal {
 namespace {
@@ -68,10 +68,10 @@ bool ManifoldCarver::IsRegular(VertexHandle v) {
   return steps == edges_.size();
 }
 
-// The link of a vertex v is a triangulated sphere; the carved cells around v are a set K of its triangles, and
-// v is regular iff K is empty, the whole sphere or a closed disk (its boundary one simple cycle). Carving a
-// cell c adds one triangle t to K; its three edges are shared with the link triangles of the three neighbours
-// of c across the facets through v. With K regular before and E of those edges already in K:
+// The link of a vertex v is a triangulated sphere; the carved cells around v are a set K of its triangles,
+// and v is regular iff K is empty, the whole sphere or a closed disk (its boundary one simple cycle). Carving
+// a cell c adds one triangle t to K; its three edges are shared with the link triangles of the three
+// neighbours of c across the facets through v. With K regular before and E of those edges already in K:
 //  - E = 3: t was the whole complement of K, K ∪ t is the sphere: regular;
 //  - E = 2: t is glued along two consecutive boundary edges of the disk K: still a disk, regular;
 //  - E = 1: t is glued along one boundary edge; a disk iff the opposite link vertex w of t is not in K
@@ -218,9 +218,7 @@ bool ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
   // Facet-connected components of the carved cells around v (through facets incident to v).
   const int n = int(star_.size());
   component_.assign(n, -1);
-  auto index_of = [&](CellHandle c) {
-    return int(std::find(star_.begin(), star_.end(), c) - star_.begin());
-  };
+  auto index_of = [&](CellHandle c) { return int(std::find(star_.begin(), star_.end(), c) - star_.begin()); };
   std::vector<std::int64_t> component_excess;
   for (int s = 0; s < n; ++s) {
     if (!star_[s]->info().carved || component_[s] >= 0) continue;
@@ -246,7 +244,8 @@ bool ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
   SEMAP_ASSERT(!component_excess.empty(), "a vertex without carved cells is regular");
   // A component holding a pinned cell cannot be given up: it is the one kept, and with two such
   // components keeping is impossible.
-  int best = int(std::max_element(component_excess.begin(), component_excess.end()) - component_excess.begin());
+  int best =
+      int(std::max_element(component_excess.begin(), component_excess.end()) - component_excess.begin());
   int pinned_components = 0;
   {
     std::vector<char> has_pinned(component_excess.size(), 0);
@@ -263,7 +262,8 @@ bool ManifoldCarver::RepairStep(VertexHandle v, bool allow_fill, std::vector<Ver
   if (component_excess.size() > 1 && pinned_components <= 1) {
     keep_cost = 0;
     for (int s = 0; s < n; ++s) {
-      if (component_[s] >= 0 && component_[s] != best) keep_cost += std::max<std::int64_t>(excess(star_[s]), 0);
+      if (component_[s] >= 0 && component_[s] != best)
+        keep_cost += std::max<std::int64_t>(excess(star_[s]), 0);
     }
   }
   std::int64_t fill_cost = allow_fill ? 0 : kNever;
@@ -310,18 +310,20 @@ void ManifoldCarver::SortByPosition(std::vector<VertexHandle>* vertices) {
   // VertexHandle's operator<, which compares creation time stamps read from the vertices). The vertices of
   // ~15 k carved cells are ~50 k handles of ~6 k vertices a frame; their sort by a comparison that read the
   // coordinates from the vertices took 1.7 % of a run's CPU (200 urban frames, half resolution).
-  std::sort(vertices->begin(), vertices->end(), [](VertexHandle a, VertexHandle b) {
-    return std::less<const void*>()(&*a, &*b);
-  });
+  std::sort(vertices->begin(), vertices->end(),
+            [](VertexHandle a, VertexHandle b) { return std::less<const void*>()(&*a, &*b); });
   vertices->erase(std::unique(vertices->begin(), vertices->end()), vertices->end());
   std::vector<PositionKey>& keys = position_keys_;
   keys.clear();
-  for (const VertexHandle v : *vertices) keys.push_back({{v->point().x(), v->point().y(), v->point().z()}, v});
-  std::sort(keys.begin(), keys.end(), [](const PositionKey& a, const PositionKey& b) { return a.xyz < b.xyz; });
+  for (const VertexHandle v : *vertices)
+    keys.push_back({{v->point().x(), v->point().y(), v->point().z()}, v});
+  std::sort(keys.begin(), keys.end(),
+            [](const PositionKey& a, const PositionKey& b) { return a.xyz < b.xyz; });
   for (std::size_t i = 0; i < keys.size(); ++i) (*vertices)[i] = keys[i].vertex;
 }
 
-std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells, std::vector<CellHandle>* changed,
+std::size_t ManifoldCarver::CarveAndRepair(const std::vector<CellHandle>& cells,
+                                           std::vector<CellHandle>* changed,
                                            const std::vector<VertexHandle>& also_repair) {
   std::vector<VertexHandle> vertices = also_repair;
   std::size_t carved = 0;

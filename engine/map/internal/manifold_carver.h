@@ -3,8 +3,8 @@
 
 #include <array>
 #include <cstdint>
-#include <utility>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "engine/map/internal/triangulation.h"
@@ -86,11 +86,11 @@ class ManifoldCarver {
   Delaunay* dt_;
   int max_passes_;
   std::int64_t fill_cost_q_;
-  std::unordered_set<const void*> settled_;                   // cells changed by the running Repair
+  std::unordered_set<const void*> settled_;  // cells changed by the running Repair
   std::unordered_set<const void*> regular_;  // vertices the running Repair found regular, unchanged since
-  std::vector<CellHandle> star_;                              // scratch: a vertex's cells
-  std::vector<int> component_;                                // scratch: component of each star cell
-  std::vector<CellHandle> cells_;                             // scratch
+  std::vector<CellHandle> star_;             // scratch: a vertex's cells
+  std::vector<int> component_;               // scratch: component of each star cell
+  std::vector<CellHandle> cells_;            // scratch
   std::vector<std::pair<VertexHandle, VertexHandle>> edges_;  // scratch: link edges
   std::vector<VertexHandle> ends_;                            // scratch
   struct PositionKey {

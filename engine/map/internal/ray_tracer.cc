@@ -55,9 +55,11 @@ bool ComputeRayVotes(const Delaunay& dt, VertexHandle target, const Eigen::Vecto
   auto skip = [only_created](CellHandle cell) {
     return only_created != 0 && cell->info().created != only_created;
   };
-  // Walking towards the camera (free votes) the projections decrease; behind the point (matter) they increase.
+  // Walking towards the camera (free votes) the projections decrease; behind the point (matter) they
+  // increase.
   auto before_span = [&](CellHandle cell) {
-    return span != nullptr && only_created != 0 && ProjectedRange(cell, camera, direction).second < span->from_m;
+    return span != nullptr && only_created != 0 &&
+           ProjectedRange(cell, camera, direction).second < span->from_m;
   };
   auto after_span = [&](CellHandle cell) {
     return span != nullptr && only_created != 0 && ProjectedRange(cell, camera, direction).first > span->to_m;

@@ -41,7 +41,7 @@ class HoleFinder {
         const auto it = explored_.find(key);
         if (it != explored_.end()) {
           if (it->second == exploration_) continue;  // already in this set
-          return false;  // part of a set explored before that was no hole
+          return false;                              // part of a set explored before that was no hole
         }
         Add(g, key);
         if (int(hole_.size()) > max_facets_) return false;

@@ -114,7 +114,8 @@ std::vector<std::pair<VertexHandle, VertexHandle>> WedgeBounds(const Delaunay& d
   std::vector<CellHandle> ring;
   const Delaunay::Cell_circulator start = dt.incident_cells(c, i, j);
   Delaunay::Cell_circulator it = start;
-  do ring.push_back(it); while (++it != start);
+  do ring.push_back(it);
+  while (++it != start);
   const std::size_t m = ring.size();
   std::size_t first_uncarved = m;
   for (std::size_t k = 0; k < m && first_uncarved == m; ++k) {
@@ -204,12 +205,13 @@ std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v,
   return copies;
 }
 
-void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets, const std::vector<VertexHandle>& open,
-                  const std::vector<VertexHandle>& irregular, const FanCopies* frozen) {
+void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets,
+                  const std::vector<VertexHandle>& open, const std::vector<VertexHandle>& irregular,
+                  const FanCopies* frozen) {
   if (frozen && !frozen->empty()) {
     for (SurfaceFacet& f : *facets) {
-      const bool any_frozen = f.vertices[0]->info().frozen || f.vertices[1]->info().frozen ||
-                              f.vertices[2]->info().frozen;
+      const bool any_frozen =
+          f.vertices[0]->info().frozen || f.vertices[1]->info().frozen || f.vertices[2]->info().frozen;
       if (!any_frozen) continue;
       const auto it = frozen->find(f.id);
       if (it == frozen->end()) continue;

@@ -31,8 +31,8 @@ inline std::uint64_t CopyKey(std::uint64_t vertex_key, std::uint8_t copy) {
   return vertex_key | (std::uint64_t(copy) << 32);
 }
 
-// The id under which the output names copy `copy` of vertex `v`: its CopyKey, with the vertex's output version
-// (VertexInfo::output_version) above, so that a vertex the output moved comes back under a new id.
+// The id under which the output names copy `copy` of vertex `v`: its CopyKey, with the vertex's output
+// version (VertexInfo::output_version) above, so that a vertex the output moved comes back under a new id.
 inline std::uint64_t OutputKey(VertexHandle v, std::uint8_t copy) {
   constexpr int kVersionShift = 40;  // above the copy's 8 bits at 32, below the Steiner bit at 63
   return CopyKey(VertexKey(v), copy) | (std::uint64_t(v->info().output_version) << kVersionShift);
@@ -78,8 +78,9 @@ std::vector<std::uint8_t> FanRuns(const Delaunay& dt, VertexHandle v,
 // Sets SurfaceFacet::copy: at the vertices of `open` (those of facets left out: they can pinch) and of
 // `irregular` (vertices the carver could not make regular, beside a seam, and their neighbours) from their
 // runs in `facets`, and at frozen vertices from `frozen` (may be null without them).
-void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets, const std::vector<VertexHandle>& open,
-                  const std::vector<VertexHandle>& irregular, const FanCopies* frozen);
+void AssignCopies(const Delaunay& dt, std::vector<SurfaceFacet>* facets,
+                  const std::vector<VertexHandle>& open, const std::vector<VertexHandle>& irregular,
+                  const FanCopies* frozen);
 
 // Whether the output leaves `f` out.
 bool LeftOut(const SurfaceFacet& f, const EmitRule& rule);
@@ -93,9 +94,9 @@ inline bool NeighbourCarved(CellHandle c, int i) {
   return n->info().IsSealed() ? n->info().CarvedAcross(n->index(c)) : n->info().carved;
 }
 
-// Whether the facet of finite `c` opposite vertex `i` is a surface facet to be taken from `c`, so that each is
-// taken once: from its carved side, or from its finite side when the carved side is infinite (possible beside
-// a sealed hole at the hull; OrientedSurfaceFacet flips it).
+// Whether the facet of finite `c` opposite vertex `i` is a surface facet to be taken from `c`, so that each
+// is taken once: from its carved side, or from its finite side when the carved side is infinite (possible
+// beside a sealed hole at the hull; OrientedSurfaceFacet flips it).
 inline bool TakenFrom(const Delaunay& dt, CellHandle c, int i) {
   const bool carved_here = c->info().CarvedAcross(i);
   if (!carved_here && !dt.is_infinite(c->neighbor(i))) return false;  // taken from the finite carved side

@@ -38,7 +38,7 @@ struct VertexInfo {
   // Bumped each time the output moves the vertex to its fused estimate (map.fuse_output_sigmas): part of
   // its output id, so that a mesh delta re-sends its triangles at the new position.
   std::uint16_t output_version = 0;
-  std::uint32_t stamp = 0;  // scratch mark for set membership during one update
+  std::uint32_t stamp = 0;     // scratch mark for set membership during one update
   PointAttributes attributes;  // fits in the padding: VertexInfo stays 16 bytes
 };
 
@@ -54,7 +54,7 @@ struct RayRef {
 struct CellInfo {
   std::int64_t free_q = 0;
   std::int64_t matter_q = 0;
-  bool carved = false;        // inside the manifold free-space region
+  bool carved = false;  // inside the manifold free-space region
   // Bit i: a view saw the facet opposite vertex i as a surface (its centroid at the depth of the pixel it
   // projects to; map.visibility: depth). Set on both cells of the facet, so that it survives the insertions
   // that rebuild one of them.

@@ -1,11 +1,10 @@
 #include "engine/odometry/internal/stereo_pose_refiner.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Geometry>
 
 namespace semap::odometry_internal {
 namespace {
@@ -42,7 +41,8 @@ Projection Project(const StereoCalibration& c, const Eigen::Vector3d& p, const E
                    double right_u_px, double disparity_offset_px) {
   const double inv_z = 1.0 / p.z();
   Projection out;
-  out.residual_px << c.fx_px * p.x() * inv_z + c.cx_px - left_px.x(), c.fy_px * p.y() * inv_z + c.cy_px - left_px.y(),
+  out.residual_px << c.fx_px * p.x() * inv_z + c.cx_px - left_px.x(),
+      c.fy_px * p.y() * inv_z + c.cy_px - left_px.y(),
       c.fx_px * (p.x() - c.baseline_m) * inv_z + c.cx_px + disparity_offset_px - right_u_px;
   out.d_residual_d_p << c.fx_px * inv_z, 0.0, -c.fx_px * p.x() * inv_z * inv_z,  //
       0.0, c.fy_px * inv_z, -c.fy_px * p.y() * inv_z * inv_z,                    //
@@ -117,16 +117,19 @@ DisparityOffset Shifted(DisparityOffset offset, int term, double delta) {
 
 // The residuals with their derivatives by the first `terms` terms of the offset in columns 7 and 8 (central
 // differences).
-MatchResiduals ResidualsWithOffset(const StereoCalibration& c, const StereoMatch& m, const Pose3d& cur_from_ref,
-                                   double min_disparity_px, const DisparityOffset& offset, int terms) {
+MatchResiduals ResidualsWithOffset(const StereoCalibration& c, const StereoMatch& m,
+                                   const Pose3d& cur_from_ref, double min_disparity_px,
+                                   const DisparityOffset& offset, int terms) {
   MatchResiduals out = Residuals(c, m, cur_from_ref, min_disparity_px, offset);
   if (out.rows == 0) return out;
   for (int t = 0; t < terms; ++t) {
-    const MatchResiduals plus = Residuals(c, m, cur_from_ref, min_disparity_px, Shifted(offset, t, kOffsetStepPx));
+    const MatchResiduals plus =
+        Residuals(c, m, cur_from_ref, min_disparity_px, Shifted(offset, t, kOffsetStepPx));
     const MatchResiduals minus =
         Residuals(c, m, cur_from_ref, min_disparity_px, Shifted(offset, t, -kOffsetStepPx));
     if (plus.rows != out.rows || minus.rows != out.rows) continue;  // a side at its limit: no derivative
-    out.j.col(6 + t).head(out.rows) = (plus.r.head(out.rows) - minus.r.head(out.rows)) / (2.0 * kOffsetStepPx);
+    out.j.col(6 + t).head(out.rows) =
+        (plus.r.head(out.rows) - minus.r.head(out.rows)) / (2.0 * kOffsetStepPx);
   }
   return out;
 }
@@ -134,7 +137,8 @@ MatchResiduals ResidualsWithOffset(const StereoCalibration& c, const StereoMatch
 // The information of term `t` of a 2×2 information matrix with the other term marginalised (when it has any).
 double MarginalInformation(const Eigen::Matrix2d& info, int t) {
   const int other = 1 - t;
-  return info(other, other) > 0.0 ? info(t, t) - info(t, other) * info(t, other) / info(other, other) : info(t, t);
+  return info(other, other) > 0.0 ? info(t, t) - info(t, other) * info(t, other) / info(other, other)
+                                  : info(t, t);
 }
 
 // The information on the first `terms` offset terms (entries 7 and 8 of the normal matrix `h`) left once the
@@ -161,9 +165,9 @@ Eigen::Matrix2d OffsetInformation(const Matrix8& h, int terms) {
 
 }  // namespace
 
-RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std::vector<StereoMatch>& matches,
-                                 const Pose3d& cur_from_ref, const std::vector<bool>& start_inliers,
-                                 const RefinerOptions& options) {
+RefinedMotion RefineStereoMotion(const StereoCalibration& calibration,
+                                 const std::vector<StereoMatch>& matches, const Pose3d& cur_from_ref,
+                                 const std::vector<bool>& start_inliers, const RefinerOptions& options) {
   RefinedMotion out;
   out.cur_from_ref = cur_from_ref;
   out.disparity_offset = options.disparity_offset;
@@ -210,7 +214,8 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
       last_h = h;
       Pose3d delta = Pose3d::Identity();
       const double angle = step.segment<3>(3).norm();
-      if (angle > 0.0) delta.linear() = Eigen::AngleAxisd(angle, step.segment<3>(3) / angle).toRotationMatrix();
+      if (angle > 0.0)
+        delta.linear() = Eigen::AngleAxisd(angle, step.segment<3>(3) / angle).toRotationMatrix();
       delta.translation() = step.head<3>();
       out.cur_from_ref = delta * out.cur_from_ref;
       out.disparity_offset.constant_px += step(6);
@@ -222,8 +227,8 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
     double sum_sq = 0.0;
     int rows = 0;
     for (size_t i = 0; i < matches.size(); ++i) {
-      const MatchResiduals res =
-          Residuals(calibration, matches[i], out.cur_from_ref, options.min_disparity_px, out.disparity_offset);
+      const MatchResiduals res = Residuals(calibration, matches[i], out.cur_from_ref,
+                                           options.min_disparity_px, out.disparity_offset);
       out.inliers[i] = res.rows > 0 && res.max_abs_px() <= options.inlier_threshold_px;
       if (out.inliers[i]) {
         ++out.num_inliers;
@@ -234,15 +239,16 @@ RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std
     out.rms_px = rows > 0 ? std::sqrt(sum_sq / rows) : 0.0;
   }
   if (terms > 0) {
-    // The terms' information with the pose marginalised, in units of the residuals' variance (the Gauss-Newton
-    // normal matrix holds it per unit weight). No information (no motion, or only a rotation: the depths do
-    // not change with it): infinite standard deviation.
+    // The terms' information with the pose marginalised, in units of the residuals' variance (the
+    // Gauss-Newton normal matrix holds it per unit weight). No information (no motion, or only a rotation:
+    // the depths do not change with it): infinite standard deviation.
     const double variance = out.rms_px * out.rms_px;
     const Eigen::Matrix2d info = OffsetInformation(last_h, terms);
     out.offset_information = out.num_inliers > 0 && variance > 0.0 ? Eigen::Matrix2d(info / variance) : info;
     const double own = MarginalInformation(info, 0);
-    out.disparity_offset_sigma_px =
-        own > 0.0 && out.num_inliers > 0 ? out.rms_px / std::sqrt(own) : std::numeric_limits<double>::infinity();
+    out.disparity_offset_sigma_px = own > 0.0 && out.num_inliers > 0
+                                        ? out.rms_px / std::sqrt(own)
+                                        : std::numeric_limits<double>::infinity();
   }
   return out;
 }

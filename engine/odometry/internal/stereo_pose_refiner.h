@@ -2,9 +2,8 @@
 // API). Every residual is in pixels of one of the four images, so that one threshold fits them all.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "engine/core/calibration.h"
 
@@ -21,9 +20,9 @@ struct StereoMatch {
 };
 
 struct RefinerOptions {
-  int iterations = 8;            // Gauss-Newton steps per round
-  int rounds = 3;                // rounds of (steps, then inliers re-chosen from all matches)
-  double huber_px = 1.0;         // Huber kernel width of each residual, px
+  int iterations = 8;                // Gauss-Newton steps per round
+  int rounds = 3;                    // rounds of (steps, then inliers re-chosen from all matches)
+  double huber_px = 1.0;             // Huber kernel width of each residual, px
   double inlier_threshold_px = 1.5;  // largest residual of an inlier, px
   double min_disparity_px = 1.0;     // a side below this disparity is not triangulated
   // Added to every measured disparity before triangulation: true = measured + offset at the pixel's row (a
@@ -38,7 +37,7 @@ struct RefinedMotion {
   Pose3d cur_from_ref = Pose3d::Identity();
   std::vector<bool> inliers;  // per match
   int num_inliers = 0;
-  double rms_px = 0.0;  // of the inliers' residuals
+  double rms_px = 0.0;               // of the inliers' residuals
   DisparityOffset disparity_offset;  // the offset used (estimated when asked)
   // When estimated: the information on the estimated terms (constant, per row) with the pose marginalised,
   // in 1/px² (unestimated terms: 0); and the constant's standard deviation (infinite when the motion cannot
@@ -51,8 +50,8 @@ struct RefinedMotion {
 // reference frame's triangulated features into the current left and right images and of the current ones
 // into the reference images (both directions, so that the depth noise of either frame averages out).
 // `start_inliers` (per match) are used in the first round; later rounds re-choose them by the threshold.
-RefinedMotion RefineStereoMotion(const StereoCalibration& calibration, const std::vector<StereoMatch>& matches,
-                                 const Pose3d& cur_from_ref, const std::vector<bool>& start_inliers,
-                                 const RefinerOptions& options);
+RefinedMotion RefineStereoMotion(const StereoCalibration& calibration,
+                                 const std::vector<StereoMatch>& matches, const Pose3d& cur_from_ref,
+                                 const std::vector<bool>& start_inliers, const RefinerOptions& options);
 
 }  // namespace semap::odometry_internal

@@ -11,7 +11,8 @@ namespace semap::pipeline_internal {
 class FramePacer {
  public:
   // `start_s`: when the first frame is due, on the clock; `speed` > 0 (2 = twice the sensor's rate).
-  FramePacer(double start_s, double rate_hz, double speed) : start_s_(start_s), rate_hz_(rate_hz), speed_(speed) {}
+  FramePacer(double start_s, double rate_hz, double speed)
+      : start_s_(start_s), rate_hz_(rate_hz), speed_(speed) {}
 
   // The due time of the next frame, whose time stamp is `timestamp_s`.
   double NextDueS(double timestamp_s) {

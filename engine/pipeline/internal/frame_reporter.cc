@@ -14,7 +14,12 @@ double MsFromTo(double from_s, double to_s) { return 1000.0 * (to_s - from_s); }
 
 FrameReporter::FrameReporter(const std::vector<PipelineSink*>& sinks, const PipelineClock& clock,
                              Clock::time_point start, bool realtime, bool segment, PipelineSummary* summary)
-    : sinks_(sinks), clock_(clock), start_(start), realtime_(realtime), segment_(segment), summary_(summary) {}
+    : sinks_(sinks),
+      clock_(clock),
+      start_(start),
+      realtime_(realtime),
+      segment_(segment),
+      summary_(summary) {}
 
 // A sink that throws (e.g. its output folder became unwritable) does not stop the run: the error is recorded
 // in the summary and the sink is called again for the next frames.
@@ -40,7 +45,8 @@ void FrameReporter::SideEvents(const std::vector<SideEvent>& events,
   }
   for (const SideEvent& e : events) {
     if (e.dropped) {
-      ForEachSink([&](PipelineSink& s) { s.OnFrameDropped(e.frame_id, e.timestamp_s, DropReasonName(*e.dropped)); });
+      ForEachSink(
+          [&](PipelineSink& s) { s.OnFrameDropped(e.frame_id, e.timestamp_s, DropReasonName(*e.dropped)); });
     } else {
       ++stats_.frames_failed;
       ForEachSink([&](PipelineSink& s) { s.OnFrameError(e.frame_id, e.stage, e.what); });
@@ -76,7 +82,8 @@ void FrameReporter::AddStageTimes(const Item& item, const QueueSizes& queues) {
     }
   }
   if (segment_) AddStep(kLabelWaitStepName, item.label_wait_ms);
-  for (const StepTime& step : item.update.steps) AddStep(std::string(kStageNames[kMap]) + "." + step.name, step.ms);
+  for (const StepTime& step : item.update.steps)
+    AddStep(std::string(kStageNames[kMap]) + "." + step.name, step.ms);
 }
 
 void FrameReporter::AddStep(const std::string& name, double ms) {

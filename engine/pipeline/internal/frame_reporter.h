@@ -22,7 +22,8 @@ class FrameReporter {
                 bool realtime, bool segment, PipelineSummary* summary);
 
   // Frames dropped or failed before the stages, and the drop counts by reason so far (DropReason's order).
-  void SideEvents(const std::vector<SideEvent>& events, const std::array<std::int64_t, kNumDropReasons>& dropped);
+  void SideEvents(const std::vector<SideEvent>& events,
+                  const std::array<std::int64_t, kNumDropReasons>& dropped);
   // An item the map handed on, with the queues as they are now.
   void Frame(Item& item, const QueueSizes& queues);
 

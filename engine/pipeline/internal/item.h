@@ -57,7 +57,7 @@ struct ClockTimes {
 struct Item {
   std::int64_t frame_id = -1;
   double timestamp_s = 0.0;
-  std::int64_t seq = 0;  // position in the stream of frames the depth workers took
+  std::int64_t seq = 0;          // position in the stream of frames the depth workers took
   std::unique_ptr<Frame> frame;  // until the depth stage
   // With a segment stage: the labels of this frame's keyframe (until the depth stage), whether the frame is
   // a keyframe itself, the segmenter's time on it and the depth worker's wait for the labels.

@@ -24,8 +24,9 @@ std::string PoseProblem(const Pose3d& pose, double timestamp_s, const std::optio
   const double moved_m = (pose.translation() - last->position).norm();
   if (moved_m <= max_speed_mps * dt_s) return "";
   char text[256];
-  std::snprintf(text, sizeof(text), "pose jumps %.1f m in %.2f s since frame %lld (%.0f m/s > max_speed_mps %.0f)",
-                moved_m, dt_s, static_cast<long long>(last->frame_id), moved_m / dt_s, max_speed_mps);
+  std::snprintf(text, sizeof(text),
+                "pose jumps %.1f m in %.2f s since frame %lld (%.0f m/s > max_speed_mps %.0f)", moved_m, dt_s,
+                static_cast<long long>(last->frame_id), moved_m / dt_s, max_speed_mps);
   return text;
 }
 

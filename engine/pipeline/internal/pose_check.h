@@ -1,11 +1,10 @@
 // Whether a frame's pose can go into the map: the reader thread's check of each frame's pose.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <optional>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "engine/core/frame.h"
 

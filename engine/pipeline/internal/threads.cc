@@ -7,7 +7,6 @@
 
 #include <cerrno>
 #include <chrono>
-
 #include <opencv2/core/utility.hpp>
 
 #include "engine/core/parallel.h"

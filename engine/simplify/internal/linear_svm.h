@@ -5,8 +5,9 @@
 // second-order working-set selection, stopping when the maximal KKT violation is below `epsilon` or after
 // `max_iterations` passes, and ρ from the free support vectors as libsvm computes it. Written for PS's
 // small problems (at most ps_svm_max_samples points): no kernel cache, every step O(n) on the points
-// themselves, no allocation beyond the per-point arrays; libsvm's shrinking (points at a bound that no working
-// set can pick leave the scans; the end is judged on every point). Deterministic; thread-safe (no state).
+// themselves, no allocation beyond the per-point arrays; libsvm's shrinking (points at a bound that no
+// working set can pick leave the scans; the end is judged on every point). Deterministic; thread-safe (no
+// state).
 #pragma once
 
 #include <Eigen/Core>
@@ -16,9 +17,9 @@
 namespace semap::simplify {
 
 struct LinearSvmOptions {
-  double c = 10.0;             // soft-margin C
-  double epsilon = 1e-5;       // stop when the maximal KKT violation is below this
-  int max_iterations = 2000;   // pair updates at most
+  double c = 10.0;            // soft-margin C
+  double epsilon = 1e-5;      // stop when the maximal KKT violation is below this
+  int max_iterations = 2000;  // pair updates at most
 };
 
 struct LinearSvm {
@@ -28,7 +29,7 @@ struct LinearSvm {
 };
 
 // Trains on `x` with labels `positive` (same size). nullopt with fewer than two points or one class only.
-std::optional<LinearSvm> TrainLinearSvm(const std::vector<Eigen::Vector2d>& x, const std::vector<int>& positive,
-                                        const LinearSvmOptions& options);
+std::optional<LinearSvm> TrainLinearSvm(const std::vector<Eigen::Vector2d>& x,
+                                        const std::vector<int>& positive, const LinearSvmOptions& options);
 
 }  // namespace semap::simplify

@@ -67,7 +67,8 @@ void TimestampsFromFile(const std::vector<double>& times_s, const std::filesyste
   const std::int64_t needed = scan->frames.back().id + 1;
   if (static_cast<std::int64_t>(times_s.size()) < needed) {
     throw FileError(path, "has " + std::to_string(times_s.size()) + " " + noun + " but frame " +
-                              std::to_string(scan->frames.back().id) + " needs line " + std::to_string(needed));
+                              std::to_string(scan->frames.back().id) + " needs line " +
+                              std::to_string(needed));
   }
   scan->timestamps_s.clear();
   const double t0 = times_s[scan->all_frames.front().id];

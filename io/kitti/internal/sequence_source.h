@@ -23,8 +23,8 @@ struct FrameEntry {
 struct SequenceScan {
   SequenceInfo info;
   std::filesystem::path right_dir;
-  std::filesystem::path velodyne_dir;  // empty = not read
-  std::filesystem::path labels_dir;    // empty = none
+  std::filesystem::path velodyne_dir;      // empty = not read
+  std::filesystem::path labels_dir;        // empty = none
   std::filesystem::path calibration_file;  // where info.calibration was read, and its key (for errors)
   std::string calibration_key;
   int imread_flags = 0;                // cv::IMREAD_COLOR or cv::IMREAD_GRAYSCALE

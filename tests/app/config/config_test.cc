@@ -1,12 +1,12 @@
 #include "app/config/config.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <set>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "tests/common/test_data.h"
 
@@ -65,7 +65,8 @@ TEST(Config, NonFiniteNumbersAreRefusedNamingTheKey) {
     EXPECT_NE(override_error.find("'map.sigma_free_m': must be a finite number"), std::string::npos)
         << override_error;
     const std::string file_error = ErrorOf(WriteYaml(std::string("depth:\n  max_depth_m: ") + value + "\n"));
-    EXPECT_NE(file_error.find("'depth.max_depth_m': must be a finite number"), std::string::npos) << file_error;
+    EXPECT_NE(file_error.find("'depth.max_depth_m': must be a finite number"), std::string::npos)
+        << file_error;
   }
 }
 
@@ -169,7 +170,8 @@ void ExpectEveryMemberDescribedOnce(Options& options, const std::string& name) {
     covered_to = f.end;
   }
   EXPECT_LE(covered_to, struct_end) << name;
-  EXPECT_LT(struct_end - covered_to, kNarrowerThanAnyWideMember) << name << ": an undescribed member at the end";
+  EXPECT_LT(struct_end - covered_to, kNarrowerThanAnyWideMember)
+      << name << ": an undescribed member at the end";
 }
 
 TEST(Config, EveryOptionsStructDescribesEachMemberOnce) {

@@ -1,9 +1,9 @@
 #include "app/eval/mesh_evaluation.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <limits>
-
-#include <gtest/gtest.h>
 
 #include "engine/core/check.h"
 #include "io/kitti/ground_truth.h"
@@ -29,8 +29,8 @@ Mesh MeshFromDisparity(const cv::Mat& disparity, const StereoCalibration& cal, i
   };
   for (int y = 0; y + 1 < disparity.rows; ++y) {
     for (int x = 0; x + 1 < std::min(disparity.cols, keep_columns_below); ++x) {
-      const float d[4] = {disparity.at<float>(y, x), disparity.at<float>(y, x + 1), disparity.at<float>(y + 1, x),
-                          disparity.at<float>(y + 1, x + 1)};
+      const float d[4] = {disparity.at<float>(y, x), disparity.at<float>(y, x + 1),
+                          disparity.at<float>(y + 1, x), disparity.at<float>(y + 1, x + 1)};
       const float lo = *std::min_element(d, d + 4), hi = *std::max_element(d, d + 4);
       if (lo <= 0.0f || hi > 1.05f * lo) continue;
       const auto a = vertex(x, y), b = vertex(x + 1, y), c = vertex(x, y + 1), e = vertex(x + 1, y + 1);

@@ -64,7 +64,7 @@ TEST(OdometryReader, ReplacesThePosesWithTheEstimate) {
   EXPECT_EQ(figures[5].name, "odometry_disparity_offset_px");
   EXPECT_EQ(figures[6].name, "odometry_disparity_offset_per_row_px");
   EXPECT_EQ(figures[7].name, "odometry_keyframe");
-  EXPECT_EQ(figures[0].value, 1.0);  // tracked
+  EXPECT_EQ(figures[0].value, 1.0);   // tracked
   EXPECT_GT(figures[2].value, 50.0);  // inliers
   EXPECT_TRUE(log->Figures(99).empty());
 }
@@ -113,7 +113,8 @@ TEST(OdometryReader, AFailedFrameThrowsAndTheNextIsTracked) {
     reader.Next();
     FAIL() << "a blank frame was handed on";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("frame 2: visual odometry lost track"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("frame 2: visual odometry lost track"), std::string::npos)
+        << e.what();
   }
   const std::optional<Frame> next = reader.Next();
   ASSERT_TRUE(next && next->world_from_cam);
@@ -134,7 +135,7 @@ TEST(OdometryPlan, FollowsInputPoses) {
   EXPECT_TRUE(PlanOdometry(c, true, false, "seq").replace_poses);
   c.pose_input.poses = PoseSource::kFile;
   EXPECT_FALSE(PlanOdometry(c, true, false, "seq").replace_poses);
-  EXPECT_THROW(PlanOdometry(c, true, true, "seq"), ConfigError);   // a raw drive has OXTS, not a pose file
+  EXPECT_THROW(PlanOdometry(c, true, true, "seq"), ConfigError);  // a raw drive has OXTS, not a pose file
   EXPECT_THROW(PlanOdometry(c, false, false, "seq"), ConfigError);
   c.pose_input.poses = PoseSource::kOxts;
   EXPECT_NO_THROW(PlanOdometry(c, true, true, "seq"));

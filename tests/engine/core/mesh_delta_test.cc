@@ -1,10 +1,10 @@
 #include "engine/core/mesh_delta.h"
 
+#include <gtest/gtest.h>
+
 #include <map>
 #include <random>
 #include <set>
-
-#include <gtest/gtest.h>
 
 namespace semap {
 namespace {
@@ -97,9 +97,11 @@ TEST(MeshDiffer, DeltasNameTheFinalisedTriangles) {
   const MeshDelta second = differ.Update(1, MakeMesh({{4, 5, 6}}), MakeMesh({{1, 2, 3}, {7, 8, 9}}));
   ASSERT_EQ(second.added_triangle_ids.size(), 1u);
   EXPECT_TRUE(second.removed_triangle_ids.empty());
-  const std::set<TriangleId> finalised(second.finalised_triangle_ids.begin(), second.finalised_triangle_ids.end());
-  const TriangleId id_123 = first.added_triangles[0] == std::array<VertexId, 3>{1, 2, 3} ? first.added_triangle_ids[0]
-                                                                                         : first.added_triangle_ids[1];
+  const std::set<TriangleId> finalised(second.finalised_triangle_ids.begin(),
+                                       second.finalised_triangle_ids.end());
+  const TriangleId id_123 = first.added_triangles[0] == std::array<VertexId, 3>{1, 2, 3}
+                                ? first.added_triangle_ids[0]
+                                : first.added_triangle_ids[1];
   EXPECT_EQ(finalised, (std::set<TriangleId>{id_123, second.added_triangle_ids[0]}));
 }
 
@@ -137,7 +139,8 @@ TEST(MeshDeltaProperty, AccumulatedDeltasEqualLiveMeshPlusFrozen) {
       expected.insert(expected.end(), all_frozen.begin(), all_frozen.end());
       const Mesh got = acc.ToMesh();
       ASSERT_TRUE(got.IsConsistent());
-      ASSERT_EQ(TrianglesOf(got), TrianglesOf(MakeMesh(expected).mesh)) << "trial " << trial << " step " << step;
+      ASSERT_EQ(TrianglesOf(got), TrianglesOf(MakeMesh(expected).mesh))
+          << "trial " << trial << " step " << step;
       // Labels travel with their vertices.
       for (size_t i = 0; i < got.vertices.size(); ++i) {
         ASSERT_EQ(got.labels[i], static_cast<Label>(static_cast<VertexId>(got.vertices[i].x()) % 20));

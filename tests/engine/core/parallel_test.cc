@@ -1,14 +1,14 @@
 #include "engine/core/parallel.h"
 
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
 #include <atomic>
 #include <chrono>
 #include <mutex>
 #include <set>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 namespace semap {
 namespace {

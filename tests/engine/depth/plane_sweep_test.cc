@@ -7,10 +7,9 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/imgproc.hpp>
 
 #include "engine/core/check.h"
 
@@ -60,7 +59,8 @@ std::pair<double, double> Trace(const std::vector<TexturedPlane>& scene, const E
     const int x0 = int(tx), y0 = int(ty);
     const double ax = tx - x0, ay = ty - y0;
     const auto at = [&](int dy, int dx) { return double(p.texture.at<float>(y0 + dy, x0 + dx)); };
-    const double grey = (1 - ay) * ((1 - ax) * at(0, 0) + ax * at(0, 1)) + ay * ((1 - ax) * at(1, 0) + ax * at(1, 1));
+    const double grey =
+        (1 - ay) * ((1 - ax) * at(0, 0) + ax * at(0, 1)) + ay * ((1 - ax) * at(1, 0) + ax * at(1, 1));
     hit = {lambda, grey};
   }
   return hit;
@@ -82,7 +82,8 @@ PlaneSweepView Render(const std::vector<TexturedPlane>& scene, const Pose3d& wor
       double sum = 0.0;
       for (double dv : {-0.25, 0.25})
         for (double du : {-0.25, 0.25})
-          sum += Trace(scene, centre, world_from_cam.linear() * (K_inverse * Eigen::Vector3d(u + du, v + dv, 1.0)))
+          sum += Trace(scene, centre,
+                       world_from_cam.linear() * (K_inverse * Eigen::Vector3d(u + du, v + dv, 1.0)))
                      .second;
       grey.at<float>(v, u) = float(sum / 4.0);
       if (depth_m != nullptr) {
@@ -150,8 +151,8 @@ Score Evaluate(const PlaneSweepResult& r, const cv::Mat& truth_m, double relativ
 }
 
 std::ostream& operator<<(std::ostream& os, const Score& s) {
-  return os << "valid " << s.valid_share << ", median error " << s.median_error_m << " m, p95 " << s.p95_error_m
-            << " m, accurate " << s.accurate_share;
+  return os << "valid " << s.valid_share << ", median error " << s.median_error_m << " m, p95 "
+            << s.p95_error_m << " m, accurate " << s.accurate_share;
 }
 
 // A wall facing the reference camera (at the origin, looking along +z) at depth `depth_m`.
@@ -161,8 +162,8 @@ TexturedPlane Wall(double depth_m, std::uint64_t seed) {
   p.texels_per_m = 60.0;
   p.axis_s = Eigen::Vector3d::UnitX();
   p.axis_t = Eigen::Vector3d::UnitY();
-  p.point_world = Eigen::Vector3d(-0.5 * p.texture.cols / p.texels_per_m, -0.5 * p.texture.rows / p.texels_per_m,
-                                  depth_m);
+  p.point_world = Eigen::Vector3d(-0.5 * p.texture.cols / p.texels_per_m,
+                                  -0.5 * p.texture.rows / p.texels_per_m, depth_m);
   return p;
 }
 
@@ -185,9 +186,21 @@ TEST(PlaneSweepOptions, RejectsBadValuesNamingTheKey) {
     return changed;
   };
   expect_key(with([](auto& x) { x.num_planes = 2; }), "num_planes");
-  expect_key(with([](auto& x) { x.min_depth_m = -1.0; x.max_depth_m = 10.0; }), "min_depth_m");
-  expect_key(with([](auto& x) { x.min_depth_m = 5.0; x.max_depth_m = 4.0; }), "max_depth_m");
-  expect_key(with([](auto& x) { x.min_depth_m = 0.0; x.max_depth_m = 4.0; }), "min_depth_m");
+  expect_key(with([](auto& x) {
+               x.min_depth_m = -1.0;
+               x.max_depth_m = 10.0;
+             }),
+             "min_depth_m");
+  expect_key(with([](auto& x) {
+               x.min_depth_m = 5.0;
+               x.max_depth_m = 4.0;
+             }),
+             "max_depth_m");
+  expect_key(with([](auto& x) {
+               x.min_depth_m = 0.0;
+               x.max_depth_m = 4.0;
+             }),
+             "min_depth_m");
   expect_key(with([](auto& x) { x.camera_range_factor = 1.0; }), "camera_range_factor");
   expect_key(with([](auto& x) { x.window_px = 6; }), "window_px");
   expect_key(with([](auto& x) { x.window_px = 1; }), "window_px");
@@ -275,7 +288,8 @@ TEST(PlaneSweep, GrazingGroundNeedsItsOwnSweepDirection) {
   ground.axis_t = Eigen::Vector3d::UnitZ();
   ground.point_world = Eigen::Vector3d(-20.0, kHeightM, 0.5);
   const std::vector<TexturedPlane> scene{ground};
-  const Pose3d world_from_reference = LookAt(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, std::tan(0.1745), 1.0));
+  const Pose3d world_from_reference =
+      LookAt(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, std::tan(0.1745), 1.0));
   cv::Mat truth_m;
   const PlaneSweepView reference = Render(scene, world_from_reference, &truth_m);
   std::vector<PlaneSweepView> neighbours;
@@ -323,7 +337,8 @@ TEST(PlaneSweep, OccluderInOneNeighbourIsIgnoredByTheBestViews) {
   const Pose3d cam0_from_world = neighbours[0].world_from_cam.inverse(Eigen::Isometry);
   for (int v = 0; v < kHeight; ++v) {
     for (int u = 0; u < kWidth; ++u) {
-      const Eigen::Vector3d x_world = TestK().inverse() * Eigen::Vector3d(u, v, 1.0) * truth_m.at<float>(v, u);
+      const Eigen::Vector3d x_world =
+          TestK().inverse() * Eigen::Vector3d(u, v, 1.0) * truth_m.at<float>(v, u);
       const Eigen::Vector3d x = TestK() * (cam0_from_world * x_world);
       if (occluder.contains(cv::Point(int(std::floor(x.x() / x.z())), int(std::floor(x.y() / x.z())))))
         hidden.at<std::uint8_t>(v, u) = 1;
@@ -343,7 +358,8 @@ TEST(PlaneSweep, OccluderInOneNeighbourIsIgnoredByTheBestViews) {
   const PlaneSweepResult sides = PlaneSweepDepth(o).Compute(reference, neighbours);
   const double step_m = PlaneStepM(kDepthM, robust.range, o.num_planes);
   const double tolerance = 0.25 * step_m / kDepthM;
-  const Score r = Evaluate(robust, truth_m, tolerance, hidden), p = Evaluate(plain, truth_m, tolerance, hidden),
+  const Score r = Evaluate(robust, truth_m, tolerance, hidden),
+              p = Evaluate(plain, truth_m, tolerance, hidden),
               l = Evaluate(sides, truth_m, tolerance, hidden);
   std::cout << "[ measured ] behind the occluder, best 2 of 3 views: " << r << "\n"
             << "[ measured ] behind the occluder, mean of all 3 views: " << p << "\n"

@@ -1,7 +1,7 @@
 // Integration: the depth stage on the 20 real KITTI stereo-2015 frames against disp_occ_0 and the Velodyne.
-// Figures (bench/results/depth.md, `semap_depth_eval`): reference 15.16 % D1-all / 89.8 % density; semap default
-// 9.50 % / 98.0 %; half resolution 8.90 % / 99.2 %; LiDAR median 0.166 m. Margins below leave room for
-// OpenCV build differences without accepting a regression to the reference's level.
+// Figures (bench/results/depth.md, `semap_depth_eval`): reference 15.16 % D1-all / 89.8 % density; semap
+// default 9.50 % / 98.0 %; half resolution 8.90 % / 99.2 %; LiDAR median 0.166 m. Margins below leave room
+// for OpenCV build differences without accepting a regression to the reference's level.
 #include <gtest/gtest.h>
 
 #include "engine/depth/depth_metrics.h"

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <utility>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "engine/core/check.h"
 
@@ -147,7 +147,8 @@ constexpr int kBackgroundPx = 8, kForegroundPx = 24;
 const cv::Rect kBlock(150, 40, 80, 80);  // in the left image
 Frame StepFrame() {
   cv::RNG rng(11);
-  cv::Mat background(kHeight, kWidth + kForegroundPx, CV_8UC1), foreground(kHeight, kWidth + kForegroundPx, CV_8UC1);
+  cv::Mat background(kHeight, kWidth + kForegroundPx, CV_8UC1),
+      foreground(kHeight, kWidth + kForegroundPx, CV_8UC1);
   rng.fill(background, cv::RNG::UNIFORM, 0, 255);
   rng.fill(foreground, cv::RNG::UNIFORM, 0, 255);
   cv::GaussianBlur(background, background, cv::Size(3, 3), 0.8);

@@ -66,8 +66,9 @@ TEST(LidarDepthImage, ProjectsNearestPointInFrontUsingCameraZ) {
   scan.points_velo = {{10, 0, 0, 1}, {12, 0, 0, 1}, {-10, 0, 0, 1}, {10, -1, 0, 1}, {100, 0, 0, 1}};
   const cv::Mat d = LidarDepthImage(scan, cal, DepthAccuracyOptions{});
   EXPECT_FLOAT_EQ(d.at<float>(40, 50), 10.0f);  // nearest of the two on the optical axis
-  EXPECT_FLOAT_EQ(d.at<float>(40, 60), 10.0f);  // 1 m right at 10 m: u = 50 + 100·1/10 = 60, z (not range) = 10
-  EXPECT_EQ(cv::countNonZero(d), 2);            // behind the camera and beyond 40 m are dropped
+  EXPECT_FLOAT_EQ(d.at<float>(40, 60),
+                  10.0f);             // 1 m right at 10 m: u = 50 + 100·1/10 = 60, z (not range) = 10
+  EXPECT_EQ(cv::countNonZero(d), 2);  // behind the camera and beyond 40 m are dropped
 }
 
 TEST(DepthAccuracyOptions, CheckNamesTheField) {

@@ -1,8 +1,8 @@
 #include "engine/eval/depth_render.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace semap {
 namespace {
@@ -21,7 +21,8 @@ StereoCalibration SmallCamera() {
 // A square of half-size `h` in the plane through `centre` spanned by unit vectors `a`, `b`.
 Mesh Quad(const Eigen::Vector3d& centre, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double h) {
   Mesh m;
-  m.vertices = {centre - h * a - h * b, centre + h * a - h * b, centre + h * a + h * b, centre - h * a + h * b};
+  m.vertices = {centre - h * a - h * b, centre + h * a - h * b, centre + h * a + h * b,
+                centre - h * a + h * b};
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
   return m;
 }

@@ -102,7 +102,7 @@ TEST(SurfaceMetrics, ByAreaAUnitSquareAndALidWeighByTheirArea) {
 TEST(SurfaceMetrics, ByAreaATinyRightTriangleCannotHideAHugeWrongOne) {
   Mesh m;
   AddTriangle(m, {0, 0, 0.05}, {0.1, 0, 0.05}, {0, 0.1, 0.05});  // 0.005 m², right
-  AddTriangle(m, {-20, -20, 4}, {0, -20, 4}, {-20, 0, 4});        // 200 m², 4 m off
+  AddTriangle(m, {-20, -20, 4}, {0, -20, 4}, {-20, 0, 4});       // 200 m², 4 m off
   const SurfaceMetrics s = CompareSurfaces(m, GroundTruth(), {});
   EXPECT_LT(s.accuracy, 0.001);
   EXPECT_GT(s.area_beyond_far, 0.999);
@@ -136,9 +136,9 @@ TEST(SurfaceMetrics, ByAreaOnASlopeMatchesTheUniformDistribution) {
 
 TEST(SampleSurface, IsUniformByAreaInsideTheTrianglesAndDeterministic) {
   Mesh m;
-  AddTriangle(m, {0, 0, 0}, {1, 0, 0}, {0, 2, 0});    // 1 m², in the plane z = 0
-  AddTriangle(m, {0, 0, 5}, {3, 0, 5}, {0, 2, 5});    // 3 m², in the plane z = 5
-  AddTriangle(m, {0, 0, 9}, {1, 0, 9}, {2, 0, 9});    // degenerate: no area, never sampled
+  AddTriangle(m, {0, 0, 0}, {1, 0, 0}, {0, 2, 0});  // 1 m², in the plane z = 0
+  AddTriangle(m, {0, 0, 5}, {3, 0, 5}, {0, 2, 5});  // 3 m², in the plane z = 5
+  AddTriangle(m, {0, 0, 9}, {1, 0, 9}, {2, 0, 9});  // degenerate: no area, never sampled
   const std::vector<Eigen::Vector3d> a = SampleSurface(m, 1000, 3);
   ASSERT_EQ(a.size(), 1000u);
   int upper = 0;
@@ -171,7 +171,8 @@ TEST(SurfaceMetrics, CompletenessByDepthSplitsTheSamplesByTheDepthTheyWereSeenAt
   const Mesh truth = Square(0, 10, 0);
   const std::vector<Eigen::Vector3d> samples = TruthSamples();
   std::vector<double> depths;
-  for (const auto& p : samples) depths.push_back(p.x() < 5.0 ? 2.0 * p.y() : 25.0 + p.y());  // 0-20 m / 25-35 m
+  for (const auto& p : samples)
+    depths.push_back(p.x() < 5.0 ? 2.0 * p.y() : 25.0 + p.y());  // 0-20 m / 25-35 m
   SurfaceMetricsOptions options;
   options.completeness_depth_edges_m = {10.0, 30.0};
   const SurfaceMetrics s = CompareSurfaces(Square(0, 5, 0.1), truth, samples, options, depths);

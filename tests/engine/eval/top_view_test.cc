@@ -62,8 +62,8 @@ TEST(TopView, OrientationIsNotMirroredAndFollowsTheUpAxis) {
   AddQuad(m, {0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0});
   AddQuad(m, {8, 8, 1}, {10, 8, 1}, {10, 10, 1}, {8, 10, 1});
   const TopView z_up = RenderTopView(m, {0, 0, 1}, NoLegend(200));
-  EXPECT_EQ(z_up.triangle.at<int>(15, 185), 2);   // top right: the raised square (triangles 2, 3)
-  EXPECT_EQ(z_up.triangle.at<int>(185, 15), 0);   // bottom left: the ground
+  EXPECT_EQ(z_up.triangle.at<int>(15, 185), 2);  // top right: the raised square (triangles 2, 3)
+  EXPECT_EQ(z_up.triangle.at<int>(185, 15), 0);  // bottom left: the ground
   // Seen from below (up = −z) the raised square is hidden under the ground.
   const TopView from_below = RenderTopView(m, {0, 0, -1}, NoLegend(200));
   EXPECT_EQ(Covered(from_below), Covered(z_up));
@@ -80,7 +80,7 @@ TEST(TopView, OrientationIsNotMirroredAndFollowsTheUpAxis) {
 
 TEST(TopView, AWallIsAnEdgeFromAboveAndAFaceFromTheSide) {
   Mesh m;
-  AddQuad(m, {0, 0, 0}, {10, 0, 0}, {10, 0, 5}, {0, 0, 5});  // vertical, in the plane y = 0
+  AddQuad(m, {0, 0, 0}, {10, 0, 0}, {10, 0, 5}, {0, 0, 5});    // vertical, in the plane y = 0
   AddQuad(m, {0, 1, 0}, {10, 1, 0}, {10, 11, 0}, {0, 11, 0});  // ground behind it
   const TopView top = RenderTopView(m, {0, 0, 1}, NoLegend(200));
   EXPECT_EQ(cv::countNonZero(top.triangle == 0) + cv::countNonZero(top.triangle == 1), 0);  // no wall pixel
@@ -93,7 +93,7 @@ TEST(TopView, AWallIsAnEdgeFromAboveAndAFaceFromTheSide) {
 
 TEST(TopView, ColoursByHeightAndByError) {
   Mesh m;
-  AddQuad(m, {0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0});       // low, on the truth
+  AddQuad(m, {0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0});        // low, on the truth
   AddQuad(m, {20, 0, 10}, {30, 0, 10}, {30, 10, 10}, {20, 10, 10});  // high, 10 m off
   TopViewOptions o = NoLegend(400);
   o.colour = TopViewColour::kHeight;

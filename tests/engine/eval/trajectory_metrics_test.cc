@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace semap {
 namespace {

@@ -23,9 +23,10 @@ int main(int argc, char** argv) {
   }
   const semap::test::ManifoldReport r = semap::test::CheckManifold(mesh, /*allow_boundary=*/true);
   std::cout << path.string() << ": " << mesh.vertices.size() << " vertices, " << mesh.triangles.size()
-            << " triangles, " << r.num_boundary_edges << " boundary edges; bad triangles " << r.num_bad_triangles
-            << ", non-manifold edges " << r.num_nonmanifold_edges << ", misoriented edges "
-            << r.num_misoriented_edges << ", non-manifold vertices " << r.num_nonmanifold_vertices << "\n"
+            << " triangles, " << r.num_boundary_edges << " boundary edges; bad triangles "
+            << r.num_bad_triangles << ", non-manifold edges " << r.num_nonmanifold_edges
+            << ", misoriented edges " << r.num_misoriented_edges << ", non-manifold vertices "
+            << r.num_nonmanifold_vertices << "\n"
             << r.Summary();
   return r.ok() ? 0 : 1;
 }

@@ -44,7 +44,8 @@ std::vector<double> FusedErrors(int n, std::mt19937* rng) {
   std::vector<double> errors{first.z() - kWallM};
   for (int k = 1; k < n; ++k) {
     const VotingView view = WallView(camera_x(*rng), float(kWallM + noise(*rng)));
-    const Sighting s = ObserveVertex(filter.Estimate(), view, kDisparitySigmaPx, /*gate_sigmas=*/5.0, &filter);
+    const Sighting s =
+        ObserveVertex(filter.Estimate(), view, kDisparitySigmaPx, /*gate_sigmas=*/5.0, &filter);
     EXPECT_EQ(s, Sighting::kInlier);
     errors.push_back(filter.Estimate().z() - kWallM);
   }
@@ -70,7 +71,8 @@ TEST(DepthFilter, FusedErrorFallsAsOneOverRootN) {
     const double expected = WallSigmaM() / std::sqrt(double(n));
     EXPECT_NEAR(rms / expected, 1.0, 0.12) << n << " sightings";
     // Centred: the mean error is within 4 standard errors of 0.
-    EXPECT_LT(std::abs(sum[n - 1] / kTrials), 4.0 * expected / std::sqrt(double(kTrials))) << n << " sightings";
+    EXPECT_LT(std::abs(sum[n - 1] / kTrials), 4.0 * expected / std::sqrt(double(kTrials)))
+        << n << " sightings";
   }
 }
 
@@ -103,7 +105,8 @@ TEST(DepthFilter, AVertexTheViewsSeeThroughIsAnOutlier) {
   constexpr std::uint32_t kMinOutliers = 3;
   for (std::uint32_t k = 1; k <= kMinOutliers; ++k) {
     EXPECT_FALSE(filter.IsOutlier(kMinOutliers));
-    EXPECT_EQ(ObserveVertex(floating, WallView(0.1 * k, kWallM), kDisparitySigmaPx, 3.0, &filter), Sighting::kOutlier);
+    EXPECT_EQ(ObserveVertex(floating, WallView(0.1 * k, kWallM), kDisparitySigmaPx, 3.0, &filter),
+              Sighting::kOutlier);
   }
   EXPECT_EQ(filter.outliers, kMinOutliers);
   EXPECT_TRUE(filter.IsOutlier(kMinOutliers));
@@ -121,15 +124,18 @@ TEST(DepthFilter, OcclusionAndMissingDepthAreNoEvidence) {
   // the camera or outside the image is not in the view.
   EXPECT_EQ(ObserveVertex(on_wall, WallView(0.0, 5.0f), kDisparitySigmaPx, 3.0, &filter), Sighting::kNone);
   EXPECT_EQ(ObserveVertex(on_wall, WallView(0.0, 0.0f), kDisparitySigmaPx, 3.0, &filter), Sighting::kNone);
-  EXPECT_EQ(ObserveVertex(Eigen::Vector3d(0, 0, -kWallM), WallView(0.0, kWallM), kDisparitySigmaPx, 3.0, &filter),
-            Sighting::kNone);
-  EXPECT_EQ(ObserveVertex(Eigen::Vector3d(50, 0, kWallM), WallView(0.0, kWallM), kDisparitySigmaPx, 3.0, &filter),
-            Sighting::kNone);
+  EXPECT_EQ(
+      ObserveVertex(Eigen::Vector3d(0, 0, -kWallM), WallView(0.0, kWallM), kDisparitySigmaPx, 3.0, &filter),
+      Sighting::kNone);
+  EXPECT_EQ(
+      ObserveVertex(Eigen::Vector3d(50, 0, kWallM), WallView(0.0, kWallM), kDisparitySigmaPx, 3.0, &filter),
+      Sighting::kNone);
   EXPECT_EQ(filter.inliers, 1u);
   EXPECT_EQ(filter.outliers, 0u);
   EXPECT_EQ(filter.Estimate(), on_wall);
   // A view that sees it counts.
-  EXPECT_EQ(ObserveVertex(on_wall, WallView(0.5, kWallM), kDisparitySigmaPx, 3.0, &filter), Sighting::kInlier);
+  EXPECT_EQ(ObserveVertex(on_wall, WallView(0.5, kWallM), kDisparitySigmaPx, 3.0, &filter),
+            Sighting::kInlier);
   EXPECT_EQ(filter.inliers, 2u);
 }
 
@@ -140,7 +146,8 @@ TEST(DepthFilter, AtADepthEdgeASightingCountsWithoutMovingTheVertex) {
   view->depth_m.setTo(float(kWallM));
   view->depth_m.colRange(kWidthPx / 2, kWidthPx).setTo(float(kWallM - 4.0));
   const VotingView edge(view);
-  const Eigen::Vector3d on_wall((kWidthPx / 2 - 0.5 - view->intrinsics.cx_px) * kWallM / kFocalPx, 0.0, kWallM);
+  const Eigen::Vector3d on_wall((kWidthPx / 2 - 0.5 - view->intrinsics.cx_px) * kWallM / kFocalPx, 0.0,
+                                kWallM);
   DepthFilter filter;
   filter.Start(on_wall, WallSigmaM());
   EXPECT_EQ(ObserveVertex(on_wall, edge, kDisparitySigmaPx, 3.0, &filter), Sighting::kInlier);

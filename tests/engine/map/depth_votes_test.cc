@@ -26,7 +26,8 @@ std::shared_ptr<const DepthView> WallView(float wall_m, double max_depth_m = 40.
 }
 
 // Whether the segment a → b crosses the tetrahedron (clipped against its four half-spaces).
-bool SegmentCrossesTet(const std::array<Eigen::Vector3d, 4>& t, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+bool SegmentCrossesTet(const std::array<Eigen::Vector3d, 4>& t, const Eigen::Vector3d& a,
+                       const Eigen::Vector3d& b) {
   double lo = 0.0, hi = 1.0;
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector3d& p0 = t[(i + 1) % 4];
@@ -45,7 +46,8 @@ double CrossingRays(const std::array<Eigen::Vector3d, 4>& tet, double end_depth_
   int n = 0;
   for (int v = 0; v < kHeightPx; ++v) {
     for (int u = 0; u < kWidthPx; ++u) {
-      const Eigen::Vector3d dir((u + 0.5 - view.intrinsics.cx_px) / kFocalPx, (v + 0.5 - view.intrinsics.cy_px) / kFocalPx, 1.0);
+      const Eigen::Vector3d dir((u + 0.5 - view.intrinsics.cx_px) / kFocalPx,
+                                (v + 0.5 - view.intrinsics.cy_px) / kFocalPx, 1.0);
       n += SegmentCrossesTet(tet, Eigen::Vector3d::Zero(), dir * end_depth_m) ? 1 : 0;
     }
   }
@@ -116,8 +118,9 @@ TEST(DepthVotes, NoisyPointsVoteByTheProbabilityOfTheSurface) {
   noisy.matter_behind_sigmas = 3.0;
   // A flat cell at the wall: as much free as matter.
   const auto flat_cell = [](double z_m) {
-    return std::array<Eigen::Vector3d, 4>{Eigen::Vector3d(-0.5, -0.5, z_m - 0.01), Eigen::Vector3d(0.5, -0.5, z_m - 0.01),
-                                          Eigen::Vector3d(0, 0.5, z_m - 0.01), Eigen::Vector3d(0, 0, z_m + 0.02)};
+    return std::array<Eigen::Vector3d, 4>{
+        Eigen::Vector3d(-0.5, -0.5, z_m - 0.01), Eigen::Vector3d(0.5, -0.5, z_m - 0.01),
+        Eigen::Vector3d(0, 0.5, z_m - 0.01), Eigen::Vector3d(0, 0, z_m + 0.02)};
   };
   const VoteIncrement at = VoteCell(flat_cell(10.0), view, noisy);
   EXPECT_GT(at.free_q, 0);
@@ -160,8 +163,9 @@ TEST(DepthVotes, ManyNoisySightingsPutTheBoundaryAtTheSurface) {
     double lo = 5.0, hi = 15.0;
     for (int it = 0; it < 30; ++it) {
       const double z = 0.5 * (lo + hi);
-      const std::array<Eigen::Vector3d, 4> cell{Eigen::Vector3d(-0.5, -0.5, z - 0.01), Eigen::Vector3d(0.5, -0.5, z - 0.01),
-                                                Eigen::Vector3d(0, 0.5, z - 0.01), Eigen::Vector3d(0, 0, z + 0.02)};
+      const std::array<Eigen::Vector3d, 4> cell{
+          Eigen::Vector3d(-0.5, -0.5, z - 0.01), Eigen::Vector3d(0.5, -0.5, z - 0.01),
+          Eigen::Vector3d(0, 0.5, z - 0.01), Eigen::Vector3d(0, 0, z + 0.02)};
       std::int64_t free = 0, matter = 0;
       for (const VotingView& view : views) {
         const VoteIncrement v = VoteCell(cell, view, geometry);
@@ -182,7 +186,8 @@ TEST(DepthVotes, SkyVotesFreeUpToTheFarRangeAndNoMatter) {
   std::mt19937 rng(4);
   const auto near = RandomTet(&rng, 5.0, 12.0, 2.0);
   const VoteIncrement v = VoteCell(near, view, PaperGeometry());
-  EXPECT_NEAR(Rays(v.free_q), CrossingRays(near, 20.0, *view.view), 0.15 * CrossingRays(near, 20.0, *view.view) + 60);
+  EXPECT_NEAR(Rays(v.free_q), CrossingRays(near, 20.0, *view.view),
+              0.15 * CrossingRays(near, 20.0, *view.view) + 60);
   EXPECT_EQ(v.matter_q, 0);
   const auto beyond = RandomTet(&rng, 25.0, 30.0, 2.0);
   const VoteIncrement none = VoteCell(beyond, view, PaperGeometry());
@@ -239,8 +244,9 @@ TEST(DepthVotes, AFacetIsSeenWhereItLiesAtItsPixelsDepth) {
   EXPECT_EQ(SeenFacets(before, 0x8, view, noisy), 0x0);
   // A 2 cm facet edge-on to the camera, 3 m before the wall: the wall point seen through its centroid lies in
   // its plane, but far outside the facet.
-  const std::array<Eigen::Vector3d, 4> edge_on{Eigen::Vector3d(0, -0.01, 6.99), Eigen::Vector3d(0, 0.01, 6.99),
-                                               Eigen::Vector3d(0, 0, 7.01), Eigen::Vector3d(0.01, 0, 7)};
+  const std::array<Eigen::Vector3d, 4> edge_on{Eigen::Vector3d(0, -0.01, 6.99),
+                                               Eigen::Vector3d(0, 0.01, 6.99), Eigen::Vector3d(0, 0, 7.01),
+                                               Eigen::Vector3d(0.01, 0, 7)};
   noisy.seen_noise_sigmas = 1.0;
   EXPECT_EQ(SeenFacets(edge_on, 0x8, view, noisy), 0x0);
   // Against the sky, without depth, behind the camera or outside the image: never seen.

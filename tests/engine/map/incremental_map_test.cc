@@ -56,8 +56,8 @@ std::set<std::array<double, 9>> TriangleSet(const Mesh& mesh) {
   return s;
 }
 
-// Triangles by their corners' positions as TriangleSet, but oriented (each in the least of its three rotations)
-// and counted: a triangle given twice, or turned over, does not compare equal.
+// Triangles by their corners' positions as TriangleSet, but oriented (each in the least of its three
+// rotations) and counted: a triangle given twice, or turned over, does not compare equal.
 std::multiset<std::array<double, 9>> OrientedTriangles(const Mesh& mesh) {
   std::multiset<std::array<double, 9>> out;
   for (const auto& t : mesh.triangles) {
@@ -293,8 +293,8 @@ TEST(IncrementalMap, MemoryStaysBoundedOnALongDrive) {
 // With the Steiner triangles left out (the default) the published mesh has a boundary, and the vertices
 // where left-out triangles cut a fan in several pieces get one copy per piece: after every frame of a drive
 // that finalises often, the published mesh (finalised pieces and live surface: the live surface alone is open
-// along the seams, and may pinch there) has every edge in one or two triangles, every vertex a single fan, orientations agree
-// and no triangle is degenerate or repeated.
+// along the seams, and may pinch there) has every edge in one or two triangles, every vertex a single fan,
+// orientations agree and no triangle is degenerate or repeated.
 TEST(IncrementalMap, PublishedMeshIsManifoldAcrossFinalisationSeams) {
   for (const int every : {1, 3}) {
     MapOptions options = RayOptions();
@@ -315,8 +315,8 @@ TEST(IncrementalMap, PublishedMeshIsManifoldAcrossFinalisationSeams) {
       ASSERT_TRUE(report.ok()) << "published mesh, every " << every << ", frame " << f << "\n"
                                << report.Summary();
     }
-    std::cout << "finalise every " << every << ": " << finalised_triangles << " finalised triangles, " << split
-              << " vertex copies seen in the live meshes\n";
+    std::cout << "finalise every " << every << ": " << finalised_triangles << " finalised triangles, "
+              << split << " vertex copies seen in the live meshes\n";
     EXPECT_GT(finalised_triangles, 1000u);
   }
 }
@@ -359,7 +359,8 @@ class CellLocator {
       if ((hi - lo).maxCoeff() > 40.0) continue;  // Steiner-sized cells: outside the sampled box anyway
       for (int x = int(std::floor(lo.x())); x <= int(std::floor(hi.x())); ++x)
         for (int y = int(std::floor(lo.y())); y <= int(std::floor(hi.y())); ++y)
-          for (int z = int(std::floor(lo.z())); z <= int(std::floor(hi.z())); ++z) grid_[{x, y, z}].push_back(i);
+          for (int z = int(std::floor(lo.z())); z <= int(std::floor(hi.z())); ++z)
+            grid_[{x, y, z}].push_back(i);
     }
   }
   // The cell holding p, or nullptr.
@@ -415,22 +416,24 @@ TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
     const auto report = test::CheckManifold(depth_published.accumulator.ToMesh(), /*allow_boundary=*/true);
     ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
   }
-  depth_published.accumulator.Apply(depth_published.differ.Update(30, depth_map.ExtractIdentifiedMesh(), depth_map.TakeFinalisedMesh()));
+  depth_published.accumulator.Apply(
+      depth_published.differ.Update(30, depth_map.ExtractIdentifiedMesh(), depth_map.TakeFinalisedMesh()));
   const Mesh depth_mesh = depth_published.accumulator.ToMesh();
   const Mesh rays_mesh = rays_published.accumulator.ToMesh();
   const test::SurfaceError depth_error = test::MeshError(depth_mesh, distance);
   const test::SurfaceError rays_error = test::MeshError(rays_mesh, distance);
-  std::cout << "depth votes: " << inserted << " of " << points << " points inserted, " << depth_mesh.num_triangles()
-            << " triangles, median " << depth_error.median_m << " m, RMSE " << depth_error.rmse_m
-            << " m; rays: " << rays_mesh.num_triangles() << " triangles, median " << rays_error.median_m
-            << " m, RMSE " << rays_error.rmse_m << " m\n";
+  std::cout << "depth votes: " << inserted << " of " << points << " points inserted, "
+            << depth_mesh.num_triangles() << " triangles, median " << depth_error.median_m << " m, RMSE "
+            << depth_error.rmse_m << " m; rays: " << rays_mesh.num_triangles() << " triangles, median "
+            << rays_error.median_m << " m, RMSE " << rays_error.rmse_m << " m\n";
   // Free / matter agreement with the exact ray votes by volume, over the street the live window sees
   // (uniform samples; a sample counts where both maps have a live cell holding it).
   {
     const CellLocator depth_cells(depth_map.CellVotesSnapshot()), rays_cells(rays_map.CellVotesSnapshot());
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> x(-7.0, 7.0), y(22.0, 50.0), z(-0.5, 8.5);
-    int both = 0, agree = 0, table[2][2][2] = {}, unvoted = 0;  // [depth free][rays free][inside the scene's surfaces]
+    int both = 0, agree = 0, table[2][2][2] = {},
+        unvoted = 0;  // [depth free][rays free][inside the scene's surfaces]
     for (int i = 0; i < 20000; ++i) {
       const Eigen::Vector3d p(x(rng), y(rng), z(rng));
       const CellVotes *a = depth_cells.Find(p), *b = rays_cells.Find(p);
@@ -442,10 +445,11 @@ TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
       unvoted += a->free_fixed == 0 && a->matter_fixed == 0 ? 1 : 0;
       agree += depth_free == rays_free ? 1 : 0;
     }
-    std::cout << "free/matter agreement with the ray votes by volume: " << 100.0 * agree / both << " % of " << both
-              << " samples (depth/rays free, in the street: ff " << table[1][1][1] << " fm " << table[1][0][1]
-              << " mf " << table[0][1][1] << " mm " << table[0][0][1] << "; outside: ff " << table[1][1][0]
-              << " fm " << table[1][0][0] << " mf " << table[0][1][0] << " mm " << table[0][0][0] << "), depth cells without votes " << unvoted << "\n";
+    std::cout << "free/matter agreement with the ray votes by volume: " << 100.0 * agree / both << " % of "
+              << both << " samples (depth/rays free, in the street: ff " << table[1][1][1] << " fm "
+              << table[1][0][1] << " mf " << table[0][1][1] << " mm " << table[0][0][1] << "; outside: ff "
+              << table[1][1][0] << " fm " << table[1][0][0] << " mf " << table[0][1][0] << " mm "
+              << table[0][0][0] << "), depth cells without votes " << unvoted << "\n";
     EXPECT_GT(both, 3000);
     // Measured 95.8 % (against an aim of 97 %). Most of the disagreement is where the reference is wrong:
     // cells in the street's air (truly free) that the depth map votes free and the rays leave matter (their
@@ -457,7 +461,8 @@ TEST(IncrementalMap, DepthVotesMapTheStreetAsWellAsTheRays) {
     const int rays_right = table[1][1][1] + table[0][1][1] + table[0][0][0] + table[1][0][0];
     std::cout << "free where the street is open, matter behind its surfaces: depth votes "
               << 100.0 * depth_right / both << " %, ray votes " << 100.0 * rays_right / both << " %\n";
-    EXPECT_GE(depth_right, rays_right) << "the depth votes are at least as true to the scene as the ray votes";
+    EXPECT_GE(depth_right, rays_right)
+        << "the depth votes are at least as true to the scene as the ray votes";
   }
   EXPECT_LT(double(inserted), 0.5 * double(points)) << "re-observed points should merge";
   EXPECT_GT(depth_mesh.num_triangles(), 1000u);
@@ -477,7 +482,8 @@ double AreaShareBeyond(const Mesh& mesh, const test::StreetScene& scene, double 
       for (int j = 0; i + j < kSplit; ++j) {
         // The upright piece at (i, j) and, where there is one, the inverted piece beside it.
         for (int flip = 0; flip < (i + j + 1 < kSplit ? 2 : 1); ++flip) {
-          const double u = (i + (flip ? 2.0 : 1.0) / 3.0) / kSplit, v = (j + (flip ? 2.0 : 1.0) / 3.0) / kSplit;
+          const double u = (i + (flip ? 2.0 : 1.0) / 3.0) / kSplit,
+                       v = (j + (flip ? 2.0 : 1.0) / 3.0) / kSplit;
           const Eigen::Vector3d p = a + u * (b - a) + v * (c - a);
           const double piece = area / (kSplit * kSplit);
           total += piece;
@@ -515,9 +521,11 @@ TEST(IncrementalMap, DepthVotesEmitOnlyTheSurfaceSomeViewSaw) {
   }
   const Mesh mesh = published.accumulator.ToMesh(), kept = keep_published.accumulator.ToMesh();
   constexpr double kFarM = 0.5;
-  const double beyond = AreaShareBeyond(mesh, scene, kFarM), kept_beyond = AreaShareBeyond(kept, scene, kFarM);
+  const double beyond = AreaShareBeyond(mesh, scene, kFarM),
+               kept_beyond = AreaShareBeyond(kept, scene, kFarM);
   std::cout << "area beyond " << kFarM << " m: " << 100.0 * beyond << " % of " << mesh.num_triangles()
-            << " triangles (all surface facets: " << 100.0 * kept_beyond << " % of " << kept.num_triangles() << ")\n";
+            << " triangles (all surface facets: " << 100.0 * kept_beyond << " % of " << kept.num_triangles()
+            << ")\n";
   EXPECT_LT(beyond, 0.25 * kept_beyond);  // measured 0.75 % against 5.7 %
   EXPECT_LT(beyond, 0.02);
   // What lies on the street is kept: the area within 0.1 m of it loses little (measured 3 %).
@@ -553,7 +561,8 @@ TEST(IncrementalMap, DepthVotesFillOneFacetHolesInTheSeenSurface) {
   std::normal_distribution<double> noise_m(0.0, 0.15);
   for (int f = 0; f < 30; ++f) {
     LabelledCloud frame = test::StreetDepthFrame(scene, 1.0 * f, 2);
-    for (Eigen::Vector3d& p : frame.positions_world) p += Eigen::Vector3d(noise_m(rng), noise_m(rng), noise_m(rng));
+    for (Eigen::Vector3d& p : frame.positions_world)
+      p += Eigen::Vector3d(noise_m(rng), noise_m(rng), noise_m(rng));
     map.Update(frame);
     holes_map.Update(frame);
     published.Update(&map, f);
@@ -566,17 +575,19 @@ TEST(IncrementalMap, DepthVotesFillOneFacetHolesInTheSeenSurface) {
   EXPECT_EQ(map.Statistics().num_carved_cells, holes_map.Statistics().num_carved_cells)
       << "seen bits change what is emitted, never the carving";
   const Mesh filled = published.accumulator.ToMesh(), holed = holes_published.accumulator.ToMesh();
-  const auto filled_report = test::CheckManifold(filled, true), holed_report = test::CheckManifold(holed, true);
-  std::cout << "triangles " << filled.num_triangles() << " (no filling: " << holed.num_triangles() << "), open edges "
-            << filled_report.num_boundary_edges << " (" << holed_report.num_boundary_edges << ")\n";
+  const auto filled_report = test::CheckManifold(filled, true),
+             holed_report = test::CheckManifold(holed, true);
+  std::cout << "triangles " << filled.num_triangles() << " (no filling: " << holed.num_triangles()
+            << "), open edges " << filled_report.num_boundary_edges << " (" << holed_report.num_boundary_edges
+            << ")\n";
   EXPECT_GT(filled.num_triangles(), holed.num_triangles());
   EXPECT_LT(filled_report.num_boundary_edges, holed_report.num_boundary_edges);
 }
 
 // Moves each point of a street frame (camera looking along +y) along its ray by k·z² times a draw of `unit`,
 // stereo-like depth noise; returns the points' exact depths z.
-std::vector<double> AddDepthSquaredNoise(double k, LabelledCloud* frame, std::normal_distribution<double>* unit,
-                                         std::mt19937* rng) {
+std::vector<double> AddDepthSquaredNoise(double k, LabelledCloud* frame,
+                                         std::normal_distribution<double>* unit, std::mt19937* rng) {
   const Eigen::Vector3d camera = frame->camera_centers_world[0];
   std::vector<double> depths;
   for (Eigen::Vector3d& p : frame->positions_world) {
@@ -625,10 +636,11 @@ TEST(IncrementalMap, DepthVotesRefineVerticesANearerViewMeasuresAgain) {
   }
   const auto distance = [&](const Eigen::Vector3d& p) { return scene.Distance(p); };
   const Mesh mesh = published.accumulator.ToMesh(), plain = plain_published.accumulator.ToMesh();
-  const test::SurfaceError error = test::MeshError(mesh, distance), plain_error = test::MeshError(plain, distance);
-  std::cout << refined << " vertices refined; " << mesh.num_triangles() << " triangles, median " << error.median_m
-            << " m, mean " << error.mean_m << " m (without: " << plain.num_triangles() << " triangles, median "
-            << plain_error.median_m << " m, mean " << plain_error.mean_m << " m)\n";
+  const test::SurfaceError error = test::MeshError(mesh, distance),
+                           plain_error = test::MeshError(plain, distance);
+  std::cout << refined << " vertices refined; " << mesh.num_triangles() << " triangles, median "
+            << error.median_m << " m, mean " << error.mean_m << " m (without: " << plain.num_triangles()
+            << " triangles, median " << plain_error.median_m << " m, mean " << plain_error.mean_m << " m)\n";
   EXPECT_GT(refined, 100u);
   EXPECT_EQ(map.Statistics().vertices_refined, refined);
   EXPECT_EQ(plain_map.Statistics().vertices_refined, 0u);
@@ -639,8 +651,8 @@ TEST(IncrementalMap, DepthVotesRefineVerticesANearerViewMeasuresAgain) {
 
 // map.confirm_beyond_m: the same street with σ_z = k·z² noise. Points beyond 10 m wait for a later frame's
 // point to land on them (the first frame's are held: no id, nothing live beyond 10 m); the confirmed pairs
-// become vertices at their 1/z⁴-weighted mean. The published mesh stays a 2-manifold after every frame and its
-// vertices lie nearer the street than when every point is inserted at once.
+// become vertices at their 1/z⁴-weighted mean. The published mesh stays a 2-manifold after every frame and
+// its vertices lie nearer the street than when every point is inserted at once.
 TEST(IncrementalMap, DepthVotesConfirmFarPointsBeforeInsertingThem) {
   const test::StreetScene scene;
   constexpr double kNoisePerDepth2 = 0.001;  // σ_z = 0.1 m at 10 m, 0.4 m at 20 m
@@ -693,19 +705,20 @@ TEST(IncrementalMap, DepthVotesConfirmFarPointsBeforeInsertingThem) {
   }
   const auto distance = [&](const Eigen::Vector3d& p) { return scene.Distance(p); };
   const Mesh mesh = published.accumulator.ToMesh(), plain = plain_published.accumulator.ToMesh();
-  const test::SurfaceError error = test::MeshError(mesh, distance), plain_error = test::MeshError(plain, distance);
+  const test::SurfaceError error = test::MeshError(mesh, distance),
+                           plain_error = test::MeshError(plain, distance);
   std::cout << held << " far points held, " << confirmed << " confirmed; " << mesh.num_triangles()
-            << " triangles, median " << error.median_m << " m, mean " << error.mean_m << " m (every point at once: "
-            << plain.num_triangles() << " triangles, median " << plain_error.median_m << " m, mean "
-            << plain_error.mean_m << " m)\n";
+            << " triangles, median " << error.median_m << " m, mean " << error.mean_m
+            << " m (every point at once: " << plain.num_triangles() << " triangles, median "
+            << plain_error.median_m << " m, mean " << plain_error.mean_m << " m)\n";
   EXPECT_GT(confirmed, 100u);
   EXPECT_GT(mesh.num_triangles(), 1000u);
   EXPECT_LT(error.mean_m, plain_error.mean_m);
 }
 
 // The end of a stream: the far points still held become vertices where their one sighting put them
-// (IncrementalMap::InsertHeldPoints). A one-frame map of the exact street gets its far surface; the mesh stays a
-// 2-manifold on the street, and a second call has nothing left to insert.
+// (IncrementalMap::InsertHeldPoints). A one-frame map of the exact street gets its far surface; the mesh
+// stays a 2-manifold on the street, and a second call has nothing left to insert.
 TEST(IncrementalMap, HeldFarPointsJoinTheMapAtTheEndOfTheStream) {
   const test::StreetScene scene;
   constexpr double kConfirmBeyondM = 10.0;
@@ -775,7 +788,7 @@ TEST(IncrementalMap, SizesCountsEveryFiniteCell) {
 namespace fusion_test {
 
 constexpr double kFocalBaselineMPx = 24.0;  // StreetDepthFrame's f·B (48 px × 0.5 m)
-constexpr double kDisparitySigmaPx = 0.06;   // the noisy street's: σ_z = D² · 0.06 / 24 = 0.0025 D²
+constexpr double kDisparitySigmaPx = 0.06;  // the noisy street's: σ_z = D² · 0.06 / 24 = 0.0025 D²
 
 // The street frame at y_m with stereo-like noise on its depth view: each pixel's depth D becomes
 // D + σ_z·n, σ_z = D²·disparity_sigma_px/(f·B), n a standard normal draw; the frame's points move with their
@@ -790,7 +803,8 @@ LabelledCloud NoisyStreetFrame(const test::StreetScene& scene, double y_m, doubl
   for (int v = 0; v < depth.rows; ++v) {
     for (int u = 0; u < depth.cols; ++u) {
       float& d = depth.at<float>(v, u);
-      if (d > 0.0f && d != kFreeToFarRange) d += float(d * d * disparity_sigma_px / kFocalBaselineMPx * unit(*rng));
+      if (d > 0.0f && d != kFreeToFarRange)
+        d += float(d * d * disparity_sigma_px / kFocalBaselineMPx * unit(*rng));
     }
   }
   const Eigen::Vector3d camera = frame.camera_centers_world[0];
@@ -826,8 +840,8 @@ double MedianAbs(std::vector<double> errors) {
 struct FusionErrors {
   RayErrors mesh, frame;
 };
-FusionErrors PixelErrors(const Mesh& mesh, const test::StreetScene& scene, const std::vector<LabelledCloud>& frames,
-                         double max_depth_m) {
+FusionErrors PixelErrors(const Mesh& mesh, const test::StreetScene& scene,
+                         const std::vector<LabelledCloud>& frames, double max_depth_m) {
   std::vector<double> mesh_errors, frame_errors;
   for (const LabelledCloud& frame : frames) {
     const DepthView& view = *frame.camera_views[0];
@@ -905,21 +919,25 @@ TEST(IncrementalMap, FusedSightingsCentreTheMesh) {
     if (f % 2 == 0 && f < 2 * kFrames / 3) evaluated.push_back(frame);
   }
   constexpr double kMaxDepthM = 20.0;
-  const auto fused_errors = fusion_test::PixelErrors(fused_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
-  const auto paper_errors = fusion_test::PixelErrors(paper_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
-  std::cout << moved << " vertices moved; fused mesh: bias " << fused_errors.mesh.bias_m << " m, median |error| "
-            << fused_errors.mesh.median_abs_m << " m, RMSE " << fused_errors.mesh.rmse_m << " m over "
-            << fused_errors.mesh.rays << " px (the frames there: bias " << fused_errors.frame.bias_m << " m, median "
+  const auto fused_errors =
+      fusion_test::PixelErrors(fused_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
+  const auto paper_errors =
+      fusion_test::PixelErrors(paper_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
+  std::cout << moved << " vertices moved; fused mesh: bias " << fused_errors.mesh.bias_m
+            << " m, median |error| " << fused_errors.mesh.median_abs_m << " m, RMSE "
+            << fused_errors.mesh.rmse_m << " m over " << fused_errors.mesh.rays
+            << " px (the frames there: bias " << fused_errors.frame.bias_m << " m, median "
             << fused_errors.frame.median_abs_m << " m); exact-point votes: bias " << paper_errors.mesh.bias_m
-            << " m, median " << paper_errors.mesh.median_abs_m << " m, RMSE " << paper_errors.mesh.rmse_m << " m over "
-            << paper_errors.mesh.rays << " px (the frames there: median " << paper_errors.frame.median_abs_m
-            << " m)\n";
+            << " m, median " << paper_errors.mesh.median_abs_m << " m, RMSE " << paper_errors.mesh.rmse_m
+            << " m over " << paper_errors.mesh.rays << " px (the frames there: median "
+            << paper_errors.frame.median_abs_m << " m)\n";
   // Measured (seed 21): bias 0.030 against 0.083 m, median 0.060 against 0.074 m, RMSE 0.34 against 0.42 m;
   // the frames' own median there is 0.056 m: on this sparse synthetic street the fused mesh is about as
   // accurate as one frame at its pixels, not better (bench/RESULTS.md, "Fusion").
   EXPECT_GT(moved, 100u);
   EXPECT_GT(fused_errors.mesh.rays, paper_errors.mesh.rays);
-  EXPECT_GT(paper_errors.mesh.bias_m, 0.06) << "exact-point votes on noisy depth: the mesh behind the surfaces";
+  EXPECT_GT(paper_errors.mesh.bias_m, 0.06)
+      << "exact-point votes on noisy depth: the mesh behind the surfaces";
   EXPECT_LT(std::abs(fused_errors.mesh.bias_m), 0.5 * paper_errors.mesh.bias_m);
   EXPECT_LT(fused_errors.mesh.median_abs_m, 0.9 * paper_errors.mesh.median_abs_m);
   EXPECT_LT(fused_errors.mesh.rmse_m, 0.9 * paper_errors.mesh.rmse_m);
@@ -929,19 +947,19 @@ TEST(IncrementalMap, FusedSightingsCentreTheMesh) {
   // 0.056 m, bias 0.016 m, RMSE 0.39 m).
   const auto default_errors =
       fusion_test::PixelErrors(default_mesh.accumulator.ToMesh(), scene, evaluated, kMaxDepthM);
-  std::cout << "defaults: bias " << default_errors.mesh.bias_m << " m, median " << default_errors.mesh.median_abs_m
-            << " m, RMSE " << default_errors.mesh.rmse_m << " m (the frames there: median "
-            << default_errors.frame.median_abs_m << " m)\n";
+  std::cout << "defaults: bias " << default_errors.mesh.bias_m << " m, median "
+            << default_errors.mesh.median_abs_m << " m, RMSE " << default_errors.mesh.rmse_m
+            << " m (the frames there: median " << default_errors.frame.median_abs_m << " m)\n";
   EXPECT_LT(std::abs(default_errors.mesh.bias_m), 0.5 * paper_errors.mesh.bias_m);
   EXPECT_LT(default_errors.mesh.median_abs_m, paper_errors.mesh.median_abs_m);
   EXPECT_LT(default_errors.mesh.rmse_m, paper_errors.mesh.rmse_m);
   EXPECT_LT(default_errors.mesh.median_abs_m, 0.9 * default_errors.frame.median_abs_m);
 }
 
-// The output follows the vertices' fused estimates (map.fuse_output_sigmas) under new output ids: a subscriber
-// that applies the deltas holds, triangle for triangle and at the same positions, the finalised pieces and
-// the live mesh the map writes, across seams of finalisation; without it the output is at the triangulation's
-// positions.
+// The output follows the vertices' fused estimates (map.fuse_output_sigmas) under new output ids: a
+// subscriber that applies the deltas holds, triangle for triangle and at the same positions, the finalised
+// pieces and the live mesh the map writes, across seams of finalisation; without it the output is at the
+// triangulation's positions.
 TEST(IncrementalMap, FusedOutputDeltasReproduceTheMesh) {
   const test::StreetScene scene;
   using fusion_test::kDisparitySigmaPx;
@@ -972,7 +990,8 @@ TEST(IncrementalMap, FusedOutputDeltasReproduceTheMesh) {
     std::multiset<std::array<double, 9>> expected = written;
     const auto live = OrientedTriangles(map.ExtractMesh());
     expected.insert(live.begin(), live.end());
-    EXPECT_TRUE(OrientedTriangles(accumulator.ToMesh()) == expected) << "fuse_output_sigmas " << output_sigmas;
+    EXPECT_TRUE(OrientedTriangles(accumulator.ToMesh()) == expected)
+        << "fuse_output_sigmas " << output_sigmas;
     EXPECT_GT(written.size(), 100u) << "no seam of finalisation";
     if (output_sigmas < 1e9) {
       EXPECT_GT(output_moved, 100u);

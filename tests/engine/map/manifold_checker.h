@@ -12,10 +12,10 @@ struct ManifoldReport {
   std::vector<std::string> errors;  // empty = manifold (the first kMaxErrors messages)
   std::size_t num_boundary_edges = 0;
   // Counts of every defect (the messages stop at the first few).
-  std::size_t num_bad_triangles = 0;        // index out of range, repeated vertex, zero area, duplicate
-  std::size_t num_nonmanifold_edges = 0;    // more than two triangles (or one, when no boundary is allowed)
-  std::size_t num_misoriented_edges = 0;    // a directed edge used twice
-  std::size_t num_nonmanifold_vertices = 0; // triangles around the vertex not a single fan
+  std::size_t num_bad_triangles = 0;         // index out of range, repeated vertex, zero area, duplicate
+  std::size_t num_nonmanifold_edges = 0;     // more than two triangles (or one, when no boundary is allowed)
+  std::size_t num_misoriented_edges = 0;     // a directed edge used twice
+  std::size_t num_nonmanifold_vertices = 0;  // triangles around the vertex not a single fan
   bool ok() const { return errors.empty(); }
   std::string Summary() const;  // the first errors, one a line
 };

@@ -78,7 +78,8 @@ inline std::optional<double> RayMeshDistance(const Mesh& mesh, const Eigen::Vect
 
 // A pinhole camera's depth view, world = camera frame: width × height px, focal focal_px, the principal
 // point at the image centre, a 0.5 m baseline, far range max_depth_m, and no depth anywhere yet (all 0).
-inline std::shared_ptr<DepthView> PinholeDepthView(int width_px, int height_px, double focal_px, double max_depth_m) {
+inline std::shared_ptr<DepthView> PinholeDepthView(int width_px, int height_px, double focal_px,
+                                                   double max_depth_m) {
   auto view = std::make_shared<DepthView>();
   view->intrinsics.fx_px = view->intrinsics.fy_px = focal_px;
   view->intrinsics.cx_px = width_px / 2.0;

@@ -24,7 +24,9 @@ FacetIds Ids(CellHandle c, int opposite) {
 }
 
 // The edge of a facet opposite its a-th (sorted) vertex, ends sorted.
-std::pair<std::uint32_t, std::uint32_t> Edge(const FacetIds& f, int a) { return {f[a == 0 ? 1 : 0], f[a == 2 ? 1 : 2]}; }
+std::pair<std::uint32_t, std::uint32_t> Edge(const FacetIds& f, int a) {
+  return {f[a == 0 ? 1 : 0], f[a == 2 ? 1 : 2]};
+}
 
 void ClearSeen(CellHandle c, int i) {
   const CellHandle n = c->neighbor(i);
@@ -88,8 +90,8 @@ struct Ball {
 
 // The reference: the unseen facets of an edge-manifold surface in components by shared edges (a union-find
 // over facet ids); a component of at most max_facets facets without a frozen vertex is filled.
-std::set<FacetIds> ReferenceUnseenAfter(const std::set<FacetIds>& unseen, const std::set<std::uint32_t>& frozen,
-                                        int max_facets) {
+std::set<FacetIds> ReferenceUnseenAfter(const std::set<FacetIds>& unseen,
+                                        const std::set<std::uint32_t>& frozen, int max_facets) {
   const std::vector<FacetIds> facets(unseen.begin(), unseen.end());
   std::vector<std::size_t> parent(facets.size());
   std::iota(parent.begin(), parent.end(), 0);

@@ -114,7 +114,8 @@ LabelledCloud StreetDepthFrame(const StreetScene& scene, double y_m, int stride)
   cloud.camera_centers_world.push_back(scene.CameraCenter(y_m));
   for (int v = 0; v < kHeight; ++v) {
     for (int u = 0; u < kWidth; ++u) {
-      const Eigen::Vector3d ray_cam((u - view->intrinsics.cx_px) / kFocal, (v - view->intrinsics.cy_px) / kFocal, 1.0);
+      const Eigen::Vector3d ray_cam((u - view->intrinsics.cx_px) / kFocal,
+                                    (v - view->intrinsics.cy_px) / kFocal, 1.0);
       const Eigen::Vector3d dir = (world_from_cam_rotation * ray_cam).normalized();
       const auto hit = scene.Cast(scene.CameraCenter(y_m), dir);
       const double depth = hit ? hit->first / ray_cam.norm() : 0.0;

@@ -22,7 +22,8 @@ TEST(FacetsToMesh, EveryTriangleNamesItsFacetsVerticesOnce) {
       v->info() = VertexInfo{steiner ? i : i * id_stride, steiner, false, 0, {}};
       if (!steiner) v->info().attributes = {Label(i % 7), {std::uint8_t(i), 2, 3}};
     }
-    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) c->info().carved = unit(rng) < 0.4;
+    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+      c->info().carved = unit(rng) < 0.4;
     std::vector<SurfaceFacet> facets;
     CollectSurface(dt, EmitRule{/*drop_steiner=*/false, /*drop_unseen=*/false}, &facets);
     ASSERT_GT(facets.size(), 100u);

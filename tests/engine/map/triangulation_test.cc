@@ -39,10 +39,12 @@ TEST(Triangulation, HandlesCompareByCreationNotByAddress) {
     created.push_back(fresh);
   }
   // The case the time stamp is for: without it, these pairs would compare the other way.
-  EXPECT_GT(lower_address, 0) << "no new vertex reused a freed slot below an older one: the test shows nothing";
+  EXPECT_GT(lower_address, 0)
+      << "no new vertex reused a freed slot below an older one: the test shows nothing";
   // Cells are numbered the same way: those of the last insertion come after every cell before it.
   std::size_t newest_before = 0;
-  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) newest_before = std::max(newest_before, c->time_stamp());
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c)
+    newest_before = std::max(newest_before, c->time_stamp());
   const VertexHandle last = dt.insert(random_point());
   std::vector<CellHandle> star;
   dt.incident_cells(last, std::back_inserter(star));
@@ -68,7 +70,8 @@ TEST(Triangulation, CellsGivenByOneRemovalAfterAnotherAreExactlyTheNewCells) {
   std::vector<VertexHandle> removed{vertices[7]};
   dt.finite_adjacent_vertices(vertices[7], std::back_inserter(removed));
   for (int i = 100; i < 400; i += 37) {
-    if (std::find(removed.begin(), removed.end(), vertices[i]) == removed.end()) removed.push_back(vertices[i]);
+    if (std::find(removed.begin(), removed.end(), vertices[i]) == removed.end())
+      removed.push_back(vertices[i]);
   }
   ASSERT_GT(removed.size(), 10u);
   const auto mark_created =
@@ -111,7 +114,8 @@ TEST(Triangulation, ConflictsFoundWhileInsertingAreThoseOfTheOldTriangulation) {
   std::set<std::size_t> destroyed_before;  // old cells, by time stamp
   for (std::size_t k = 0; k < pending.size(); ++k) {
     std::vector<CellHandle> region;
-    dt.find_conflicts(pending[k], dt.locate(pending[k]), CGAL::Emptyset_iterator(), std::back_inserter(region));
+    dt.find_conflicts(pending[k], dt.locate(pending[k]), CGAL::Emptyset_iterator(),
+                      std::back_inserter(region));
     left_out_before[k] = std::any_of(region.begin(), region.end(), blocks);
     if (left_out_before[k]) continue;
     for (const CellHandle c : region) destroyed_before.insert(c->time_stamp());
@@ -124,7 +128,8 @@ TEST(Triangulation, ConflictsFoundWhileInsertingAreThoseOfTheOldTriangulation) {
   for (std::size_t k = 0; k < pending.size(); ++k) {
     std::vector<CellHandle> hole;
     std::vector<Delaunay::Facet> boundary;
-    dt.find_conflicts(pending[k], dt.locate(pending[k]), std::back_inserter(boundary), std::back_inserter(hole));
+    dt.find_conflicts(pending[k], dt.locate(pending[k]), std::back_inserter(boundary),
+                      std::back_inserter(hole));
     if (std::any_of(hole.begin(), hole.end(), blocks)) {
       left_out_while[k] = true;
       continue;
@@ -132,8 +137,8 @@ TEST(Triangulation, ConflictsFoundWhileInsertingAreThoseOfTheOldTriangulation) {
     for (const CellHandle c : hole) {
       if (c->info().stamp == kOld) destroyed_while.insert(c->time_stamp());
     }
-    const VertexHandle v =
-        dt.insert_in_hole(pending[k], hole.begin(), hole.end(), boundary.front().first, boundary.front().second);
+    const VertexHandle v = dt.insert_in_hole(pending[k], hole.begin(), hole.end(), boundary.front().first,
+                                             boundary.front().second);
     std::vector<CellHandle> star;
     dt.incident_cells(v, std::back_inserter(star));
     for (const CellHandle c : star) c->info().stamp = kCreatedNow;

@@ -19,7 +19,8 @@ TEST(VoteWeights, GaussianComplementShape) {
 TEST(VoteWeights, StandardNormalCdfMatchesErfc) {
   const auto reference = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
   double worst = 0.0;
-  for (double x = -12.0; x <= 12.0; x += 1e-3) worst = std::max(worst, std::abs(StandardNormalCdf(x) - reference(x)));
+  for (double x = -12.0; x <= 12.0; x += 1e-3)
+    worst = std::max(worst, std::abs(StandardNormalCdf(x) - reference(x)));
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> anywhere(-kNormalCdfLimit, kNormalCdfLimit);
   for (int i = 0; i < 100000; ++i) {

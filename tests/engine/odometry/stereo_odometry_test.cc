@@ -2,10 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
 
 #include "engine/core/check.h"
 #include "engine/sim/camera_renderer.h"
@@ -31,7 +30,8 @@ constexpr double kMinPoints = 100.0;
 constexpr double kSigmas = 3.0;
 
 double TranslationTolerancePerFrameM(const StereoCalibration& c) {
-  return kSigmas * kTypicalDepthM * kTypicalDepthM * kLocationNoisePx / (c.fx_px * c.baseline_m * std::sqrt(kMinPoints));
+  return kSigmas * kTypicalDepthM * kTypicalDepthM * kLocationNoisePx /
+         (c.fx_px * c.baseline_m * std::sqrt(kMinPoints));
 }
 double RotationTolerancePerFrameRad(const StereoCalibration& c) {
   return kSigmas * kRotationCoupling * kLocationNoisePx / (c.fx_px * std::sqrt(kMinPoints));
@@ -51,8 +51,8 @@ struct Pair {
   cv::Mat left, right;
 };
 // `right_offset_px` shifts the right camera's principal point: a rectification that is off by that much.
-Pair Render(const sim::SyntheticSequence& seq, const sim::CameraRenderer& renderer, const Pose3d& scene_from_cam,
-            std::uint64_t seed, double right_offset_px = 0.0) {
+Pair Render(const sim::SyntheticSequence& seq, const sim::CameraRenderer& renderer,
+            const Pose3d& scene_from_cam, std::uint64_t seed, double right_offset_px = 0.0) {
   const StereoCalibration& c = seq.rig().calibration;
   Pose3d scene_from_right = scene_from_cam;
   scene_from_right.translation() += scene_from_cam.linear() * Eigen::Vector3d(c.baseline_m, 0.0, 0.0);
@@ -169,7 +169,8 @@ TEST(StereoOdometry, PureRotation) {
   OdometryResult r;
   for (int i = 0; i < kFrames; ++i) {
     Pose3d turn = Pose3d::Identity();
-    turn.linear() = Eigen::AngleAxisd(i * kStepRad, Eigen::Vector3d::UnitY()).toRotationMatrix();  // camera y: down
+    turn.linear() =
+        Eigen::AngleAxisd(i * kStepRad, Eigen::Vector3d::UnitY()).toRotationMatrix();  // camera y: down
     const Pair pair = Render(seq, renderer, scene_from_cam0 * turn, i);
     r = odometry.Track(pair.left, pair.right, i * kFramePeriodS);
     if (i > 0) ASSERT_EQ(r.status, OdometryStatus::kTracked) << "frame " << i << ": " << r.problem;

@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include <Eigen/Geometry>
+#include <random>
 
 namespace semap::odometry_internal {
 namespace {
@@ -22,15 +21,16 @@ StereoCalibration Kitti() {
 
 Pose3d Motion() {
   Pose3d m = Pose3d::Identity();
-  m.linear() = (Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
+  m.linear() =
+      (Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   m.translation() = Eigen::Vector3d(0.05, -0.02, -1.2);  // cur_from_ref: the camera drove ~1.2 m forward
   return m;
 }
 
 // Matches of random points in front of both cameras, observed with Gaussian pixel noise `noise_px`.
-std::vector<StereoMatch> Matches(const StereoCalibration& c, const Pose3d& cur_from_ref, int n, double noise_px,
-                                 std::mt19937* rng) {
+std::vector<StereoMatch> Matches(const StereoCalibration& c, const Pose3d& cur_from_ref, int n,
+                                 double noise_px, std::mt19937* rng) {
   std::uniform_real_distribution<double> x(-15.0, 15.0), y(-3.0, 2.0), z(4.0, 40.0);
   std::normal_distribution<double> noise(0.0, noise_px);
   std::vector<StereoMatch> out;
@@ -70,7 +70,8 @@ TEST(StereoPoseRefiner, OutliersAreFoundAndDoNotPullTheMotion) {
   std::vector<StereoMatch> matches = Matches(c, Motion(), 300, kNoisePx, &rng);
   // Every fifth match is wrong by 20 px in the current image (a mistracked feature).
   for (size_t i = 0; i < matches.size(); i += 5) matches[i].cur_left_px.x() += 20.0;
-  const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), {});
+  const RefinedMotion r =
+      RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), {});
   for (size_t i = 0; i < matches.size(); i += 5) EXPECT_FALSE(r.inliers[i]) << i;
   EXPECT_GT(r.num_inliers, 200);
   // 240 good matches at 0.3 px: a few centimetres and a few hundredths of a degree.
@@ -96,7 +97,8 @@ TEST(StereoPoseRefiner, ExactMatchesGiveTheDisparityOffsetAndTheMotion) {
   const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 200, 0.0, &rng), kOffsetPx);
   RefinerOptions o;
   o.estimate_offset_terms = 1;
-  const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+  const RefinedMotion r =
+      RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
   EXPECT_NEAR(r.disparity_offset.constant_px, kOffsetPx, 1e-6);
   EXPECT_EQ(r.disparity_offset.per_row_px, 0.0);
   EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
@@ -105,7 +107,8 @@ TEST(StereoPoseRefiner, ExactMatchesGiveTheDisparityOffsetAndTheMotion) {
   // Given the offset instead, the same.
   o.estimate_offset_terms = 0;
   o.disparity_offset.constant_px = kOffsetPx;
-  const RefinedMotion given = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+  const RefinedMotion given =
+      RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
   EXPECT_LT((given.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
   EXPECT_EQ(given.disparity_offset.constant_px, kOffsetPx);
   EXPECT_EQ(given.disparity_offset_sigma_px, 0.0);
@@ -123,7 +126,8 @@ TEST(StereoPoseRefiner, ExactMatchesGiveBothTermsOfAPerRowOffset) {
   }
   RefinerOptions o;
   o.estimate_offset_terms = 2;
-  const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+  const RefinedMotion r =
+      RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
   EXPECT_NEAR(r.disparity_offset.constant_px, truth.constant_px, 1e-6);
   EXPECT_NEAR(r.disparity_offset.per_row_px, truth.per_row_px, 1e-5);
   EXPECT_LT((r.cur_from_ref.translation() - Motion().translation()).norm(), 1e-6);
@@ -139,13 +143,17 @@ TEST(StereoPoseRefiner, NoisyMatchesGiveTheOffsetWithinItsStandardDeviation) {
   constexpr double kSigmas = 4.0;
   for (const unsigned seed : {4u, 5u, 6u}) {
     std::mt19937 rng(seed);
-    const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 300, kNoisePx, &rng), kOffsetPx);
+    const std::vector<StereoMatch> matches =
+        WithRightOffset(Matches(c, Motion(), 300, kNoisePx, &rng), kOffsetPx);
     RefinerOptions o;
     o.estimate_offset_terms = 1;
-    const RefinedMotion r = RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
+    const RefinedMotion r =
+        RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), o);
     EXPECT_GT(r.disparity_offset_sigma_px, 0.0);
-    EXPECT_LT(r.disparity_offset_sigma_px, kNoisePx);  // 300 matches tell it far better than one pixel's noise
-    EXPECT_NEAR(r.disparity_offset.constant_px, kOffsetPx, kSigmas * r.disparity_offset_sigma_px) << "seed " << seed;
+    EXPECT_LT(r.disparity_offset_sigma_px,
+              kNoisePx);  // 300 matches tell it far better than one pixel's noise
+    EXPECT_NEAR(r.disparity_offset.constant_px, kOffsetPx, kSigmas * r.disparity_offset_sigma_px)
+        << "seed " << seed;
     const RefinedMotion ignored =
         RefineStereoMotion(c, matches, Motion(), std::vector<bool>(matches.size(), true), RefinerOptions{});
     const double step_m = Motion().translation().norm();
@@ -162,7 +170,8 @@ TEST(StereoPoseRefiner, StandingStillCannotTellTheOffset) {
   const std::vector<StereoMatch> matches = Matches(c, Pose3d::Identity(), 300, 0.3, &rng);
   RefinerOptions o;
   o.estimate_offset_terms = 1;
-  const RefinedMotion r = RefineStereoMotion(c, matches, Pose3d::Identity(), std::vector<bool>(matches.size(), true), o);
+  const RefinedMotion r =
+      RefineStereoMotion(c, matches, Pose3d::Identity(), std::vector<bool>(matches.size(), true), o);
   const std::vector<StereoMatch> moving = Matches(c, Motion(), 300, 0.3, &rng);
   const RefinedMotion m = RefineStereoMotion(c, moving, Motion(), std::vector<bool>(moving.size(), true), o);
   EXPECT_GT(r.disparity_offset_sigma_px, 10.0 * m.disparity_offset_sigma_px);

@@ -1,21 +1,20 @@
 #include "engine/pipeline/pipeline.h"
 
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <tbb/task_arena.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <limits>
 #include <map>
 #include <mutex>
+#include <opencv2/core/utility.hpp>
 #include <set>
 #include <thread>
-
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
-#include <gtest/gtest.h>
-#include <opencv2/core/utility.hpp>
-#include <tbb/task_arena.h>
 
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
@@ -144,7 +143,8 @@ class RecordingSink : public PipelineSink {
 };
 
 PipelineSummary RunPipeline(PipelineOptions options, std::unique_ptr<FrameReader> reader, RecordingSink* sink,
-                            std::set<std::int64_t> bad_depth = {}, std::chrono::milliseconds map_delay = 0ms) {
+                            std::set<std::int64_t> bad_depth = {},
+                            std::chrono::milliseconds map_delay = 0ms) {
   Pipeline pipeline(
       options, std::move(reader), [bad_depth] { return std::make_unique<FakeDepth>(bad_depth); },
       std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>(map_delay));
@@ -178,7 +178,8 @@ std::set<int> NicesOfTbbThreads() {
     ids.insert(std::this_thread::get_id());
   });
   EXPECT_TRUE(each_once);
-  EXPECT_EQ(ids.size(), static_cast<std::size_t>(tbb::this_task_arena::max_concurrency())) << "every TBB thread took part";
+  EXPECT_EQ(ids.size(), static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()))
+      << "every TBB thread took part";
   return nices;
 }
 
@@ -224,8 +225,9 @@ TEST(Pipeline, FeedersRunNicerThanTheMapAndItsParallelLoops) {
   std::set<int> loop_nices;
   RecordingSink sink;
   Pipeline pipeline(
-      options, std::make_unique<FakeReader>(6), [&] { return std::make_unique<NiceRecordingDepth>(&depth_nice); },
-      std::make_unique<FakeSimplify>(), std::make_unique<NiceRecordingMap>(&map_nice, &loop_nices));
+      options, std::make_unique<FakeReader>(6),
+      [&] { return std::make_unique<NiceRecordingDepth>(&depth_nice); }, std::make_unique<FakeSimplify>(),
+      std::make_unique<NiceRecordingMap>(&map_nice, &loop_nices));
   pipeline.AddSink(&sink);
   pipeline.Run();
   ASSERT_EQ(sink.frames.size(), 6u);
@@ -244,7 +246,7 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
   ASSERT_EQ(sink.frames.size(), 40u);
   for (int i = 0; i < 40; ++i) EXPECT_EQ(sink.frames[i], i);
   EXPECT_EQ(sink.finishes, 1);
-  EXPECT_EQ(sink.triangles, 41u);  // one per frame + the final flush
+  EXPECT_EQ(sink.triangles, 41u);                     // one per frame + the final flush
   EXPECT_EQ(summary.final_stats.mesh_triangles, 41);  // as published, the final delta included
   EXPECT_EQ(summary.final_stats.frames_processed, 40);
   EXPECT_EQ(summary.final_stats.frames_dropped, 0);
@@ -263,8 +265,9 @@ TEST(Pipeline, ExhaustiveProcessesEveryFrameInOrder) {
 TEST(Pipeline, FailingFramesAreSkippedAndCounted) {
   PipelineOptions options;
   RecordingSink sink;
-  const auto summary = RunPipeline(options, std::make_unique<FakeReader>(20, std::set<std::int64_t>{3}), &sink,
-                                   /*bad_depth=*/{7, 8});
+  const auto summary =
+      RunPipeline(options, std::make_unique<FakeReader>(20, std::set<std::int64_t>{3}), &sink,
+                  /*bad_depth=*/{7, 8});
   EXPECT_EQ(summary.final_stats.frames_processed, 17);
   EXPECT_EQ(summary.final_stats.frames_failed, 3);
   ASSERT_EQ(sink.errors.size(), 3u);
@@ -334,8 +337,9 @@ TEST(Pipeline, AFailingFinishKeepsTheLastFramesTotals) {
   PipelineOptions options;
   RecordingSink sink;
   Pipeline pipeline(
-      options, std::make_unique<FakeReader>(5), [] { return std::make_unique<FakeDepth>(std::set<std::int64_t>{}); },
-      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>(0ms, /*finish_throws=*/true));
+      options, std::make_unique<FakeReader>(5),
+      [] { return std::make_unique<FakeDepth>(std::set<std::int64_t>{}); }, std::make_unique<FakeSimplify>(),
+      std::make_unique<FakeMap>(0ms, /*finish_throws=*/true));
   pipeline.AddSink(&sink);
   const PipelineSummary summary = pipeline.Run();
   EXPECT_EQ(sink.finishes, 1);
@@ -352,13 +356,16 @@ TEST(Pipeline, AThrowingSinkDoesNotStopTheRun) {
     void OnFrame(const FrameStats&, const MeshDelta&, const std::optional<Pose3d>&) override {
       throw std::runtime_error("/out/stats.csv: not writable");
     }
-    void OnFinish(const FrameStats&, const MeshDelta&) override { throw std::runtime_error("/out/mesh.ply: disk full"); }
+    void OnFinish(const FrameStats&, const MeshDelta&) override {
+      throw std::runtime_error("/out/mesh.ply: disk full");
+    }
   };
   PipelineOptions options;
   RecordingSink good;
   BrokenSink broken;
-  Pipeline pipeline(options, std::make_unique<FakeReader>(10), [] { return std::make_unique<FakeDepth>(); },
-                    std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+  Pipeline pipeline(
+      options, std::make_unique<FakeReader>(10), [] { return std::make_unique<FakeDepth>(); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
   pipeline.AddSink(&broken);
   pipeline.AddSink(&good);
   const auto summary = pipeline.Run();
@@ -403,7 +410,8 @@ TEST(Pipeline, NonFiniteNonRigidAndJumpingPosesAreSkippedAndCounted) {
   EXPECT_EQ(summary.final_stats.frames_failed, 3);
   ASSERT_EQ(sink.errors.size(), 3u);
   EXPECT_EQ(sink.errors[0].first, 2);
-  EXPECT_NE(sink.errors[0].second.find("pose: frame 2: pose is not finite"), std::string::npos) << sink.errors[0].second;
+  EXPECT_NE(sink.errors[0].second.find("pose: frame 2: pose is not finite"), std::string::npos)
+      << sink.errors[0].second;
   EXPECT_NE(sink.errors[1].second.find("not a rotation"), std::string::npos) << sink.errors[1].second;
   EXPECT_EQ(sink.errors[2].first, 6);
   // Frame 7 is compared with frame 5, the last accepted one (2 m in 0.2 s).
@@ -454,9 +462,10 @@ TEST(Pipeline, OpenCvThreadsHoldDuringTheRunAndAreRestoredAfter) {
     options.opencv_threads = threads;
     std::atomic<int> seen{-100};
     RecordingSink sink;
-    Pipeline pipeline(options, std::make_unique<FakeReader>(3),
-                      [&] { return std::make_unique<OpenCvThreadsRecordingDepth>(&seen); },
-                      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+    Pipeline pipeline(
+        options, std::make_unique<FakeReader>(3),
+        [&] { return std::make_unique<OpenCvThreadsRecordingDepth>(&seen); },
+        std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
     pipeline.AddSink(&sink);
     pipeline.Run();
     ASSERT_EQ(sink.frames.size(), 3u);
@@ -560,8 +569,8 @@ struct KeyframeRun {
 };
 
 void RunWithKeyframes(KeyframeRun* run, int every_frames, std::unique_ptr<FrameReader> reader,
-                      std::chrono::milliseconds segment_delay = 0ms, std::set<std::int64_t> bad_keyframes = {},
-                      PipelineOptions options = {}) {
+                      std::chrono::milliseconds segment_delay = 0ms,
+                      std::set<std::int64_t> bad_keyframes = {}, PipelineOptions options = {}) {
   Pipeline pipeline(
       options, std::move(reader), [run] { return std::make_unique<KeyframeRecordingDepth>(&run->depth_log); },
       std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
@@ -613,7 +622,8 @@ TEST(PipelineKeyframes, AnUnreadableKeyframeMovesTheKeyframeToTheNextFrame) {
   EXPECT_EQ(run.summary.final_stats.frames_failed, 1);
 }
 
-// The segmenter fails on keyframe 3: frames 3, 4, 5 fail (stage "segment", naming the keyframe), the others map.
+// The segmenter fails on keyframe 3: frames 3, 4, 5 fail (stage "segment", naming the keyframe), the others
+// map.
 TEST(PipelineKeyframes, ASegmenterErrorFailsTheFramesOfThatKeyframe) {
   KeyframeRun run;
   RunWithKeyframes(&run, 3, std::make_unique<FakeReader>(9), 0ms, {3});
@@ -633,8 +643,8 @@ TEST(PipelineKeyframes, StopRequestDrainsWithTheSegmentThread) {
   KeyframeRun run;
   Pipeline pipeline(
       PipelineOptions{}, std::make_unique<FakeReader>(100000),
-      [&run] { return std::make_unique<KeyframeRecordingDepth>(&run.depth_log); }, std::make_unique<FakeSimplify>(),
-      std::make_unique<FakeMap>());
+      [&run] { return std::make_unique<KeyframeRecordingDepth>(&run.depth_log); },
+      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
   pipeline.SetSegmentStage(std::make_unique<FakeSegment>(&run.segment_log, 5ms), 2);
   pipeline.AddSink(&run.sink);
   const auto summary = RunAndStopAfter(pipeline, 100ms);
@@ -675,8 +685,9 @@ TEST(PipelineKeyframes, NoSegmentStageNoKeyframeLabels) {
   KeyframeRecordingDepth::Log log;
   RecordingSink sink;
   Pipeline pipeline(
-      PipelineOptions{}, std::make_unique<FakeReader>(5), [&log] { return std::make_unique<KeyframeRecordingDepth>(&log); },
-      std::make_unique<FakeSimplify>(), std::make_unique<FakeMap>());
+      PipelineOptions{}, std::make_unique<FakeReader>(5),
+      [&log] { return std::make_unique<KeyframeRecordingDepth>(&log); }, std::make_unique<FakeSimplify>(),
+      std::make_unique<FakeMap>());
   pipeline.AddSink(&sink);
   pipeline.Run();
   ASSERT_EQ(log.keyframe_of.size(), 5u);

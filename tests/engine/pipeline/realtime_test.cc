@@ -1,14 +1,14 @@
 // Realtime pacing, the drop policy and the latency figures, against a clock the test moves (ManualClock):
 // frames are due when the test says, stages take the time the test gives them, and no result depends on the
 // wall clock.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <condition_variable>
 #include <map>
 #include <mutex>
-#include <thread>
-
-#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <thread>
 
 #include "engine/core/check.h"
 #include "engine/core/mesh_delta.h"
@@ -98,7 +98,8 @@ void ClockedReader::SlowRead(std::int64_t frame_id, double read_s) {
 // One point per frame; takes `depth_s` on the clock.
 class ClockedDepth : public DepthStage {
  public:
-  ClockedDepth(ManualClock* clock, double depth_s, StageLog* log) : clock_(clock), depth_s_(depth_s), log_(log) {}
+  ClockedDepth(ManualClock* clock, double depth_s, StageLog* log)
+      : clock_(clock), depth_s_(depth_s), log_(log) {}
   LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe) override {
     log_->Add(frame.id, keyframe != nullptr ? keyframe->frame_id : -1);
     clock_->Advance(depth_s_);
@@ -252,7 +253,9 @@ struct ClockedRun {
     map = m.get();
     pipeline = std::make_unique<Pipeline>(
         options, std::make_unique<ClockedReader>(setup.frames, &clock, std::move(setup.read_s), &depth_log),
-        [this, depth_s = setup.depth_s] { return std::make_unique<ClockedDepth>(&clock, depth_s, &depth_log); },
+        [this, depth_s = setup.depth_s] {
+          return std::make_unique<ClockedDepth>(&clock, depth_s, &depth_log);
+        },
         std::make_unique<PassSimplify>(), std::move(m));
     if (setup.segment) pipeline->SetSegmentStage(std::move(setup.segment), setup.keyframe_every);
     pipeline->SetClock(&clock);

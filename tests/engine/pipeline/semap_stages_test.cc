@@ -6,9 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <deque>
-#include <set>
-
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "engine/core/mesh_delta.h"
 #include "tests/common/frames_reader.h"
@@ -17,7 +16,7 @@
 namespace semap {
 namespace {
 
-constexpr Label kRoad = 7;      // Cityscapes ids (none of them sky)
+constexpr Label kRoad = 7;  // Cityscapes ids (none of them sky)
 constexpr Label kBuilding = 3;
 constexpr Label kUnlabelled = 0;  // Cityscapes' unlabelled id
 
@@ -74,8 +73,8 @@ TEST(StereoLabelStageKeyframes, AKeyframeTakesItsOwnLabels) {
   }
 }
 
-// The frame 0.25 m to the right of the keyframe: a point of the plane (9.375 m) at column u of the frame is at
-// u + 300·0.25/9.375 = u + 8 in the keyframe: building up to u = 91, road from 92, unlabelled beyond 191.
+// The frame 0.25 m to the right of the keyframe: a point of the plane (9.375 m) at column u of the frame is
+// at u + 300·0.25/9.375 = u + 8 in the keyframe: building up to u = 91, road from 92, unlabelled beyond 191.
 // Reused labels keep the keyframe's columns.
 TEST(StereoLabelStageKeyframes, AFrameBetweenKeyframesTakesTheReprojectedOrReusedLabels) {
   const Frame frame = Plane(12, Pose3d(Eigen::Translation3d(0.25, 0.0, 0.0)));
@@ -109,15 +108,17 @@ TEST(StereoLabelStageKeyframes, AFrameBetweenKeyframesTakesTheReprojectedOrReuse
 // The depth workers of a pipeline with a segment stage load no model: a wrong path is no error there; the
 // segment stage loads it and names the file.
 TEST(SegmenterStage, LoadsTheModelAtConstruction) {
-  EXPECT_NO_THROW(StereoLabelStage(SmallDepth(), Enet(LabelPropagation::kReproject), ClassMap::Cityscapes(), true));
+  EXPECT_NO_THROW(
+      StereoLabelStage(SmallDepth(), Enet(LabelPropagation::kReproject), ClassMap::Cityscapes(), true));
   try {
     SegmenterStage stage(Enet(LabelPropagation::kReproject));
     FAIL() << "no error for a missing model";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/enet-model.net"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(StereoLabelStage(SmallDepth(), Enet(LabelPropagation::kReproject), ClassMap::Cityscapes(), false),
-               std::runtime_error);
+  EXPECT_THROW(
+      StereoLabelStage(SmallDepth(), Enet(LabelPropagation::kReproject), ClassMap::Cityscapes(), false),
+      std::runtime_error);
 }
 
 // The map stage at a mesh cadence: 13 frames of the analytic street with finalisation, meshed every frame

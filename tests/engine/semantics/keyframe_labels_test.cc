@@ -1,9 +1,9 @@
 #include "engine/semantics/keyframe_labels.h"
 
-#include <cmath>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <cmath>
 
 namespace semap {
 namespace {
@@ -27,7 +27,8 @@ StereoCalibration SmallCamera() {
 cv::Mat Gradient(const StereoCalibration& c) {
   cv::Mat labels(c.height_px, c.width_px, CV_8UC1);
   for (int v = 0; v < c.height_px; ++v) {
-    for (int u = 0; u < c.width_px; ++u) labels.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>((u + 64 * v) % 200);
+    for (int u = 0; u < c.width_px; ++u)
+      labels.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>((u + 64 * v) % 200);
   }
   return labels;
 }
@@ -46,7 +47,8 @@ cv::Mat ConstantDepth(const StereoCalibration& c, float z_m) {
 
 TEST(PropagateLabels, IdentityPoseGivesTheKeyframeLabels) {
   const StereoCalibration c = SmallCamera();
-  const Pose3d pose = Pose3d(Eigen::Translation3d(3.0, -1.0, 12.0) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()));
+  const Pose3d pose =
+      Pose3d(Eigen::Translation3d(3.0, -1.0, 12.0) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()));
   const KeyframeLabels k = Keyframe(c, pose);
   // With depth everywhere, and with no depth at all (points at infinity): the same image.
   for (const float z : {8.0f, 0.0f}) {
@@ -94,7 +96,8 @@ TEST(PropagateLabels, PixelsWithoutDepthIgnoreTranslation) {
 TEST(PropagateLabels, RotationMovesPointsAtInfinity) {
   const StereoCalibration c = SmallCamera();
   const Pose3d world_from_keyframe = Pose3d(Eigen::Translation3d(-2.0, 0.0, 5.0));
-  const Pose3d world_from_frame = world_from_keyframe * Pose3d(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()));
+  const Pose3d world_from_frame =
+      world_from_keyframe * Pose3d(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()));
   const KeyframeLabels k = Keyframe(c, world_from_keyframe);
   const cv::Mat out = PropagateLabels(k, world_from_frame, ConstantDepth(c, 0.0f), c, kUnlabelled);
   EXPECT_EQ(out.at<std::uint8_t>(20, 32), k.labels.at<std::uint8_t>(20, 42));
@@ -159,10 +162,10 @@ TEST(KeyframeSchedule, FramesWithoutPoseAndRestartsAreKeyframes) {
   EXPECT_FALSE(s.IsDue(1, true));
   EXPECT_TRUE(s.IsDue(1, false));  // no pose: nothing to reproject with
   s.Record(1, false);
-  EXPECT_TRUE(s.IsDue(2, true));   // its keyframe has no pose
+  EXPECT_TRUE(s.IsDue(2, true));  // its keyframe has no pose
   s.Record(2, true);
   EXPECT_FALSE(s.IsDue(3, true));
-  EXPECT_TRUE(s.IsDue(0, true));   // the sequence starts over
+  EXPECT_TRUE(s.IsDue(0, true));  // the sequence starts over
 }
 
 // A refused keyframe (not recorded) leaves the next frame due.

@@ -166,8 +166,8 @@ TEST(StereoThenFirstCameraLabels, LabelImageOfAnotherSizeIsResizedOrRefused) {
 
 TEST(SkyLabel, IsTheClassNamedSky) {
   EXPECT_EQ(SkyLabel(ClassMap::Cityscapes()), Label(11));
-  const ClassMap no_sky("two", {{1, "road", {0, 0, 0}, ClassRole::kGround}, {2, "tree", {0, 0, 0}, ClassRole::kKeep}},
-                        0);
+  const ClassMap no_sky(
+      "two", {{1, "road", {0, 0, 0}, ClassRole::kGround}, {2, "tree", {0, 0, 0}, ClassRole::kKeep}}, 0);
   EXPECT_FALSE(SkyLabel(no_sky).has_value());
   const ClassMap other_id("mine", {{5, "SKY", {0, 0, 0}, ClassRole::kKeep}}, 0);
   EXPECT_EQ(SkyLabel(other_id), Label(5));
@@ -204,7 +204,8 @@ TEST(StereoLabelStage, SkyPixelsGiveNoPoint) {
   ASSERT_LT(sky_points, all.size());
 
   ASSERT_TRUE(SemanticsOptions().drop_sky);
-  const LabelledCloud no_sky = StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f, nullptr);
+  const LabelledCloud no_sky =
+      StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f, nullptr);
   EXPECT_EQ(no_sky.size(), all.size() - sky_points);
   for (size_t i = 0; i < no_sky.size(); ++i) {
     EXPECT_NE(no_sky.labels[i], 11);
@@ -212,7 +213,8 @@ TEST(StereoLabelStage, SkyPixelsGiveNoPoint) {
   }
   // Only sky in the frame: nothing to map, the frame is refused (the pipeline skips and counts it).
   f.labels.setTo(11);
-  EXPECT_THROW(StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f, nullptr), std::runtime_error);
+  EXPECT_THROW(StereoLabelStage(depth, SemanticsOptions(), ClassMap::Cityscapes()).Process(f, nullptr),
+               std::runtime_error);
 }
 
 }  // namespace

@@ -116,8 +116,9 @@ TEST(EnetSegmenter, SegmentsARealKittiFrame) {
   double max_id = 0;
   cv::minMaxLoc(labels, nullptr, &max_id);
   EXPECT_LT(max_id, 20);
-  // ENet's quality on KITTI is moderate (much of the buildings comes out as "Train"; see bench/results/depth.md),
-  // so this checks what it does reliably on this frame: road in the lower half, several classes overall.
+  // ENet's quality on KITTI is moderate (much of the buildings comes out as "Train"; see
+  // bench/results/depth.md), so this checks what it does reliably on this frame: road in the lower half,
+  // several classes overall.
   const ClassMap& classes = segmenter->class_map();
   const cv::Mat lower = labels.rowRange(labels.rows / 2, labels.rows);
   const int road = cv::countNonZero(lower == classes.FindByName("Road"));

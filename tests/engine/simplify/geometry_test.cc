@@ -43,8 +43,8 @@ TEST(RadiusGrid, RadiusMatchesBruteForce) {
   // Negative and positive coordinates, queries inside and outside the cloud, on and off cell corners.
   const auto pts = RandomPoints(3000, 2);
   const RadiusGrid grid(pts, 0.25);
-  const std::vector<Eigen::Vector3d> queries = {
-      {0.1, -0.2, 0.3}, {0.0, 0.0, 0.0}, {-0.75, 0.5, -0.25}, {0.99, 0.99, 0.99}, {3.0, 3.0, 3.0}, pts[17]};
+  const std::vector<Eigen::Vector3d> queries = {{0.1, -0.2, 0.3},   {0.0, 0.0, 0.0}, {-0.75, 0.5, -0.25},
+                                                {0.99, 0.99, 0.99}, {3.0, 3.0, 3.0}, pts[17]};
   for (const auto& q : queries) {
     std::vector<std::uint32_t> got, again;
     grid.Radius(q, &got);

@@ -45,7 +45,8 @@ Line OpenCvReference(const std::vector<Eigen::Vector2d>& x, const std::vector<in
 
 // Points in the unit disc (a region in region radii), labelled by a line through it, a share of the labels
 // flipped near the line (overlapping classes).
-void Region(std::uint64_t seed, double flip_band, std::vector<Eigen::Vector2d>* x, std::vector<int>* positive) {
+void Region(std::uint64_t seed, double flip_band, std::vector<Eigen::Vector2d>* x,
+            std::vector<int>* positive) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double angle = u(rng) * M_PI;

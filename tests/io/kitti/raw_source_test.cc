@@ -3,8 +3,8 @@
 
 #include <cmath>
 #include <functional>
-#include <sstream>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "engine/core/check.h"
 #include "io/frame_source.h"

@@ -2,12 +2,12 @@
 // NaN, empty, truncated and foreign files give a clear error or a skipped and counted message, never a crash.
 #include "io/lcm/lcm_log.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "io/file_error.h"
 #include "tests/common/test_data.h"

@@ -1,11 +1,11 @@
 #include "io/lcm/lcm_publisher.h"
 
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <fstream>
 #include <random>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "engine/core/check.h"
 #include "io/lcm/lcm_log.h"
@@ -42,7 +42,8 @@ class PublishedLog : public ::testing::Test {
     {
       LcmPublisher publisher(options);
       for (int frame = 0; frame < 60; ++frame) {
-        publisher.PublishMeshDelta(source.Step(frame));  // never blocks: deltas coalesce while the sender is busy
+        publisher.PublishMeshDelta(
+            source.Step(frame));  // never blocks: deltas coalesce while the sender is busy
         publisher.PublishFrameStats(FrameStats{});
       }
       publisher.Flush();

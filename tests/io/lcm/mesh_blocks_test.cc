@@ -1,11 +1,11 @@
 #include "io/lcm/mesh_blocks.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <limits>
 #include <random>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "tests/io/lcm/lcm_test_mesh.h"
 
@@ -137,11 +137,12 @@ TEST(MeshBlocks, LostPartsAndBasesAreNamedAndRecovered) {
   EXPECT_FALSE(a.Complete());
   const auto missing = a.Missing();
   const std::string key = BlockKey{lost_msg.block[0], lost_msg.block[1], lost_msg.block[2], 0}.ToString();
-  const std::string parts =
-      "(parts " + std::to_string(lost_msg.num_parts - 1) + "/" + std::to_string(lost_msg.num_parts) + " received)";
+  const std::string parts = "(parts " + std::to_string(lost_msg.num_parts - 1) + "/" +
+                            std::to_string(lost_msg.num_parts) + " received)";
   ASSERT_EQ(missing.size(), 1u) << ::testing::PrintToString(missing);
   EXPECT_EQ(missing[0].find(key), 0u) << missing[0];
-  EXPECT_NE(missing[0].find("lacks version " + std::to_string(lost_msg.version) + " " + parts), std::string::npos)
+  EXPECT_NE(missing[0].find("lacks version " + std::to_string(lost_msg.version) + " " + parts),
+            std::string::npos)
       << missing[0];
   Feed(OneRound(&sender, 0), &a);
   EXPECT_TRUE(a.Complete());
@@ -205,7 +206,8 @@ TEST_F(DamagedBlock, WrongFingerprintIsRefused) {
 TEST_F(DamagedBlock, NonFiniteVertexIsRefused) {
   auto m = msg_;
   m.positions[1][2] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_NE(Refusal(m).find("vertex " + std::to_string(m.vertex_ids[1]) + " has a non-finite"), std::string::npos);
+  EXPECT_NE(Refusal(m).find("vertex " + std::to_string(m.vertex_ids[1]) + " has a non-finite"),
+            std::string::npos);
   m = msg_;
   m.positions[0][0] = std::numeric_limits<float>::infinity();
   EXPECT_NE(Refusal(m).find("non-finite"), std::string::npos);

@@ -1,11 +1,11 @@
 #include "io/atomic_file.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-
-#include <gtest/gtest.h>
 
 #include "io/file_error.h"
 #include "tests/common/test_data.h"

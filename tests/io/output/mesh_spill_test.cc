@@ -1,9 +1,9 @@
 #include "io/output/mesh_spill.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "io/file_error.h"
 #include "tests/common/test_data.h"

@@ -1,12 +1,12 @@
 #include "io/output/output_sinks.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
@@ -149,7 +149,8 @@ TEST(StatsFileSink, DropsLatencyAndTheirSummary) {
     s.latency = {5.0, 40.0, 30.0, 90.0, published_ms};
     s.dropped_by_reason = {{"behind", behind}, {"no_keyframe_labels", 0}};
     s.frames_dropped = behind;
-    s.latencies = {{"depth", 40.0, 40.0, 40.0, 40.0, 40.0, 0}, {"published", published_ms, 110.0, 100.0, 120.0, 120.0, 0}};
+    s.latencies = {{"depth", 40.0, 40.0, 40.0, 40.0, 40.0, 0},
+                   {"published", published_ms, 110.0, 100.0, 120.0, 120.0, 0}};
     return s;
   };
   {

@@ -1,10 +1,9 @@
 #include "io/output/trajectory_files.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <fstream>
 
 #include "tests/common/test_data.h"
 

@@ -32,7 +32,8 @@ TEST(StrechaFountain, ReadsAllElevenViews) {
     EXPECT_NEAR(v.K(1, 2), 1024 / 2.0, 20.0);
     EXPECT_NEAR(v.world_from_cam.linear().determinant(), 1.0, 1e-3);
     if (i > 0) {
-      const double step_m = (v.world_from_cam.translation() - views[i - 1].world_from_cam.translation()).norm();
+      const double step_m =
+          (v.world_from_cam.translation() - views[i - 1].world_from_cam.translation()).norm();
       EXPECT_GT(step_m, 0.2);
       EXPECT_LT(step_m, 3.0);
     }

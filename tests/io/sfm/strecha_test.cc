@@ -18,7 +18,7 @@ using test::WriteText;
 // K with f = 1000 px and the centre (320, 240); R (camera to world) a quarter turn about y, so the camera
 // looks along world +x; C = (1, 2, 3); a 640 × 480 image.
 struct Camera {
-  std::vector<std::string> lines{"1000 0 320", "0 1000 240", "0 0 1", "0 0 0", "0 0 1",
+  std::vector<std::string> lines{"1000 0 320", "0 1000 240", "0 0 1", "0 0 0",  "0 0 1",
                                  "0 1 0",      "-1 0 0",     "1 2 3", "640 480"};
   std::string Text() const {
     std::string text;
@@ -94,7 +94,8 @@ TEST(Strecha, MalformedCamerasNameTheFileAndLine) {
       ADD_FAILURE() << "no error";
     } catch (const ParseError& e) {
       for (const auto& part : parts)
-        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << "'" << part << "' not in: " << e.what();
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
+            << "'" << part << "' not in: " << e.what();
     }
   }
 }
