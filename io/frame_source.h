@@ -15,7 +15,8 @@
 
 namespace semap::io {
 
-enum class DatasetLayout { kAuto, kKittiRaw, kKittiOdometry, kKittiStereo2015 };
+// kStrecha: a calibrated multi-view set without a stereo pair (io/sfm/strecha.h): depth by plane sweep.
+enum class DatasetLayout { kAuto, kKittiRaw, kKittiOdometry, kKittiStereo2015, kStrecha };
 
 const char* DatasetLayoutName(DatasetLayout layout);
 
@@ -37,6 +38,7 @@ struct FrameSourceOptions {
   double default_frame_period_s = 0.1;
   int loops = 1;
   double loop_gap_m = 100.0;
+  int neighbour_views = 4;
 
   // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
   // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
@@ -46,7 +48,8 @@ struct FrameSourceOptions {
            {{"auto", DatasetLayout::kAuto},
             {"kitti_raw", DatasetLayout::kKittiRaw},
             {"kitti_odometry", DatasetLayout::kKittiOdometry},
-            {"kitti_stereo2015", DatasetLayout::kKittiStereo2015}},
+            {"kitti_stereo2015", DatasetLayout::kKittiStereo2015},
+            {"strecha", DatasetLayout::kStrecha}},
            "dataset layout; auto detects it from the folder's contents");
     v.Field("first_frame", &first_frame, "first frame index to read (0-based, as numbered on disk)");
     v.Field("max_frames", &max_frames, "number of frames to read; 0 = to the end of the sequence");
@@ -72,34 +75,13 @@ struct FrameSourceOptions {
     // Above 2 × depth.max_depth_m, what one pass sees does not overlap the next.
     v.Field("loop_gap_m", &loop_gap_m,
             "gap between the camera tracks of consecutive passes, m (keep above 2 x depth.max_depth_m)");
+    v.Field("neighbour_views", &neighbour_views,
+            "multi-view sets (strecha layout): each frame's depth is swept against this many of the set's "
+            "views, the nearest cameras looking the same way (more: fewer occlusions and ambiguities, cost "
+            "grows with it; >= 1)");
   }
 
   void Check() const;
-};
-
-// A lazily read sequence of frames. Not thread-safe: one consumer calls Next().
-// It is the pipeline's FrameReader: `semap run` hands it to the Pipeline as is.
-class FrameSource : public FrameReader {
- public:
-  ~FrameSource() override = default;
-  virtual DatasetLayout layout() const = 0;
-  // Total number of frames this source will yield (after first_frame / max_frames).
-  virtual std::int64_t size() const = 0;
-  // The next frame, or std::nullopt at the end. A frame that cannot be read throws FrameError (the
-  // caller logs, counts and goes on with the next one).
-  std::optional<Frame> Next() override = 0;
-  virtual const ClassMap& class_map() const = 0;
-};
-
-// A frame that could not be read: names the file and the problem. The source stays usable.
-class FrameError : public std::runtime_error {
- public:
-  FrameError(std::int64_t frame_id, const std::string& message)
-      : std::runtime_error(message), frame_id_(frame_id) {}
-  std::int64_t frame_id() const { return frame_id_; }
-
- private:
-  std::int64_t frame_id_;
 };
 
 // What a dataset folder holds, as `semap info` reports it (nothing but the first image's header is read).
@@ -122,6 +104,33 @@ struct SequenceInfo {
   std::vector<std::filesystem::path> label_files;  // the selected frames' label images that exist
   ClassMap class_map;
   std::vector<std::string> notes;  // why something present on disk is not used
+};
+
+// A lazily read sequence of frames. Not thread-safe: one consumer calls Next().
+// It is the pipeline's FrameReader: `semap run` hands it to the Pipeline as is.
+class FrameSource : public FrameReader {
+ public:
+  ~FrameSource() override = default;
+  virtual DatasetLayout layout() const = 0;
+  // Total number of frames this source will yield (after first_frame / max_frames).
+  virtual std::int64_t size() const = 0;
+  // The next frame, or std::nullopt at the end. A frame that cannot be read throws FrameError (the
+  // caller logs, counts and goes on with the next one).
+  std::optional<Frame> Next() override = 0;
+  virtual const ClassMap& class_map() const = 0;
+  // What the source reads, as `semap info` reports it (of one pass, with input.loops > 1).
+  virtual const SequenceInfo& info() const = 0;
+};
+
+// A frame that could not be read: names the file and the problem. The source stays usable.
+class FrameError : public std::runtime_error {
+ public:
+  FrameError(std::int64_t frame_id, const std::string& message)
+      : std::runtime_error(message), frame_id_(frame_id) {}
+  std::int64_t frame_id() const { return frame_id_; }
+
+ private:
+  std::int64_t frame_id_;
 };
 
 // The layout of the dataset at `path` (raw drive / date folder, odometry root or sequence folder, stereo-2015

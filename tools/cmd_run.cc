@@ -90,7 +90,8 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
                                  "Stream a sequence through the engine (SGBM depth → semantic labels → "
                                  "simplification → incremental Delaunay map) and write/publish the mesh");
   AddCommonOptions(cmd, &args->common);
-  cmd->add_option("PATH", args->path, "dataset folder (KITTI raw, odometry or stereo-2015 layout)")
+  cmd->add_option("PATH", args->path,
+                  "dataset folder (KITTI raw, odometry, stereo-2015 or Strecha multi-view layout)")
       ->required();
   cmd->add_option("--out", args->out, "output folder (output.dir)");
   cmd->add_option("--method", args->method, "simplification method, e.g. PS or O (simplify.method)");

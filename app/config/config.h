@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/config/pose_input.h"
+#include "engine/depth/plane_sweep.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/map/map_options.h"
@@ -42,6 +43,7 @@ struct Config {
   DepthAccuracyOptions eval;       // accuracy against Velodyne / exact depth
   StereoOdometryOptions odometry;  // poses from the images (input.poses)
   DepthOptions depth;              // stereo matching and point cloud
+  PlaneSweepOptions plane_sweep;   // multi-view depth where a frame has no stereo pair
   SemanticsOptions semantics;      // where per-pixel labels come from
   SimplifyOptions simplify;        // semantic point-cloud simplification (and its baselines)
   MapOptions map;                  // the Delaunay map: votes, manifold, incremental update, memory bound

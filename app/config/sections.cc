@@ -44,6 +44,11 @@ std::vector<Section> BindSections(Config& c) {
                           c.odometry));
   s.push_back(
       MakeSection("depth", "Depth: stereo matching (OpenCV SGBM) and the per-frame point cloud.", c.depth));
+  s.push_back(
+      MakeSection("plane_sweep",
+                  "Plane-sweep depth of a multi-view set's frames (no stereo pair): each frame against "
+                  "its input.neighbour_views nearest views (depth.half_resolution sweeps at half size).",
+                  c.plane_sweep));
   s.push_back(MakeSection("semantics", "Semantics: where the per-pixel labels come from (first-camera rule).",
                           c.semantics));
   s.push_back(MakeSection(

@@ -65,8 +65,8 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
   const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
   auto pipeline = std::make_unique<Pipeline>(
       config.pipeline, std::move(reader),
-      [depth = config.depth, semantics = config.semantics, class_map, enet] {
-        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet);
+      [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map, enet] {
+        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet, sweep);
       },
       std::move(simplify),
       std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));

@@ -1,4 +1,5 @@
-// One stereo frame as it enters the pipeline.
+// One frame as it enters the pipeline: a rectified stereo pair, or one view of a calibrated multi-view set
+// with the neighbouring views its depth is swept against.
 #pragma once
 
 #include <Eigen/Core>
@@ -17,14 +18,27 @@ struct VelodyneScan {
   Pose3d cam_from_velo = Pose3d::Identity();  // velodyne → rectified left camera (KITTI: R_rect_00 · Tr)
 };
 
+// Another calibrated camera's image that a frame's depth is computed against (plane sweep): a multi-view
+// set's neighbouring views. The pinhole model has no distortion.
+struct CalibratedView {
+  std::int64_t frame_id = 0;                        // the view's frame id in its sequence
+  cv::Mat image;                                    // CV_8UC1 grey
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  // [fx s cx; 0 fy cy; 0 0 1], pixels
+  Pose3d world_from_cam = Pose3d::Identity();
+};
+
 struct Frame {
   std::int64_t id = 0;       // index in the sequence (as on disk)
   double timestamp_s = 0.0;  // seconds since the first frame of the sequence
   cv::Mat left;              // rectified left image, CV_8UC3 (BGR) or CV_8UC1
-  cv::Mat right;             // rectified right image, same size and type as left
+  cv::Mat right;             // rectified right image, same size and type as left; empty: no stereo pair
   StereoCalibration calibration;
   std::optional<Pose3d> world_from_cam;  // left camera pose, when the sequence has poses
   std::optional<VelodyneScan> velodyne;
+  // The views whose images the left image's depth is swept against when there is no right image (a
+  // multi-view set); calibration.baseline_m is then the distance to the nearest of them (the baseline the
+  // depth's uncertainty follows, as a stereo pair's does).
+  std::vector<CalibratedView> neighbour_views;
   cv::Mat labels;  // CV_8UC1 label ids of the left image (ClassMap scheme); empty = none
   // Added to every disparity measured on the pair before it becomes depth (true = measured + offset at the
   // pixel's row): the rig's rectification offset as known when the frame was read (the visual odometry's).

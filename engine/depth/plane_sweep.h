@@ -19,15 +19,12 @@
 #include <vector>
 
 #include "engine/core/calibration.h"
+#include "engine/core/frame.h"
 
 namespace semap {
 
-// One calibrated view: a grey image, its pinhole intrinsics (pixels; no distortion) and its pose.
-struct PlaneSweepView {
-  cv::Mat image;                                    // CV_8UC1
-  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  // [fx s cx; 0 fy cy; 0 0 1]
-  Pose3d world_from_cam = Pose3d::Identity();
-};
+// One calibrated view: a grey (CV_8UC1) image, its pinhole intrinsics (pixels; no distortion) and its pose.
+using PlaneSweepView = CalibratedView;
 
 // The depths swept, camera-frame z of the reference, in metres.
 struct DepthRange {

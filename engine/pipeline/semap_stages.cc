@@ -5,13 +5,16 @@
 #include <string>
 
 #include "engine/core/check.h"
+#include "engine/depth/frame_sweep.h"
 #include "engine/depth/row_alignment.h"
 
 namespace semap {
 
 StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics,
-                                   ClassMap class_map, bool labels_from_keyframes)
+                                   ClassMap class_map, bool labels_from_keyframes,
+                                   const PlaneSweepOptions& sweep)
     : depth_(depth),
+      sweep_(sweep),
       semantics_(semantics),
       class_map_(std::move(class_map)),
       sky_label_(SkyLabel(class_map_)),
@@ -102,9 +105,13 @@ std::optional<Frame> RowAlignmentReader::Next() {
   return frame;
 }
 
+DisparityResult StereoLabelStage::Disparity(const Frame& frame) const {
+  if (frame.right.empty()) return SweepFrameDisparity(frame, sweep_, depth_.options().half_resolution);
+  return depth_.Compute(frame.left, frame.right, frame.row_offsets ? &*frame.row_offsets : nullptr);
+}
+
 LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
-  const DisparityResult disparity =
-      depth_.Compute(frame.left, frame.right, frame.row_offsets ? &*frame.row_offsets : nullptr);
+  const DisparityResult disparity = Disparity(frame);
   LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
   DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
   if (cloud.size() == 0) {

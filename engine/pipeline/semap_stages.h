@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "engine/core/class_map.h"
+#include "engine/depth/plane_sweep.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/map/incremental_map.h"
 #include "engine/pipeline/stages.h"
@@ -15,17 +16,18 @@
 
 namespace semap {
 
-// SGBM depth, then the paper's labelling rule: the frame's points are labelled from the frame's own label
-// image (its camera is their first camera); points labelled sky are dropped (semantics.drop_sky). A frame
-// that gives no point at all (no valid disparity, or only sky) throws: the pipeline skips and counts it.
-// Measures the rig's residual row misalignment (FitRowOffsets, depth.align_rows) on the frames it reads and
-// hands each frame the last measurement (Frame::row_offsets), so that the depth workers only resample the
-// right image instead of each measuring its own pair (~30 ms a frame). Every frame is measured until one
-// fits, for the first kFirstAttemptFrames frames; after that, and after a fit, every kRemeasureEveryFrames
-// frames, each fit replacing the one before (a rig's rectification holds for a drive; a new measurement
-// follows a change of camera). A frame read before any fit carries "measured, nothing to correct". Frames
-// are passed on in order, so every run of the same frames gets the same offsets. Runs on the reader's
-// thread; one thread calls Next().
+// SGBM depth (a frame without a right image: plane-sweep depth against its neighbour views, as
+// SweepFrameDisparity gives it), then the paper's labelling rule: the frame's points are labelled from the
+// frame's own label image (its camera is their first camera); points labelled sky are dropped
+// (semantics.drop_sky). A frame that gives no point at all (no valid disparity, or only sky) throws: the
+// pipeline skips and counts it. Measures the rig's residual row misalignment (FitRowOffsets,
+// depth.align_rows) on the frames it reads and hands each frame the last measurement (Frame::row_offsets), so
+// that the depth workers only resample the right image instead of each measuring its own pair (~30 ms a
+// frame). Every frame is measured until one fits, for the first kFirstAttemptFrames frames; after that, and
+// after a fit, every kRemeasureEveryFrames frames, each fit replacing the one before (a rig's rectification
+// holds for a drive; a new measurement follows a change of camera). A frame read before any fit carries
+// "measured, nothing to correct". Frames are passed on in order, so every run of the same frames gets the
+// same offsets. Runs on the reader's thread; one thread calls Next().
 class RowAlignmentReader : public FrameReader {
  public:
   static constexpr int kFirstAttemptFrames = 10;
@@ -49,13 +51,17 @@ class RowAlignmentReader : public FrameReader {
 class StereoLabelStage : public DepthStage {
  public:
   StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map,
-                   bool labels_from_keyframes = false);
+                   bool labels_from_keyframes = false, const PlaneSweepOptions& sweep = {});
   LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) override;
   // With its own segmenter: runs it once on the first frame (its first forward pass sets the network up).
   void Prepare(const Frame& first_frame) override;
 
  private:
+  // The frame's disparity (and confidence): SGBM on its pair, or the plane sweep without one.
+  DisparityResult Disparity(const Frame& frame) const;
+
   StereoDepth depth_;
+  PlaneSweepDepth sweep_;
   SemanticsOptions semantics_;
   ClassMap class_map_;
   std::optional<Label> sky_label_;        // points of this label are dropped when semantics.drop_sky

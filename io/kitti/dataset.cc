@@ -4,6 +4,7 @@
 
 #include "io/frame_source.h"
 #include "io/kitti/internal/sequence_source.h"
+#include "io/sfm/strecha.h"
 
 namespace semap::io {
 namespace {
@@ -19,8 +20,7 @@ bool IsStereo2015(const fs::path& p) {
   return fs::is_directory(p / "image_2") && fs::exists(p / "calib_cam_to_cam.txt");
 }
 
-std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path,
-                                                     const FrameSourceOptions& options) {
+std::unique_ptr<FrameSource> Open(const fs::path& path, const FrameSourceOptions& options) {
   options.Check();
   std::error_code ec;
   if (!fs::is_directory(path, ec)) DetectLayout(path);  // throws the missing-folder / not-a-folder error
@@ -32,6 +32,8 @@ std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path,
       return kitti_internal::OpenKittiOdometry(path, options);
     case DatasetLayout::kKittiStereo2015:
       return kitti_internal::OpenKittiStereo2015(path, options);
+    case DatasetLayout::kStrecha:
+      return OpenStrechaSource(path, options);
     case DatasetLayout::kAuto:
       break;
   }
@@ -41,8 +43,7 @@ std::unique_ptr<kitti_internal::SequenceSource> Open(const fs::path& path,
 // The selected frames read options.loops times (see OpenFrameSource). Each pass re-opens the dataset.
 class LoopedSource : public FrameSource {
  public:
-  LoopedSource(fs::path path, const FrameSourceOptions& options,
-               std::unique_ptr<kitti_internal::SequenceSource> first)
+  LoopedSource(fs::path path, const FrameSourceOptions& options, std::unique_ptr<FrameSource> first)
       : path_(std::move(path)), options_(options), source_(std::move(first)) {
     id_span_ = source_->info().last_frame_id - source_->info().first_frame_id + 1;
     pass_frames_ = source_->size();
@@ -51,6 +52,7 @@ class LoopedSource : public FrameSource {
   DatasetLayout layout() const override { return source_->layout(); }
   std::int64_t size() const override { return pass_frames_ * options_.loops; }
   const ClassMap& class_map() const override { return source_->class_map(); }
+  const SequenceInfo& info() const override { return source_->info(); }
 
   std::optional<Frame> Next() override {
     while (true) {
@@ -121,7 +123,7 @@ class LoopedSource : public FrameSource {
 
   fs::path path_;
   FrameSourceOptions options_;
-  std::unique_ptr<kitti_internal::SequenceSource> source_;
+  std::unique_ptr<FrameSource> source_;
   std::int64_t id_span_ = 0;
   std::int64_t pass_frames_ = 0;
   std::int64_t pass_ = 0;
@@ -143,13 +145,15 @@ DatasetLayout DetectLayout(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw FileError(path, "dataset folder not found");
   if (!fs::is_directory(path, ec)) throw FileError(path, "not a folder (expected a dataset folder)");
+  if (IsStrechaSet(path)) return DatasetLayout::kStrecha;
   if (IsStereo2015(path)) return DatasetLayout::kKittiStereo2015;
   if (IsOdometry(path)) return DatasetLayout::kKittiOdometry;
   if (kitti_internal::FindRawDrive(path)) return DatasetLayout::kKittiRaw;
   throw FileError(path,
                   "cannot detect the dataset layout: expected a KITTI raw drive (image_02/data) or its date "
-                  "folder, an odometry sequence (calib.txt + image_0|image_2, or sequences/NN) or a "
-                  "stereo-2015 folder (image_2 + calib_cam_to_cam.txt)");
+                  "folder, an odometry sequence (calib.txt + image_0|image_2, or sequences/NN), a "
+                  "stereo-2015 folder (image_2 + calib_cam_to_cam.txt) or a Strecha multi-view set "
+                  "(images + gt_dense_cameras)");
 }
 
 std::unique_ptr<FrameSource> OpenFrameSource(const fs::path& path, const FrameSourceOptions& options) {

@@ -14,6 +14,7 @@
 
 #include "engine/core/calibration.h"
 #include "io/file_error.h"
+#include "io/frame_source.h"
 
 namespace semap::io {
 
@@ -39,5 +40,18 @@ StrechaView ReadStrechaCamera(const std::filesystem::path& camera_file);
 // missing or an image cannot be read, ParseError (as ReadStrechaCamera) for a malformed camera file or one
 // whose line 9 differs from its image's size. Decodes every image once to check its size.
 std::vector<StrechaView> ReadStrechaSet(const std::filesystem::path& root);
+
+// True when `root` holds the layout's two folders (images/, gt_dense_cameras/).
+bool IsStrechaSet(const std::filesystem::path& root);
+
+// The set at `root` as a frame source (DatasetLayout::kStrecha): one frame per view in file-name order, its
+// id the view's index in the set, its timestamp id × options.default_frame_period_s. A frame carries its
+// colour image as `left` (no right image), its camera, and options.neighbour_views neighbour views in grey
+// (SelectNeighbourViews over the whole set: the nearest cameras looking the same way), with
+// calibration.baseline_m the distance to the nearest of them; labels from options.labels_dir or
+// root/labels when present. Throws what ReadStrechaSet throws, FileError for a K with a skew, and FileError
+// / InvalidOption as OpenFrameSource does for the frame selection and the class map.
+std::unique_ptr<FrameSource> OpenStrechaSource(const std::filesystem::path& root,
+                                               const FrameSourceOptions& options);
 
 }  // namespace semap::io

@@ -1,6 +1,6 @@
 // Every mesh file semap writes is a 2-manifold with boundary, checked by the independent checker
 // (tests/engine/map/manifold_checker.h) on the files themselves: a generated drive long enough to finalise
-// many times, and the real KITTI frames in ../shared.
+// many times, the real KITTI frames and the fountain-P11 views in ../shared.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -118,6 +118,33 @@ TEST(WrittenMeshes, RealKittiFramesAreManifold) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(MapShrankOnce(drive)) << "no finalisation ran";
   ExpectWrittenMeshesManifold(drive);
+}
+
+// The real fountain-P11 views (a multi-view set: plane-sweep depth, no stereo pair), a few of them at half
+// size with coarse planes: `semap info` describes the set, and both methods write manifold meshes that hold
+// every frame.
+TEST(WrittenMeshes, FountainP11FromPlaneSweepIsManifold) {
+  SEMAP_REQUIRE_SHARED("data/strecha_fountain_p11");
+  const std::string set = (test::SharedDir() / "data/strecha_fountain_p11").string();
+  CliRun r = RunSemap("info " + set);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.Has("layout       strecha")) << r.output;
+  EXPECT_TRUE(r.Has("frames       11 (ids 0..10; 11 left images on disk)")) << r.output;
+  EXPECT_TRUE(r.Has("image size   1536 x 1024 px, colour")) << r.output;
+  EXPECT_TRUE(r.Has("poses        yes")) << r.output;
+  for (const std::string method : {"PS", "O"}) {
+    SCOPED_TRACE(method);
+    const fs::path run = test::TempDir() / ("fountain_" + method);
+    r = RunSemap("run " + set + " --frames 3 --method " + method +
+                 " --set depth.half_resolution=true --set plane_sweep.num_planes=32 --progress-interval 0"
+                 " --out " +
+                 run.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(run / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    EXPECT_EQ(summary.at("frames_integrated").get<int>(), 3) << summary.dump();
+    ExpectWrittenMeshesManifold(run);
+  }
 }
 
 }  // namespace

@@ -71,7 +71,7 @@ class SequenceSource : public FrameSource {
   std::int64_t size() const override { return static_cast<std::int64_t>(scan_.frames.size()); }
   std::optional<Frame> Next() override;
   const ClassMap& class_map() const override { return scan_.info.class_map; }
-  const SequenceInfo& info() const { return scan_.info; }
+  const SequenceInfo& info() const override { return scan_.info; }
 
  protected:
   // Pose of the left camera of selected frame `index`; nullopt when unknown. May throw FileError.
