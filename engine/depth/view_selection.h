@@ -10,8 +10,8 @@
 namespace semap {
 
 struct ViewSelectionOptions {
-  int max_views = 4;               // at most this many neighbours
-  double min_baseline_m = 1e-3;    // cameras nearer than this to the reference add no parallax: skipped
+  int max_views = 4;                 // at most this many neighbours
+  double min_baseline_m = 1e-3;      // cameras nearer than this to the reference add no parallax: skipped
   double max_axis_angle_deg = 60.0;  // cameras whose optical axis turns further than this look elsewhere
 };
 

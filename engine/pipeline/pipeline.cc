@@ -4,6 +4,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <future>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "engine/core/check.h"
@@ -21,6 +23,7 @@
 #include "engine/pipeline/internal/frame_reporter.h"
 #include "engine/pipeline/internal/frame_tokens.h"
 #include "engine/pipeline/internal/item.h"
+#include "engine/pipeline/internal/label_budget.h"
 #include "engine/pipeline/internal/pose_check.h"
 #include "engine/pipeline/internal/threads.h"
 
@@ -110,6 +113,11 @@ constexpr int kMaxConsecutiveReadFailures = 100;
 // Realtime: the input queue holds the newest frame, and the segment queue the newest keyframe (a keyframe
 // that finds it full is not taken: the labels follow what ENet has time for).
 constexpr int kRealtimeInputFrames = 1;
+// Realtime label budget: keyframes at most this much sensor time apart (labels carried further than this
+// by reprojection are stale; more: a slow machine labels less often and maps more frames).
+constexpr double kMaxKeyframeGapS = 3.0;
+// The label budget's stages, in LabelBudget::RecordStageMs's order.
+constexpr int kBudgetDepth = 0, kBudgetSimplify = 1, kBudgetMap = 2;
 constexpr int kRealtimeSegmentFrames = 1;
 }  // namespace
 
@@ -137,6 +145,8 @@ struct Pipeline::Impl {
   std::mutex side_mutex;
   std::vector<SideEvent> side_events;                             // guarded by side_mutex
   std::array<std::int64_t, kNumDropReasons> dropped_by_reason{};  // guarded by side_mutex
+  // Realtime with a segment stage and pipeline.realtime_label_budget: the keyframes' gap.
+  std::optional<pipeline_internal::LabelBudget> label_budget;
   Clock::time_point start;
   double start_s = 0.0;            // `start` on the pipeline's clock
   ReadState state;                 // the reader thread's (first read before it starts)
@@ -151,7 +161,25 @@ struct Pipeline::Impl {
         to_simplify(pipeline.options_.QueueCapacity()),
         to_map(pipeline.options_.QueueCapacity()),
         to_output(pipeline.options_.QueueCapacity()),
-        tokens(realtime ? pipeline.options_.realtime_frames_in_flight : 0) {}
+        tokens(realtime ? pipeline.options_.realtime_frames_in_flight : 0) {
+    if (realtime && pipeline.segment_ && pipeline.options_.realtime_label_budget) {
+      const PipelineOptions& o = pipeline.options_;
+      const int max_gap = std::max(1, static_cast<int>(std::lround(kMaxKeyframeGapS * o.realtime_rate_hz)));
+      label_budget.emplace(1000.0 / (o.realtime_rate_hz * o.realtime_speed), EngineCores(o.cpu_affinity),
+                           std::min(pipeline.keyframe_every_frames_, max_gap), max_gap);
+    }
+  }
+
+  // The CPUs the engine's threads may run on.
+  static int EngineCores(const std::vector<int>& cpu_affinity) {
+    if (!cpu_affinity.empty()) return static_cast<int>(cpu_affinity.size());
+    return std::max(1u, std::thread::hardware_concurrency());
+  }
+
+  // A stage's time on a frame, for the label budget.
+  void Budget(int stage, double ms) {
+    if (label_budget) label_budget->RecordStageMs(stage, ms);
+  }
 
   bool Stopping() const { return p.stop_requested_.load() || error_stop.load(); }
 
@@ -319,6 +347,7 @@ struct Pipeline::Impl {
   bool AttachKeyframe(Item& item, KeyframeSchedule* schedule, Keyframes* keyframes) {
     const Frame& f = *item.frame;
     const bool has_pose = f.world_from_cam.has_value();
+    if (label_budget) schedule->SetEveryFrames(label_budget->GapFrames());
     if (schedule->IsDue(f.id, has_pose)) {
       SegmentJob job;
       job.keyframe.id = f.id;
@@ -361,7 +390,9 @@ struct Pipeline::Impl {
         labels->frame_id = job->keyframe.id;
         labels->world_from_cam = job->keyframe.world_from_cam;
         labels->labels = p.segment_->Process(job->keyframe);
-        job->labels.set_value({std::move(labels), MsBetween(t0, Clock::now())});
+        const double ms = MsBetween(t0, Clock::now());
+        if (label_budget) label_budget->RecordSegmentMs(ms);
+        job->labels.set_value({std::move(labels), ms});
       } catch (const std::exception& e) {
         job->labels.set_exception(std::make_exception_ptr(
             std::runtime_error("keyframe " + std::to_string(job->keyframe.id) + ": " + e.what())));
@@ -403,6 +434,7 @@ struct Pipeline::Impl {
     }
     item->ms[kDepth] = MsBetween(t0, Clock::now());
     item->times.depth_s = clock.NowS();
+    if (!item->failed()) Budget(kBudgetDepth, item->ms[kDepth] - item->label_wait_ms);
     if (!item->keyframe_labels.valid())
       item->times.labels_s = item->times.depth_s;  // labelled with the depth
   }
@@ -452,6 +484,7 @@ struct Pipeline::Impl {
             Fail(ready, kStageNames[kSimplify], e.what());
           }
           ready.ms[kSimplify] = MsBetween(t0, Clock::now());
+          Budget(kBudgetSimplify, ready.ms[kSimplify]);
         }
         to_map.Push(std::move(ready));
       }
@@ -473,6 +506,7 @@ struct Pipeline::Impl {
         }
         item->ms[kMap] = MsBetween(t0, Clock::now());
         item->times.map_s = clock.NowS();
+        Budget(kBudgetMap, item->ms[kMap]);
       }
       item->cloud = LabelledCloud{};
       tokens.Release();  // integrated (or failed): the next frame may go

@@ -26,6 +26,7 @@ struct PipelineOptions {
   double realtime_rate_hz = 10.0;  // KITTI: 10 Hz
   double realtime_speed = 1.0;
   int realtime_frames_in_flight = 2;
+  bool realtime_label_budget = true;
   int depth_workers = 2;
   int queue_capacity = 4;
   OnError on_error = OnError::kSkipFrame;
@@ -53,6 +54,15 @@ struct PipelineOptions {
     v.Field("realtime_frames_in_flight", &realtime_frames_in_flight,
             "realtime mode: frames taken from the input queue and not yet integrated, at most (1 = a frame's "
             "depth starts once the map has integrated the one before)");
+    // Labels are carried between keyframes by reprojection (semantics.enet_propagation); a keyframe adds the
+    // segmenter's time to the CPU the frames share. On: a machine with time to spare labels more often, one
+    // that is behind labels less often and maps more of the frames.
+    v.Field("realtime_label_budget", &realtime_label_budget,
+            "realtime mode with ENet on keyframes: keyframes as far apart as the frame budget leaves the "
+            "segmenter time for (cores x frame period, less the depth, simplification and map times measured "
+            "so far; at most 3 s of the sensor's time apart); off: every semantics.enet_every_frames frames, "
+            "as in exhaustive "
+            "mode");
     v.Field("depth_workers", &depth_workers,
             "threads running SGBM depth, the heaviest per-frame stage (frames are reordered after them)");
     v.Field("queue_capacity", &queue_capacity,

@@ -26,6 +26,11 @@ bool KeyframeSchedule::IsDue(std::int64_t frame_id, bool has_pose) const {
   return frame_id < *last_id_ || frame_id - *last_id_ >= every_frames_;
 }
 
+void KeyframeSchedule::SetEveryFrames(int every_frames) {
+  SEMAP_ASSERT(every_frames >= 1, "keyframe interval " << every_frames);
+  every_frames_ = every_frames;
+}
+
 void KeyframeSchedule::Record(std::int64_t frame_id, bool has_pose) {
   last_id_ = frame_id;
   last_has_pose_ = has_pose;

@@ -47,6 +47,8 @@ class KeyframeSchedule {
   // `frame_id` became a keyframe (a due frame may be refused, e.g. when the segmenter's queue is full in
   // realtime mode: the next frame is then due).
   void Record(std::int64_t frame_id, bool has_pose);
+  // Changes the interval from the next IsDue() on (every_frames >= 1).
+  void SetEveryFrames(int every_frames);
 
  private:
   int every_frames_;

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 #include <opencv2/core.hpp>
+#include <set>
 #include <thread>
 
 #include "engine/core/check.h"
@@ -221,6 +222,7 @@ PipelineOptions RealtimeOptions() {
   options.realtime_frames_in_flight = 1;
   options.depth_workers = 1;
   options.feeder_nice = 0;
+  options.realtime_label_budget = false;  // keyframes every Setup::keyframe_every frames, as the tests say
   return options;
 }
 
@@ -432,6 +434,37 @@ TEST(PipelineRealtime, AFrameTakesTheNewestReadyKeyframesLabelsInsteadOfWaiting)
   EXPECT_EQ(keyframe_of.at(1), 0);
   for (int k = 2; k < kFrames; ++k) EXPECT_EQ(keyframe_of.at(k), 0) << k;
   EXPECT_EQ(run.summary.final_stats.frames_processed, kFrames);
+}
+
+// With the label budget, a machine with time to spare (stages that take a few ms of the 2 × 100 ms of CPU a
+// frame) labels far more often than semantics.enet_every_frames says once each cost has been measured (the
+// stages' times are real, so how often exactly depends on the machine); without, every 6th frame is a
+// keyframe.
+TEST(PipelineRealtime, TheLabelBudgetLabelsMoreOftenWhenTimeIsLeft) {
+  constexpr int kFrames = 12;
+  for (const bool budget : {true, false}) {
+    SCOPED_TRACE(budget ? "budget" : "every 6 frames");
+    PipelineOptions options = RealtimeOptions();
+    options.realtime_label_budget = budget;
+    options.cpu_affinity = {0, 1};  // two cores, whatever the machine has
+    ClockedRun run(options, {.frames = kFrames,
+                             .segment = std::make_unique<GatedSegment>(/*gate_from=*/kFrames),
+                             .keyframe_every = 6});
+    for (int k = 1; k < kFrames; ++k) {
+      ASSERT_TRUE(run.sink.log.WaitForCount(k));  // frame k-1 published: its costs are measured
+      run.Deliver(DueS(k));
+    }
+    run.Join();
+    const auto keyframe_of = run.depth_log.keyframe_of();
+    std::set<std::int64_t> keyframes;
+    for (int k = 0; k < kFrames; ++k) {
+      keyframes.insert(keyframe_of.at(k));
+      EXPECT_LE(keyframe_of.at(k), k);
+      if (!budget) EXPECT_EQ(keyframe_of.at(k), 6 * (k / 6)) << k;
+    }
+    if (budget) EXPECT_GE(keyframes.size(), static_cast<size_t>(kFrames / 2));
+    EXPECT_EQ(run.summary.final_stats.frames_processed, kFrames);
+  }
 }
 
 // A stop request while the reader waits for a frame's due time ends the run at once: the frames delivered
