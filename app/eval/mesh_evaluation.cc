@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <vector>
 
 #include "engine/core/check.h"
 #include "io/kitti/ground_truth.h"
 #include "io/mesh/ply_off.h"
+#include "io/sfm/strecha.h"
 
 namespace semap::app {
 
@@ -42,6 +44,13 @@ std::unique_ptr<Segmenter> EvaluationSegmenter(const SemanticsOptions& semantics
 }
 
 std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info, std::int64_t id) {
+  if (info.layout == io::DatasetLayout::kStrecha) {
+    const std::vector<std::filesystem::path> images = io::StrechaImageFiles(info.root);
+    if (id < 0 || id >= static_cast<std::int64_t>(images.size())) return std::nullopt;
+    const auto path = info.root / "depth" / (images[static_cast<std::size_t>(id)].stem().string() + ".png");
+    if (std::filesystem::is_regular_file(path)) return path;
+    return std::nullopt;
+  }
   char name[32];
   std::snprintf(name, sizeof(name), "%010lld.png", static_cast<long long>(id));
   const auto path = info.root / "depth" / "data" / name;

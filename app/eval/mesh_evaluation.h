@@ -100,7 +100,8 @@ struct MeshEvaluation {
 // when `semantics.source` is enet (as the run labelled them), else none.
 std::unique_ptr<Segmenter> EvaluationSegmenter(const SemanticsOptions& semantics);
 
-// The exact depth map of frame `id` of a generated sequence (depth/data/%010d.png beside image_02), if any.
+// The exact depth map of frame `id` of a generated data set, if any: depth/data/%010d.png beside image_02
+// (KITTI raw), depth/<stem of view id's image>.png beside images/ (Strecha layout).
 std::optional<std::filesystem::path> ExactDepthPath(const io::SequenceInfo& info, std::int64_t id);
 
 // Reads the frames of `dataset` selected by `input` (Velodyne is loaded whatever input.load_velodyne says;

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "engine/core/class_map.h"
 #include "io/synth/kitti_raw_writer.h"
+#include "io/synth/strecha_writer.h"
 
 namespace semap::app {
 
@@ -46,6 +48,36 @@ void GenerateSequence(const sim::SynthOptions& o, const std::filesystem::path& o
       100.0 * h.RoleShare(classes, ClassRole::kGround), 100.0 * h.RoleShare(classes, ClassRole::kWall),
       100.0 * h.Share(sim::label::kVegetation), 100.0 * h.Share(sim::label::kCar),
       100.0 * h.Share(sim::label::kSky));
+}
+
+void GenerateMultiViewSet(const sim::SynthOptions& synth, const sim::MultiViewSetOptions& options,
+                          const std::filesystem::path& out) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  spdlog::info(
+      "synth: multi-view set (strecha layout), {} views of {}x{} px on a {:.0f} deg arc at {:.1f}-{:.1f} m, "
+      "seed {} -> {}",
+      options.num_views, options.image_width_px, options.image_height_px, options.arc_deg,
+      options.min_distance_m, options.max_distance_m, synth.seed, out.string());
+  const sim::MultiViewSet set(synth, options);
+  double nearest = std::numeric_limits<double>::infinity(), farthest = 0.0;
+  for (int i = 0; i < set.num_views(); ++i) {
+    const Eigen::Vector3d c = set.camera(i).world_from_cam.translation();
+    const double d = std::hypot(c.x() - set.target().x(), c.y() - set.target().y());
+    nearest = std::min(nearest, d);
+    farthest = std::max(farthest, d);
+  }
+  spdlog::info("scene: {} triangles; cameras {:.2f}-{:.2f} m from the object's axis",
+               set.scene().num_triangles(), nearest, farthest);
+  const io::StrechaWriteSummary summary = io::WriteSyntheticStrecha(set, out);
+  const double total_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  spdlog::info("wrote {} views to {} in {:.2f} s", summary.num_views, out.string(), total_s);
+  const ClassMap classes = ClassMap::Cityscapes();
+  const auto& h = summary.label_pixels;
+  spdlog::info(
+      "class composition (pixels of the views): ground {:.1f}%, wall {:.1f}%, object {:.1f}%, sky {:.1f}%",
+      100.0 * h.RoleShare(classes, ClassRole::kGround), 100.0 * h.RoleShare(classes, ClassRole::kWall),
+      100.0 * h.Share(sim::kMultiViewObjectLabel), 100.0 * h.Share(sim::label::kSky));
 }
 
 }  // namespace semap::app

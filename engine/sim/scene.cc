@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <set>
 
 #include "engine/core/check.h"
@@ -340,41 +339,6 @@ double DistanceToRect(const Vector2d& p, double x0, double x1, double y0, double
   return std::hypot(dx, dy);
 }
 
-// Sorts the triangles into square chunks (stable: deterministic) and fills scene.chunks.
-void Chunk(Scene& s) {
-  const size_t n = s.triangles.size();
-  std::vector<std::pair<std::int64_t, std::int64_t>> key(n);
-  for (size_t t = 0; t < n; ++t) {
-    const Vector3d c =
-        (s.vertices[s.triangles[t][0]] + s.vertices[s.triangles[t][1]] + s.vertices[s.triangles[t][2]]) / 3.0;
-    key[t] = {static_cast<std::int64_t>(std::floor(c.x() / kChunkSizeM)),
-              static_cast<std::int64_t>(std::floor(c.y() / kChunkSizeM))};
-  }
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
-  auto permute = [&](auto& v) {
-    auto copy = v;
-    for (size_t k = 0; k < n; ++k) v[k] = copy[order[k]];
-  };
-  permute(s.triangles);
-  permute(s.normals);
-  permute(s.labels);
-  permute(s.materials);
-  permute(s.object_ids);
-  std::vector<std::pair<std::int64_t, std::int64_t>> sorted_key(n);
-  for (size_t k = 0; k < n; ++k) sorted_key[k] = key[order[k]];
-  s.chunks.clear();
-  for (size_t k = 0; k < n; ++k) {
-    if (k == 0 || sorted_key[k] != sorted_key[k - 1])
-      s.chunks.push_back({Eigen::AlignedBox3d(), static_cast<std::uint32_t>(k), 0});
-    SceneChunk& c = s.chunks.back();
-    ++c.count;
-    for (int v = 0; v < 3; ++v) c.box.extend(s.vertices[s.triangles[k][v]]);
-  }
-}
-
 }  // namespace
 
 Mesh Scene::ToMesh(const Pose3d& out_from_scene) const {
@@ -417,7 +381,7 @@ Scene BuildScene(const SynthOptions& o, const Trajectory& trajectory) {
       city.Block(i, j, d <= o.content_distance_m);
     }
   }
-  Chunk(scene);
+  sim_internal::SortIntoChunks(&scene, kChunkSizeM);
   return scene;
 }
 

@@ -40,6 +40,22 @@ void WriteKittiDisparityPng(const std::filesystem::path& path, const cv::Mat& di
   Write(path, out);
 }
 
+void WriteDepthPngMm(const std::filesystem::path& path, const cv::Mat& depth_m) {
+  if (depth_m.empty() || depth_m.type() != CV_32FC1) {
+    throw FileError(path, "the depth to write must be a non-empty CV_32F image");
+  }
+  cv::Mat out(depth_m.size(), CV_16UC1);
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* d = depth_m.ptr<float>(v);
+    std::uint16_t* o = out.ptr<std::uint16_t>(v);
+    for (int u = 0; u < depth_m.cols; ++u) {
+      const double mm = std::round(static_cast<double>(d[u]) * 1000.0);
+      o[u] = (mm > 0.0 && mm <= kMaxUint16) ? static_cast<std::uint16_t>(mm) : 0;
+    }
+  }
+  Write(path, out);
+}
+
 cv::Mat FalseColourDisparity(const cv::Mat& disparity_px, float max_disparity_px) {
   CV_Assert(disparity_px.type() == CV_32FC1);
   cv::Mat valid = disparity_px > 0.0f;

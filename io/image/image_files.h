@@ -16,6 +16,10 @@ void WriteKittiDisparityPng(const std::filesystem::path& path, const cv::Mat& di
 // [0, max_disparity_px]; invalid pixels are black. max_disparity_px ≤ 0: the map's maximum.
 cv::Mat FalseColourDisparity(const cv::Mat& disparity_px, float max_disparity_px = 0.0f);
 
+// The depth PNG of generated data: uint16, depth in mm (rounded), 0 where `depth_m` (CV_32FC1, metres) is
+// 0 or beyond 65.535 m. (Reading: io::ReadDepthPngMm in io/kitti/ground_truth.h.)
+void WriteDepthPngMm(const std::filesystem::path& path, const cv::Mat& depth_m);
+
 // Writes any 8-bit image as PNG (label ids CV_8UC1, overlays CV_8UC3 BGR).
 void WritePng(const std::filesystem::path& path, const cv::Mat& image);
 

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -120,11 +121,27 @@ StrechaView ReadStrechaCamera(const std::filesystem::path& camera_file) {
   return view;
 }
 
-std::vector<StrechaView> ReadStrechaSet(const std::filesystem::path& root) {
-  const std::filesystem::path images = root / "images", cameras = root / "gt_dense_cameras";
-  for (const auto& folder : {images, cameras}) {
-    if (!std::filesystem::is_directory(folder)) throw FileError(folder, "missing: not a folder");
-  }
+std::string FormatStrechaCamera(const Eigen::Matrix3d& K, const Pose3d& world_from_cam, int width_px,
+                                int height_px) {
+  std::string text;
+  const auto row = [&](double a, double b, double c) {
+    char line[96];
+    std::snprintf(line, sizeof(line), "%.17g %.17g %.17g\n", a, b, c);
+    text += line;
+  };
+  for (int r = 0; r < 3; ++r) row(K(r, 0), K(r, 1), K(r, 2));
+  text += "0 0 0\n";
+  const Eigen::Matrix3d R = world_from_cam.linear();
+  for (int r = 0; r < 3; ++r) row(R(r, 0), R(r, 1), R(r, 2));
+  const Eigen::Vector3d& c = world_from_cam.translation();
+  row(c.x(), c.y(), c.z());
+  text += std::to_string(width_px) + " " + std::to_string(height_px) + "\n";
+  return text;
+}
+
+std::vector<std::filesystem::path> StrechaImageFiles(const std::filesystem::path& root) {
+  const std::filesystem::path images = root / "images";
+  if (!std::filesystem::is_directory(images)) throw FileError(images, "missing: not a folder");
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(images)) {
     std::string ext = entry.path().extension().string();
@@ -132,8 +149,17 @@ std::vector<StrechaView> ReadStrechaSet(const std::filesystem::path& root) {
     if (entry.is_regular_file() && (ext == ".jpg" || ext == ".jpeg" || ext == ".png"))
       files.push_back(entry.path());
   }
-  if (files.empty()) throw FileError(images, "no images (.jpg, .jpeg, .png)");
   std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<StrechaView> ReadStrechaSet(const std::filesystem::path& root) {
+  const std::filesystem::path images = root / "images", cameras = root / "gt_dense_cameras";
+  for (const auto& folder : {images, cameras}) {
+    if (!std::filesystem::is_directory(folder)) throw FileError(folder, "missing: not a folder");
+  }
+  const std::vector<std::filesystem::path> files = StrechaImageFiles(root);
+  if (files.empty()) throw FileError(images, "no images (.jpg, .jpeg, .png)");
   std::vector<StrechaView> views;
   for (const auto& image : files) {
     const auto camera_file = cameras / (image.filename().string() + ".camera");

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "engine/core/calibration.h"
@@ -34,6 +35,15 @@ struct StrechaView {
 // with last row 0 0 1 and positive focal lengths, an R that is not a rotation (|RᵀR − I| or |det R − 1|
 // above 1e-3), a size that is not two positive integers.
 StrechaView ReadStrechaCamera(const std::filesystem::path& camera_file);
+
+// The text of a .camera file (the 9 lines above) of a view with intrinsics K, pose world_from_cam and size
+// width × height, every number in %.17g: ReadStrechaCamera reads back exactly the K, R and C written.
+std::string FormatStrechaCamera(const Eigen::Matrix3d& K, const Pose3d& world_from_cam, int width_px,
+                                int height_px);
+
+// The view images of a Strecha set: root/images' .jpg / .jpeg / .png files (any case), sorted by name; the
+// i-th is view i. Throws FileError when root/images is not a folder.
+std::vector<std::filesystem::path> StrechaImageFiles(const std::filesystem::path& root);
 
 // Reads a Strecha set from its root folder: every .jpg / .png file of root/images (by name; other files
 // such as K.txt are not views) with its camera. Throws FileError when a folder or an image's camera file is

@@ -6,16 +6,18 @@
 #include <cstdio>
 #include <fstream>
 #include <mutex>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "engine/core/parallel.h"
+#include "io/image/image_files.h"
 #include "io/mesh/ply_off.h"
+#include "io/synth/internal/synth_files.h"
 
 namespace semap::io {
 namespace {
 
 namespace fs = std::filesystem;
+using synth_internal::WriteText;
 
 // Standard gravity, reported by the simulated IMU's up accelerometer.
 constexpr double kGravityMps2 = 9.80665;
@@ -44,40 +46,10 @@ std::string Matrix(const Eigen::Matrix3d& m) {
   return Nums({m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)});
 }
 
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream os(path, std::ios::binary);
-  if (!os) throw FileError(path, "cannot open for writing");
-  os << text;
-  if (!os) throw FileError(path, "write failed");
-}
-
-void WriteImage(const fs::path& path, const cv::Mat& image) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path.string(), image);
-  } catch (const cv::Exception& e) {
-    throw FileError(path, std::string("cannot write image: ") + e.what());
-  }
-  if (!ok) throw FileError(path, "cannot write image");
-}
-
 std::string FrameName(int i, const char* ext) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%010d.%s", i, ext);
   return buf;
-}
-
-cv::Mat DepthToMillimetres(const cv::Mat& depth_m) {
-  cv::Mat out(depth_m.size(), CV_16UC1);
-  for (int y = 0; y < depth_m.rows; ++y) {
-    const auto* src = depth_m.ptr<float>(y);
-    auto* dst = out.ptr<std::uint16_t>(y);
-    for (int x = 0; x < depth_m.cols; ++x) {
-      const double mm = std::round(static_cast<double>(src[x]) * 1000.0);
-      dst[x] = (mm > 0.0 && mm <= 65535.0) ? static_cast<std::uint16_t>(mm) : 0;
-    }
-  }
-  return out;
 }
 
 void WriteScan(const fs::path& path, const sim::LidarScan& scan) {
@@ -259,10 +231,10 @@ SynthWriteSummary WriteSyntheticKittiRaw(const sim::SyntheticSequence& seq, cons
   ParallelFor(0, n, 1, [&](int first, int last) {
     for (int i = first; i != last; ++i) {
       const sim::SyntheticFrame f = seq.RenderFrame(i);
-      WriteImage(drive / "image_02" / "data" / FrameName(i, "png"), f.left.color);
-      WriteImage(drive / "image_03" / "data" / FrameName(i, "png"), f.right.color);
-      WriteImage(drive / "semantic" / "data" / FrameName(i, "png"), f.left.labels);
-      WriteImage(drive / "depth" / "data" / FrameName(i, "png"), DepthToMillimetres(f.left.depth_m));
+      WritePng(drive / "image_02" / "data" / FrameName(i, "png"), f.left.color);
+      WritePng(drive / "image_03" / "data" / FrameName(i, "png"), f.right.color);
+      WritePng(drive / "semantic" / "data" / FrameName(i, "png"), f.left.labels);
+      WriteDepthPngMm(drive / "depth" / "data" / FrameName(i, "png"), f.left.depth_m);
       WriteScan(drive / "velodyne_points" / "data" / FrameName(i, "bin"), f.scan);
       histograms[i].Add(f.left.labels);
       points[i] = f.scan.points_velo.size();

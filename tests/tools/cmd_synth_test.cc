@@ -42,6 +42,28 @@ TEST(SemapSynth, WritesAKittiRawSequence) {
   EXPECT_NE(text.find("S_rect_02: 3.200000000000e+02 9.600000000000e+01"), std::string::npos) << text;
 }
 
+TEST(SemapSynth, WritesAMultiViewSetInTheStrechaLayout) {
+  const fs::path dir = test::TempDir(), out = dir / "set", bad = dir / "bad";
+  const CliRun r = RunSemap("synth --layout strecha --frames 2 --seed 4 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.Has("wrote 2 views")) << r.output;
+  for (const char* f :
+       {"images/0000.png", "images/0001.png", "images/K.txt", "gt_dense_cameras/0001.png.camera",
+        "labels/0001.png", "depth/0001.png", "scene_mesh.ply"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  EXPECT_FALSE(fs::exists(out / "images/0002.png"));
+  const std::string camera = test::ReadFile(out / "gt_dense_cameras/0000.png.camera");
+  EXPECT_NE(camera.find("\n0 0 0\n"), std::string::npos) << camera;
+  EXPECT_NE(camera.find("\n768 512\n"), std::string::npos) << camera;
+  // The street's options do not apply to it.
+  const CliRun refused = RunSemap("synth --layout strecha --preset urban --out " + bad.string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_TRUE(refused.Has("--preset")) << refused.output;
+  EXPECT_EQ(RunSemap("synth --layout colmap --out " + bad.string()).exit_code, 2);
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST(SemapSynth, BadArgumentsAreUsageErrors) {
   const fs::path out = test::TempDir() / "bad";
   EXPECT_EQ(RunSemap("synth --preset suburban --frames 2 --out " + out.string()).exit_code, 2);

@@ -1,7 +1,9 @@
 #include "engine/sim/internal/scene_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 
 #include "engine/core/check.h"
 
@@ -148,6 +150,43 @@ void SceneBuilder::AddRoundedBox(const Eigen::Vector3d& center, const Eigen::Vec
     AddVertex(center + r * (rad * d));
   }
   for (const auto& t : faces) AddTriangle(base + t[0], base + t[1], base + t[2], s);
+}
+
+// Sorts the triangles into square cells of the ground plane (stable: deterministic) and fills scene.chunks.
+void SortIntoChunks(Scene* scene, double chunk_size_m) {
+  SEMAP_ASSERT(chunk_size_m > 0.0);
+  Scene& s = *scene;
+  const size_t n = s.triangles.size();
+  std::vector<std::pair<std::int64_t, std::int64_t>> key(n);
+  for (size_t t = 0; t < n; ++t) {
+    const Eigen::Vector3d c =
+        (s.vertices[s.triangles[t][0]] + s.vertices[s.triangles[t][1]] + s.vertices[s.triangles[t][2]]) / 3.0;
+    key[t] = {static_cast<std::int64_t>(std::floor(c.x() / chunk_size_m)),
+              static_cast<std::int64_t>(std::floor(c.y() / chunk_size_m))};
+  }
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  auto permute = [&](auto& v) {
+    auto copy = v;
+    for (size_t k = 0; k < n; ++k) v[k] = copy[order[k]];
+  };
+  permute(s.triangles);
+  permute(s.normals);
+  permute(s.labels);
+  permute(s.materials);
+  permute(s.object_ids);
+  std::vector<std::pair<std::int64_t, std::int64_t>> sorted_key(n);
+  for (size_t k = 0; k < n; ++k) sorted_key[k] = key[order[k]];
+  s.chunks.clear();
+  for (size_t k = 0; k < n; ++k) {
+    if (k == 0 || sorted_key[k] != sorted_key[k - 1])
+      s.chunks.push_back({Eigen::AlignedBox3d(), static_cast<std::uint32_t>(k), 0});
+    SceneChunk& c = s.chunks.back();
+    ++c.count;
+    for (int v = 0; v < 3; ++v) c.box.extend(s.vertices[s.triangles[k][v]]);
+  }
 }
 
 }  // namespace semap::sim::sim_internal

@@ -51,4 +51,8 @@ class SceneBuilder {
   std::vector<std::pair<std::vector<Eigen::Vector3d>, std::vector<std::array<std::uint32_t, 3>>>> spheres_;
 };
 
+// Sorts the scene's triangles into square cells of side `chunk_size_m` in x and y (stable: deterministic)
+// and fills scene->chunks, which the renderer culls by. Call once, after the last primitive.
+void SortIntoChunks(Scene* scene, double chunk_size_m);
+
 }  // namespace semap::sim::sim_internal
