@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "app/config/config.h"
-#include "app/run/engine_run.h"
+#include "app/run/engine_pipeline.h"
 #include "engine/pipeline/semap_stages.h"
 #include "engine/semantics/keyframe_labels.h"
 

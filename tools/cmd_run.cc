@@ -79,7 +79,7 @@ int Run(const RunArgs& args) {
       std::signal(SIGTERM, previous_term);
     }
   };
-  return app::StreamRun(config, request) == app::StreamRunOutcome::kDone ? kExitOk : kExitFailure;
+  return app::StreamRun(config, request).outcome == app::StreamRunOutcome::kDone ? kExitOk : kExitFailure;
 }
 
 }  // namespace

@@ -6,26 +6,28 @@
 #include <nlohmann/json.hpp>
 
 #include "app/eval/eval_report.h"
-#include "app/eval/mesh_evaluation.h"
 #include "io/atomic_file.h"
 #include "io/mesh/ply_off.h"
 
 namespace semap::app {
+
+MeshEvaluation EvaluateAsConfigured(const Mesh& mesh, const std::filesystem::path& dataset,
+                                    const Config& config, MeshEvaluationOptions options) {
+  const std::unique_ptr<Segmenter> segmenter = EvaluationSegmenter(config.semantics);
+  options.segmenter = segmenter.get();
+  return EvaluateMesh(mesh, dataset, config.input, config.eval, options);
+}
 
 bool EvaluateMeshFile(const Config& config, const EvalRequest& request) {
   const Mesh mesh = io::ReadMesh(request.mesh);
   // A mesh without faces has no surface to measure: an RMSE of 0 would read as perfect.
   if (mesh.num_triangles() == 0) throw io::FileError(request.mesh, "mesh has no faces: nothing to evaluate");
   MeshEvaluationOptions options;
-  // With semantics.source: enet the frames without label images are labelled as a run labels them, for the
-  // static scene and the by-class breakdown.
-  const std::unique_ptr<Segmenter> segmenter = EvaluationSegmenter(config.semantics);
-  options.segmenter = segmenter.get();
   if (!request.out.empty()) {
     options.error_images = request.error_images;
     options.error_image_frames = request.error_frames;
   }
-  const auto e = EvaluateMesh(mesh, request.dataset, config.input, config.eval, options);
+  const MeshEvaluation e = EvaluateAsConfigured(mesh, request.dataset, config, options);
   PrintEvaluation(e);
   // The figures with every frame's, for --json and the report folder alike.
   std::string json;

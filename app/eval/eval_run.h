@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "app/config/config.h"
+#include "app/eval/mesh_evaluation.h"
+#include "engine/core/mesh.h"
 
 namespace semap::app {
 
@@ -20,6 +22,13 @@ struct EvalRequest {
   int error_images = 3;                    // with `out`: error images of this many frames, spread out
   std::vector<std::int64_t> error_frames;  // with `out`: of these frames (ids on disk) instead
 };
+
+// `mesh` against `dataset` as `semap eval` measures it: the frames config.input selects, config.eval's
+// filters, and, with semantics.source: enet, ENet labelling the frames that have no label images (the static
+// scene, the by-class breakdown), as the run labelled them. `options` adds the error images; its segmenter is
+// set here. Throws what EvaluateMesh throws.
+MeshEvaluation EvaluateAsConfigured(const Mesh& mesh, const std::filesystem::path& dataset,
+                                    const Config& config, MeshEvaluationOptions options = {});
 
 // Reads the mesh (io::FileError for a mesh without faces: nothing to measure), evaluates it with
 // config.input and config.eval, prints the totals and writes what `request` asks for. Returns false when no

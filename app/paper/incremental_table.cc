@@ -3,8 +3,9 @@
 // table gives accuracy against Velodyne (RMSE, the paper's figure), frame rate, completeness, mesh size and
 // the speed-up, with the paper's own figures beside them, in two protocols side by side (strict: every error
 // in the configured depth range; paper: reference depth <= 15 m, |error| <= 2 m, as the authors' evaluator),
-// and for generated sequences the by-area accuracy against the exact scene mesh; each run's folder gets its
-// pictures from above (top_view*.png).
+// and for generated sequences the by-area accuracy against the exact scene mesh. Every figure but the frame
+// rates is `semap eval`'s of the run's written mesh.ply, whose report (eval.json, eval.md, eval_frames.csv,
+// the pictures from above top_view*.png) each run's folder gets.
 #include "app/paper/incremental_table.h"
 
 #include <spdlog/spdlog.h>
@@ -16,7 +17,7 @@
 #include <optional>
 
 #include "app/eval/eval_report.h"
-#include "app/run/engine_run.h"
+#include "app/run/stream_run.h"
 
 namespace semap::app {
 namespace {
@@ -151,25 +152,38 @@ bool WriteIncrementalTable(const TableRequest& args) {
       if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
       const Config config = LoadConfig(args.config_path, overrides);
       spdlog::info("table: {} ({}) with {}", name, path, method);
-      const EngineRun run = RunAndEvaluate(config, path, args.progress_s);
+      StreamRunRequest request;
+      request.dataset = path;
+      request.progress_s = args.progress_s > 0.0 ? std::optional<double>(args.progress_s) : std::nullopt;
+      request.evaluate = true;
+      request.lcm = RunOutputs::Lcm::kOff;
+      const StreamRunResult run = StreamRun(config, request);
+      if (run.outcome != StreamRunOutcome::kDone) {
+        spdlog::error("table: the run of {} with {} did not complete: no table", name, method);
+        return false;
+      }
+      // A mesh without faces has no evaluation: its figures are undefined ("–"), its size nought.
+      MeshEvaluation e;
+      e.strict_options = config.eval;
+      e.paper_options = PaperProtocol(config.eval);
+      if (run.evaluation) e = *run.evaluation;
       Row r;
       r.sequence = name;
       r.method = method;
-      r.has_lidar = run.evaluation.frames_with_lidar > 0;
-      r.rmse_m = run.evaluation.lidar.rmse_m;
-      r.rmse_paper_m = run.evaluation.lidar_paper.rmse_m;
-      r.strict_filters = ProtocolFilters(run.evaluation.strict_options);
-      r.paper_filters = ProtocolFilters(run.evaluation.paper_options);
-      r.completeness = run.evaluation.lidar.completeness;
+      r.has_lidar = e.frames_with_lidar > 0;
+      r.rmse_m = e.lidar.rmse_m;
+      r.rmse_paper_m = e.lidar_paper.rmse_m;
+      r.strict_filters = ProtocolFilters(e.strict_options);
+      r.paper_filters = ProtocolFilters(e.paper_options);
+      r.completeness = e.lidar.completeness;
       r.fps = run.summary.final_stats.fps;
       r.mapper_fps = MapperFps(run.summary.final_stats);
       r.frames = run.summary.final_stats.frames_processed;
-      r.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
-      r.triangles = run.evaluation.triangles;
-      if (run.evaluation.exact_depth) r.exact_rmse_m = run.evaluation.exact_depth->rmse_m;
-      if (run.evaluation.exact_depth_paper) r.exact_rmse_paper_m = run.evaluation.exact_depth_paper->rmse_m;
-      r.scene = run.evaluation.scene;
-      WriteTopViews(run.mesh, run.evaluation, config.output.dir);
+      r.mesh_mb = static_cast<double>(e.off_bytes) / 1e6;
+      r.triangles = e.triangles;
+      if (e.exact_depth) r.exact_rmse_m = e.exact_depth->rmse_m;
+      if (e.exact_depth_paper) r.exact_rmse_paper_m = e.exact_depth_paper->rmse_m;
+      r.scene = e.scene;
       spdlog::info(
           "table: {} {}: RMSE {:.4f} m strict, {:.4f} m paper, {:.3f} f/s ({:.3f} f/s the mapper alone), "
           "completeness {:.1f} %, {:.2f} MB",

@@ -16,9 +16,10 @@ struct TableRequest {
   double progress_s = 10.0;
 };
 
-// Runs every sequence with O and PS (exhaustive mode) into request.out/NAME/METHOD, prints the table and
-// writes table.md and table.json in request.out. Returns false when those two files could not be written
-// (logged). Throws what a run, its configuration or its evaluation throws.
+// Runs every sequence with O and PS (exhaustive mode, app/run/stream_run.h, each run's written mesh
+// evaluated) into request.out/NAME/METHOD, prints the table and writes table.md and table.json in
+// request.out. Returns false when a run did not complete (no table then) or those two files could not be
+// written (logged). Throws what a run, its configuration or its evaluation throws.
 bool WriteIncrementalTable(const TableRequest& request);
 
 }  // namespace semap::app

@@ -5,7 +5,8 @@
 // computed once per frame and shared by the methods. Writes compare.md, compare.csv and compare.png
 // (mesh size vs RMSE, drawn by gnuplot, with the size of the mesh without ground and wall points as a
 // vertical line); in incremental mode also the by-area accuracy against the exact scene mesh (generated
-// sequences) and each method's pictures from above (METHOD/top_view*.png).
+// sequences) and each method's report of its written mesh (METHOD/eval.json, eval.md, top_view*.png): in that
+// mode every figure but the time is `semap eval`'s of the method's mesh.ply.
 #include "app/paper/method_comparison.h"
 
 #include <spdlog/spdlog.h>
@@ -19,7 +20,7 @@
 #include <optional>
 
 #include "app/eval/eval_report.h"
-#include "app/run/engine_run.h"
+#include "app/run/stream_run.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
 #include "engine/map/batch_map.h"
@@ -100,7 +101,8 @@ std::vector<std::string> MethodNames(const CompareRequest& args) {
   return names;
 }
 
-std::vector<Row> CompareIncremental(const CompareRequest& args, const ClassMap& class_map) {
+// One row per method, or none when a method's run did not complete (logged).
+std::optional<std::vector<Row>> CompareIncremental(const CompareRequest& args, const ClassMap& class_map) {
   std::vector<Row> rows;
   std::vector<std::string> names = MethodNames(args);
   names.push_back(kNoGroundWall);
@@ -117,16 +119,26 @@ std::vector<Row> CompareIncremental(const CompareRequest& args, const ClassMap& 
     Row row;
     row.method = name;
     RoleCountSink counts(class_map, &row);
-    const EngineRun run =
-        RunAndEvaluate(config, args.path, 0.0,
-                       drop ? std::make_unique<DropGroundAndWallStage>(class_map) : nullptr, {&counts});
-    row.mesh_mb = static_cast<double>(run.evaluation.off_bytes) / 1e6;
-    row.triangles = run.evaluation.triangles;
-    row.lidar = run.evaluation.lidar;
-    row.lidar_paper = run.evaluation.lidar_paper;
+    StreamRunRequest request;
+    request.dataset = args.path;
+    request.progress_s.reset();
+    request.evaluate = true;
+    request.lcm = RunOutputs::Lcm::kOff;
+    if (drop) request.simplify = [&class_map] { return std::make_unique<DropGroundAndWallStage>(class_map); };
+    request.extra_sinks = {&counts};
+    const StreamRunResult run = StreamRun(config, request);
+    if (run.outcome != StreamRunOutcome::kDone) {
+      spdlog::error("compare: the run of {} did not complete: no comparison", name);
+      return std::nullopt;
+    }
+    // A mesh without faces has no evaluation: its figures stay nought.
+    const MeshEvaluation e = run.evaluation.value_or(MeshEvaluation());
+    row.mesh_mb = static_cast<double>(e.off_bytes) / 1e6;
+    row.triangles = e.triangles;
+    row.lidar = e.lidar;
+    row.lidar_paper = e.lidar_paper;
     row.seconds = run.summary.final_stats.elapsed_s;
-    row.scene = run.evaluation.scene;
-    WriteTopViews(run.mesh, run.evaluation, config.output.dir);
+    row.scene = e.scene;
     rows.push_back(row);
   }
   return rows;
@@ -303,9 +315,10 @@ bool CompareMethods(const CompareRequest& args) {
   for (const std::string& m : args.methods) SimplifyMethodFromName(m);  // unknown names fail before any work
   const ClassMap class_map =
       io::OpenFrameSource(args.path, LoadConfig(args.config_path, args.overrides).input)->class_map();
-  const std::vector<Row> rows =
+  const std::optional<std::vector<Row>> rows =
       args.mode == "incremental" ? CompareIncremental(args, class_map) : CompareSingleFrame(args, class_map);
-  WriteOutputs(args, rows, LoadConfig(args.config_path, args.overrides).eval);
+  if (!rows) return false;
+  WriteOutputs(args, *rows, LoadConfig(args.config_path, args.overrides).eval);
   return true;
 }
 

@@ -17,9 +17,10 @@ struct CompareRequest {
   int frames = 0;
 };
 
-// Runs each method (incremental: one stream each; single-frame: one batch map per frame, depth and labels
-// shared) and writes compare.md, compare.csv and compare.png in request.out. Returns true; throws what a run,
-// its configuration, its evaluation or an output file throws.
+// Runs each method (incremental: one stream each, app/run/stream_run.h, each run's written mesh evaluated;
+// single-frame: one batch map per frame, depth and labels shared) and writes compare.md, compare.csv and
+// compare.png in request.out. Returns false when a method's run did not complete (logged; nothing written
+// then); throws what a run, its configuration, its evaluation or an output file throws.
 bool CompareMethods(const CompareRequest& request);
 
 }  // namespace semap::app

@@ -2,6 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
+#include "io/mesh/ply_off.h"
+
 namespace semap::app {
 
 RunOutputs::RunOutputs(const Config& config, Lcm lcm) : mesh_(config.output) {
@@ -16,6 +20,13 @@ std::vector<PipelineSink*> RunOutputs::sinks() {
   if (stats_) all.push_back(stats_.get());
   if (lcm_) all.push_back(lcm_.get());
   return all;
+}
+
+Mesh RunOutputs::WrittenMesh() const {
+  const auto& written = mesh_.written();
+  const auto ply = std::find_if(written.begin(), written.end(),
+                                [](const std::filesystem::path& f) { return f.filename() == "mesh.ply"; });
+  return ply != written.end() ? io::ReadMeshPly(*ply) : io::AsStoredInPly(mesh_.mesh());
 }
 
 void RunOutputs::LogWritten() {

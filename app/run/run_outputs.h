@@ -28,6 +28,10 @@ class RunOutputs {
   }
   // The whole mesh, once the run has finished (empty before).
   const Mesh& mesh() const { return mesh_.mesh(); }
+  // The whole mesh as the run wrote it, once the run has finished (empty before): mesh.ply read back, or,
+  // when the run wrote none (output.mesh_ply off, or its writing failed), the mesh with its coordinates
+  // rounded as mesh.ply stores them. Throws io::FileError when mesh.ply cannot be read back.
+  Mesh WrittenMesh() const;
   // Logs the files written and, with LCM, the publisher's counters.
   void LogWritten();
 

@@ -6,14 +6,32 @@
 #include <memory>
 
 #include "app/eval/eval_report.h"
-#include "app/eval/mesh_evaluation.h"
-#include "app/run/engine_run.h"
+#include "app/eval/eval_run.h"
+#include "app/run/engine_pipeline.h"
 #include "app/run/progress_sink.h"
-#include "app/run/run_outputs.h"
 #include "io/atomic_file.h"
 #include "io/mesh/ply_off.h"
 
 namespace semap::app {
+namespace {
+
+// The run's report of its written mesh: the totals printed, eval_frames.csv, eval.json, eval.md and the
+// pictures from above in config.output.dir.
+MeshEvaluation EvaluateWrittenMesh(const Mesh& mesh, const Config& config, const std::string& dataset) {
+  // With semantics.source: enet ENet labels every frame for the static scene (~0.35 s a frame).
+  const MeshEvaluation e = EvaluateAsConfigured(mesh, dataset, config);
+  PrintEvaluation(e);
+  const std::filesystem::path dir(config.output.dir);
+  WritePerFrameCsv(e, dir / "eval_frames.csv");
+  io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
+  io::WriteFileAtomically(dir / "eval.md", EvaluationMarkdown(e));
+  spdlog::info("wrote {}, {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string(),
+               (dir / "eval.md").string());
+  for (const auto& f : WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
+  return e;
+}
+
+}  // namespace
 
 Config LoadStreamRunConfig(const std::filesystem::path& yaml_path, const std::vector<std::string>& overrides,
                            const std::string& dataset) {
@@ -25,7 +43,7 @@ Config LoadStreamRunConfig(const std::filesystem::path& yaml_path, const std::ve
   return LoadConfig(yaml_path, overrides, OneFramePresetYaml());
 }
 
-StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request) {
+StreamRunResult StreamRun(const Config& config, const StreamRunRequest& request) {
   const RunOdometry odometry = PrepareOdometry(config, request.dataset);
   auto source = OpenStreamingSource(config, request.dataset);
   const std::int64_t total = source->size();
@@ -37,8 +55,9 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
                config.pipeline.depth_workers, request.start_note);
 
   // Sinks first: an unusable output folder or LCM URL is reported before any work is done.
-  RunOutputs outputs(config);
-  ProgressSink progress(total, request.progress_s);
+  RunOutputs outputs(config, request.lcm);
+  std::optional<ProgressSink> progress;
+  if (request.progress_s) progress.emplace(total, *request.progress_s);
   if (odometry.log) {
     spdlog::info(
         "poses: stereo visual odometry{}",
@@ -46,15 +65,19 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
     outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
   }
 
-  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(config, std::move(source), nullptr, &odometry);
+  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(
+      config, std::move(source), request.simplify ? request.simplify() : nullptr, &odometry);
   Pipeline& pipeline = *engine;
   for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
-  pipeline.AddSink(&progress);
+  if (progress) pipeline.AddSink(&*progress);
+  for (PipelineSink* sink : request.extra_sinks) pipeline.AddSink(sink);
 
+  StreamRunResult result;
   if (request.on_running) request.on_running(&pipeline);
-  const PipelineSummary summary = pipeline.Run();
+  result.summary = pipeline.Run();
   if (request.on_running) request.on_running(nullptr);
 
+  const PipelineSummary& summary = result.summary;
   const FrameStats& s = summary.final_stats;
   spdlog::info("{} frames processed, {} dropped, {} failed in {:.2f} s: {:.3f} fps{}", s.frames_processed,
                s.frames_dropped, s.frames_failed, s.elapsed_s, s.fps,
@@ -67,7 +90,8 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
     spdlog::info("  {:<13} mean {:8.2f} ms  p50 {:8.2f}  p95 {:8.2f}  max {:8.2f}", st.name, st.mean_ms,
                  st.p50_ms, st.p95_ms, st.max_ms);
   }
-  const Mesh mesh = outputs.mesh();
+  result.mesh = outputs.WrittenMesh();
+  const Mesh& mesh = result.mesh;
   spdlog::info("mesh: {} vertices, {} triangles, {:.2f} MB as OFF", mesh.num_vertices(), mesh.num_triangles(),
                static_cast<double>(io::OffSizeBytes(mesh)) / 1e6);
   outputs.LogWritten();
@@ -86,47 +110,33 @@ StreamRunOutcome StreamRun(const Config& config, const StreamRunRequest& request
         spdlog::info("wrote {}", f.string());
     } catch (const io::FileError& e) {
       spdlog::error("{}", e.what());
-      return StreamRunOutcome::kOutputErrors;
+      result.outcome = StreamRunOutcome::kOutputErrors;
+      return result;
     }
   }
   if (request.evaluate && mesh.num_triangles() == 0) {
     spdlog::warn("--eval: the mesh has no faces: nothing to evaluate");
   } else if (request.evaluate) {
-    // After the run, so that it does not count in the frame rate: every frame's camera against the final
-    // mesh, as written (mesh.ply holds float32 coordinates): `semap eval` of the written mesh gives the same
-    // figures. With semantics.source: enet ENet labels every frame for the static scene (~0.35 s a frame).
-    const std::unique_ptr<Segmenter> segmenter = EvaluationSegmenter(config.semantics);
-    MeshEvaluationOptions options;
-    options.segmenter = segmenter.get();
-    const MeshEvaluation e =
-        EvaluateMesh(io::AsStoredInPly(mesh), request.dataset, config.input, config.eval, options);
-    PrintEvaluation(e);
-    const std::filesystem::path dir(config.output.dir);
-    WritePerFrameCsv(e, dir / "eval_frames.csv");
-    io::WriteFileAtomically(dir / "eval.json", ToJson(e, /*per_frame=*/false).dump(2) + "\n");
-    io::WriteFileAtomically(dir / "eval.md", EvaluationMarkdown(e));
-    spdlog::info("wrote {}, {} and {}", (dir / "eval_frames.csv").string(), (dir / "eval.json").string(),
-                 (dir / "eval.md").string());
-    for (const auto& f : WriteTopViews(mesh, e, dir)) spdlog::info("wrote {}", f.string());
+    // After the run, so that it does not count in the frame rate: every frame's camera against the mesh as
+    // written.
+    result.evaluation = EvaluateWrittenMesh(mesh, config, request.dataset);
   }
   if (summary.sink_errors > 0) {
     spdlog::error("{} output errors; first: {}", summary.sink_errors, summary.first_sink_error);
-    return StreamRunOutcome::kOutputErrors;
-  }
-  if (!summary.fatal_error.empty()) {
+    result.outcome = StreamRunOutcome::kOutputErrors;
+  } else if (!summary.fatal_error.empty()) {
     spdlog::error("run stopped: {}", summary.fatal_error);
-    return StreamRunOutcome::kStopped;
-  }
-  if (s.frames_processed == 0 && s.frames_failed > 0) {
+    result.outcome = StreamRunOutcome::kStopped;
+  } else if (s.frames_processed == 0 && s.frames_failed > 0) {
     // Not a success with an empty mesh: nothing of the sequence could be used.
     spdlog::error("no frame could be processed: all {} frames failed (see the warnings above{})",
                   s.frames_failed,
                   config.output.frame_stats
                       ? " and " + (std::filesystem::path(config.output.dir) / "errors.jsonl").string()
                       : std::string());
-    return StreamRunOutcome::kNothingMapped;
+    result.outcome = StreamRunOutcome::kNothingMapped;
   }
-  return StreamRunOutcome::kDone;
+  return result;
 }
 
 }  // namespace semap::app

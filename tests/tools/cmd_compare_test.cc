@@ -9,6 +9,7 @@
 
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
+#include "tests/tools/compare_csv.h"
 #include "tests/tools/small_sequence.h"
 
 namespace semap::tools {
@@ -20,19 +21,9 @@ using test::RunSemap;
 
 // compare.csv as method → column → value.
 std::map<std::string, std::map<std::string, double>> ReadCsv(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header;
-  std::stringstream hs(line);
-  for (std::string h; std::getline(hs, h, ',');) header.push_back(h);
   std::map<std::string, std::map<std::string, double>> rows;
-  while (std::getline(in, line)) {
-    const auto close = line.find('"', 1);
-    const std::string method = line.substr(1, close - 1);
-    std::stringstream vs(line.substr(close + 2));
-    std::size_t column = 1;
-    for (std::string v; std::getline(vs, v, ','); ++column) rows[method][header.at(column)] = std::stod(v);
+  for (const auto& [method, cells] : test::CompareCsvCells(path)) {
+    for (const auto& [column, text] : cells) rows[method][column] = std::stod(text);
   }
   return rows;
 }

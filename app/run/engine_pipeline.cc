@@ -1,12 +1,9 @@
-#include "app/run/engine_run.h"
+#include "app/run/engine_pipeline.h"
 
 #include <spdlog/spdlog.h>
 
-#include <stdexcept>
 #include <string>
 
-#include "app/run/progress_sink.h"
-#include "app/run/run_outputs.h"
 #include "engine/pipeline/semap_stages.h"
 #include "io/frame_source.h"
 
@@ -75,39 +72,6 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
                               config.semantics.enet_every_frames);
   }
   return pipeline;
-}
-
-EngineRun RunAndEvaluate(const Config& config, const std::string& dataset, double progress_s,
-                         std::unique_ptr<SimplifyStage> simplify,
-                         const std::vector<PipelineSink*>& extra_sinks) {
-  const RunOdometry odometry = PrepareOdometry(config, dataset);
-  auto source = OpenStreamingSource(config, dataset);
-  const std::int64_t total = source->size();
-  RunOutputs outputs(config, RunOutputs::Lcm::kOff);
-  if (odometry.log)
-    outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
-  std::unique_ptr<ProgressSink> progress;
-  if (progress_s > 0.0) progress = std::make_unique<ProgressSink>(total, progress_s);
-
-  const std::unique_ptr<Pipeline> engine =
-      MakeEnginePipeline(config, std::move(source), std::move(simplify), &odometry);
-  Pipeline& pipeline = *engine;
-  for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
-  if (progress) pipeline.AddSink(progress.get());
-  for (PipelineSink* sink : extra_sinks) pipeline.AddSink(sink);
-  EngineRun run;
-  run.summary = pipeline.Run();
-  if (!run.summary.fatal_error.empty()) throw std::runtime_error("run stopped: " + run.summary.fatal_error);
-  if (run.summary.sink_errors > 0) throw std::runtime_error("output error: " + run.summary.first_sink_error);
-  const FrameStats& s = run.summary.final_stats;
-  if (s.frames_processed == 0 && s.frames_failed > 0) {
-    throw std::runtime_error(dataset + ": no frame could be processed (all " +
-                             std::to_string(s.frames_failed) + " failed)");
-  }
-  if (odometry.log) WriteOdometryTrajectory(*odometry.log, config.output.dir);
-  run.mesh = outputs.mesh();
-  run.evaluation = EvaluateMesh(run.mesh, dataset, config.input, config.eval);
-  return run;
 }
 
 }  // namespace semap::app
