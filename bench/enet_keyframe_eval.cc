@@ -58,6 +58,208 @@ std::string Cell(const Tally& t, std::size_t n, bool available) {
   return buf;
 }
 
+// Per class of the reference: {points, points given that class}.
+using ClassAgreement = std::map<Label, std::pair<std::size_t, std::size_t>>;
+
+// Sets the ENet input size of `semantics` from "WxH" (`option` names it in the error); nothing when empty.
+void ParseInputSize(const std::string& text, const char* option, semap::SemanticsOptions* semantics) {
+  if (!text.empty() && std::sscanf(text.c_str(), "%dx%d", &semantics->enet_input_width_px,
+                                   &semantics->enet_input_height_px) != 2) {
+    throw std::runtime_error(std::string(option) + ": expected WxH, got " + text);
+  }
+}
+
+// Each frame's ENet labels (what a keyframe gets from the segment thread), and their CPU and wall time.
+struct EnetLabels {
+  std::vector<cv::Mat> labels;
+  double cpu_s = 0.0, wall_s = 0.0;
+};
+
+// ENet on every frame, timed after a warm-up (network buffers); each label image written into
+// `write_labels` when it is not empty (KITTI odometry names when !raw_names).
+EnetLabels LabelEveryFrame(const semap::SemanticsOptions& semantics, const std::vector<semap::Frame>& frames,
+                           const std::string& write_labels, bool raw_names) {
+  namespace fs = std::filesystem;
+  auto segmenter = semap::MakeSegmenter(semantics);
+  segmenter->Segment(frames.front().left);  // warm-up: network buffers
+  EnetLabels out;
+  if (!write_labels.empty()) fs::create_directories(write_labels);
+  for (const auto& f : frames) {
+    const std::clock_t c0 = std::clock();
+    const auto t0 = std::chrono::steady_clock::now();
+    out.labels.push_back(segmenter->Segment(f.left));
+    out.cpu_s += double(std::clock() - c0) / CLOCKS_PER_SEC;
+    out.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!write_labels.empty()) {
+      char name[32];
+      std::snprintf(name, sizeof(name), raw_names ? "%010lld.png" : "%06lld.png",
+                    static_cast<long long>(f.id));
+      const fs::path path = fs::path(write_labels) / name;
+      if (!cv::imwrite(path.string(), out.labels.back()))
+        throw std::runtime_error(path.string() + ": cannot write");
+    }
+  }
+  return out;
+}
+
+// The depth stage's points of every frame labelled from that frame's own `labels` (ENet on every frame).
+std::vector<std::vector<Label>> PointLabelsFromEveryFrame(const semap::SemanticsOptions& semantics,
+                                                          const semap::ClassMap& classes,
+                                                          const std::vector<semap::Frame>& frames,
+                                                          const std::vector<cv::Mat>& labels) {
+  semap::StereoLabelStage stage(semap::DepthOptions(), semantics, classes, /*labels_from_keyframes=*/true);
+  semap::KeyframeLabels keyframe;
+  std::vector<std::vector<Label>> out;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    keyframe.frame_id = frames[k].id;
+    keyframe.world_from_cam = frames[k].world_from_cam;
+    keyframe.labels = labels[k];
+    out.push_back(stage.Process(frames[k], &keyframe).labels);
+  }
+  return out;
+}
+
+// Adds one frame's points to the tallies: accuracy against the frame's exact labels (when `exact`),
+// agreement with `reference` (the same points' labels with N = 1), per class when `classes_agree`.
+void TallyFrame(const semap::Frame& f, const semap::LabelledCloud& cloud, const std::vector<Label>& reference,
+                const semap::ClassMap& classes, bool exact, bool is_keyframe, Result* r,
+                ClassAgreement* classes_agree) {
+  if (reference.size() != cloud.size()) throw std::runtime_error("point sets differ between runs");
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Label label = cloud.labels[i];
+    bool correct = false, role = false;
+    if (exact) {
+      const int u = static_cast<int>(std::lround(cloud.pixels_px[i].x()));
+      const int v = static_cast<int>(std::lround(cloud.pixels_px[i].y()));
+      const Label truth =
+          f.labels.at<Label>(std::clamp(v, 0, f.labels.rows - 1), std::clamp(u, 0, f.labels.cols - 1));
+      correct = label == truth;
+      role = classes.Role(label) == classes.Role(truth);
+    }
+    if (classes_agree != nullptr) {
+      auto& c = (*classes_agree)[reference[i]];
+      ++c.first;
+      c.second += label == reference[i];
+    }
+    for (Tally* t : {&r->all, is_keyframe ? nullptr : &r->between}) {
+      if (t == nullptr) continue;
+      ++t->points;
+      t->correct += correct;
+      t->role_correct += role;
+      t->agree += label == reference[i];
+    }
+  }
+}
+
+// What one configuration labels, frame by frame, and what it is compared with.
+struct Configuration {
+  const std::vector<semap::Frame>& frames;
+  const semap::ClassMap& classes;
+  bool exact = false;  // the frames have exact label images
+  const std::vector<cv::Mat>& enet_labels;
+};
+
+// One configuration through every frame: keyframes every `n` frames labelled by `label_source` ("exact": the
+// label images, else ENet's), the frames between them by `semantics`' propagation. With `fill_reference`,
+// each frame's labels are appended to `reference` (N = 1) before it is compared with them.
+Result RunConfiguration(const Configuration& c, const std::string& label_source, int n,
+                        const semap::SemanticsOptions& semantics, bool fill_reference,
+                        std::vector<std::vector<Label>>* reference, ClassAgreement* classes_agree) {
+  semap::StereoLabelStage stage(semap::DepthOptions(), semantics, c.classes, /*labels_from_keyframes=*/true);
+  semap::KeyframeSchedule schedule(n);
+  semap::KeyframeLabels keyframe;
+  Result r;
+  for (std::size_t k = 0; k < c.frames.size(); ++k) {
+    const semap::Frame& f = c.frames[k];
+    const bool has_pose = f.world_from_cam.has_value();
+    const bool is_keyframe = schedule.IsDue(f.id, has_pose);
+    if (is_keyframe) {
+      schedule.Record(f.id, has_pose);
+      keyframe.frame_id = f.id;
+      keyframe.world_from_cam = f.world_from_cam;
+      keyframe.labels = label_source == "exact" ? f.labels : c.enet_labels[k];
+      ++r.keyframes;
+    }
+    const semap::LabelledCloud cloud = stage.Process(f, &keyframe);
+    if (fill_reference) reference->push_back(cloud.labels);
+    TallyFrame(f, cloud, reference->at(k), c.classes, c.exact, is_keyframe, &r, classes_agree);
+  }
+  return r;
+}
+
+// The configuration's name in the per-class table.
+std::string ConfigurationName(int n, semap::LabelPropagation propagation) {
+  char name[64];
+  std::snprintf(
+      name, sizeof(name), "N = %d%s", n,
+      n == 1 ? "" : (propagation == semap::LabelPropagation::kReproject ? ", reproject" : ", reuse"));
+  return name;
+}
+
+// Every configuration (label source × N × propagation; N = 1 first, the agreement reference of the others),
+// a table row each. `reference` holds each source's N = 1 labels (ENet's already when its reference input
+// differs); the ENet configurations' per-class agreement goes to `per_class`.
+void RunConfigurations(const Configuration& c, const std::vector<std::string>& sources,
+                       const std::vector<int>& every, const semap::SemanticsOptions& semantics,
+                       bool separate_reference,
+                       std::map<std::string, std::vector<std::vector<Label>>>* reference,
+                       std::vector<std::pair<std::string, ClassAgreement>>* per_class) {
+  std::printf(
+      "| labels | every N | propagation | keyframes | accuracy, all frames | between keyframes | "
+      "role accuracy, all | agreement with N = 1, all | between keyframes |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const std::string& label_source : sources) {
+    for (const int n : every) {
+      for (const auto propagation : {semap::LabelPropagation::kReproject, semap::LabelPropagation::kReuse}) {
+        if (n == 1 && propagation == semap::LabelPropagation::kReuse) continue;  // the same as reproject
+        semap::SemanticsOptions s = semantics;
+        s.enet_propagation = propagation;
+        const bool fill_reference = n == 1 && !(label_source == "enet" && separate_reference);
+        ClassAgreement* classes_agree = nullptr;
+        if (label_source == "enet") {
+          per_class->emplace_back(ConfigurationName(n, propagation), ClassAgreement{});
+          classes_agree = &per_class->back().second;
+        }
+        const Result r = RunConfiguration(c, label_source, n, s, fill_reference, &(*reference)[label_source],
+                                          classes_agree);
+        std::printf("| %s | %d | %s | %d | %s | %s | %s | %s | %s |\n", label_source.c_str(), n,
+                    n == 1 ? "–" : semap::LabelPropagationName(propagation), r.keyframes,
+                    Cell(r.all, r.all.correct, c.exact).c_str(),
+                    Cell(r.between, r.between.correct, c.exact).c_str(),
+                    Cell(r.all, r.all.role_correct, c.exact).c_str(), Cell(r.all, r.all.agree, true).c_str(),
+                    Cell(r.between, r.between.agree, true).c_str());
+        std::fflush(stdout);
+      }
+    }
+  }
+}
+
+// Agreement per class of the reference (ENet on every frame at the reference input), all frames.
+void PrintPerClass(const semap::SemanticsOptions& semantics,
+                   const semap::SemanticsOptions& reference_semantics, const semap::ClassMap& classes,
+                   const std::vector<std::pair<std::string, ClassAgreement>>& per_class) {
+  std::printf(
+      "\nAgreement per class with ENet on every frame at %dx%d (share of the points of each reference "
+      "class given that class; ENet at %dx%d):\n\n| class | points |",
+      reference_semantics.enet_input_width_px, reference_semantics.enet_input_height_px,
+      semantics.enet_input_width_px, semantics.enet_input_height_px);
+  for (const auto& [name, counts] : per_class) std::printf(" %s |", name.c_str());
+  std::printf("\n|---|---:|");
+  for (std::size_t k = 0; k < per_class.size(); ++k) std::printf("---:|");
+  std::printf("\n");
+  if (per_class.empty()) return;
+  for (const auto& [label, first] : per_class.front().second) {
+    const std::string name = classes.Contains(label) ? classes.Get(label).name : std::to_string(label);
+    std::printf("| %s | %zu |", name.c_str(), first.first);
+    for (const auto& [config_name, counts] : per_class) {
+      const auto it = counts.find(label);
+      const auto c = it == counts.end() ? std::pair<std::size_t, std::size_t>{0, 0} : it->second;
+      std::printf(" %.1f %% |", c.first ? 100.0 * double(c.second) / double(c.first) : 0.0);
+    }
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,21 +282,13 @@ int main(int argc, char** argv) {
   app.add_option("--write-labels", write_labels, "write each frame's ENet label image into this folder");
   CLI11_PARSE(app, argc, argv);
   try {
-    namespace fs = std::filesystem;
     semap::SemanticsOptions semantics;
     semantics.source = semap::LabelSource::kEnet;
     semantics.enet_model_path = model;
     semantics.drop_sky = false;  // the same points in every configuration
     semap::SemanticsOptions reference_semantics = semantics;
-    if (!enet_input.empty() && std::sscanf(enet_input.c_str(), "%dx%d", &semantics.enet_input_width_px,
-                                           &semantics.enet_input_height_px) != 2) {
-      throw std::runtime_error("--enet-input: expected WxH, got " + enet_input);
-    }
-    if (!reference_input.empty() &&
-        std::sscanf(reference_input.c_str(), "%dx%d", &reference_semantics.enet_input_width_px,
-                    &reference_semantics.enet_input_height_px) != 2) {
-      throw std::runtime_error("--reference-input: expected WxH, got " + reference_input);
-    }
+    ParseInputSize(enet_input, "--enet-input", &semantics);
+    ParseInputSize(reference_input, "--reference-input", &reference_semantics);
     semantics.Check();
     reference_semantics.Check();
     const bool separate_reference =
@@ -112,159 +306,30 @@ int main(int argc, char** argv) {
     bool exact = true;
     for (const auto& f : frames) exact = exact && !f.labels.empty() && f.labels.size() == f.left.size();
 
-    // Each frame's ENet labels (what a keyframe gets from the segment thread), timed.
-    auto segmenter = semap::MakeSegmenter(semantics);
-    segmenter->Segment(frames.front().left);  // warm-up: network buffers
-    std::vector<cv::Mat> enet_labels;
-    double enet_cpu_s = 0.0, enet_wall_s = 0.0;
-    if (!write_labels.empty()) fs::create_directories(write_labels);
-    for (const auto& f : frames) {
-      const std::clock_t c0 = std::clock();
-      const auto t0 = std::chrono::steady_clock::now();
-      enet_labels.push_back(segmenter->Segment(f.left));
-      enet_cpu_s += double(std::clock() - c0) / CLOCKS_PER_SEC;
-      enet_wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (!write_labels.empty()) {
-        char name[32];
-        std::snprintf(name, sizeof(name), raw_names ? "%010lld.png" : "%06lld.png",
-                      static_cast<long long>(f.id));
-        const fs::path path = fs::path(write_labels) / name;
-        if (!cv::imwrite(path.string(), enet_labels.back()))
-          throw std::runtime_error(path.string() + ": cannot write");
-      }
-    }
-
-    // The reference's ENet labels when its input differs (untimed).
-    std::vector<cv::Mat> reference_labels;
+    const EnetLabels enet = LabelEveryFrame(semantics, frames, write_labels, raw_names);
+    // The per-frame labels of each source (N = 1), per frame and point: the agreement reference. The
+    // reference's ENet labels, when its input differs, label the depth stage's points first (untimed).
+    std::map<std::string, std::vector<std::vector<Label>>> reference;
     if (separate_reference) {
+      std::vector<cv::Mat> reference_labels;
       auto reference_segmenter = semap::MakeSegmenter(reference_semantics);
       for (const auto& f : frames) reference_labels.push_back(reference_segmenter->Segment(f.left));
+      reference["enet"] = PointLabelsFromEveryFrame(semantics, classes, frames, reference_labels);
     }
-
     // N = 1 first: it is the agreement reference of the others.
     std::sort(every.begin(), every.end());
     every.erase(std::unique(every.begin(), every.end()), every.end());
     if (every.empty() || every.front() != 1) every.insert(every.begin(), 1);
-    const semap::DepthOptions depth;
     std::vector<std::string> sources = {"enet"};
     if (exact) sources.push_back("exact");
-    // The per-frame labels of each source (N = 1), per frame and point: the agreement reference.
-    std::map<std::string, std::vector<std::vector<Label>>> reference;
     // ENet configurations' agreement per reference class: name → class → {points, agreeing}.
-    std::vector<std::pair<std::string, std::map<Label, std::pair<std::size_t, std::size_t>>>> per_class;
-    if (separate_reference) {
-      // The reference: the depth stage's points labelled by the reference's ENet on every frame.
-      semap::StereoLabelStage stage(depth, semantics, classes, /*labels_from_keyframes=*/true);
-      semap::KeyframeLabels keyframe;
-      for (std::size_t k = 0; k < frames.size(); ++k) {
-        keyframe.frame_id = frames[k].id;
-        keyframe.world_from_cam = frames[k].world_from_cam;
-        keyframe.labels = reference_labels[k];
-        reference["enet"].push_back(stage.Process(frames[k], &keyframe).labels);
-      }
-    }
-    std::printf(
-        "| labels | every N | propagation | keyframes | accuracy, all frames | between keyframes | "
-        "role accuracy, all | agreement with N = 1, all | between keyframes |\n");
-    std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|\n");
-    for (const std::string& label_source : sources) {
-      for (const int n : every) {
-        for (const auto propagation :
-             {semap::LabelPropagation::kReproject, semap::LabelPropagation::kReuse}) {
-          if (n == 1 && propagation == semap::LabelPropagation::kReuse) continue;  // the same as reproject
-          semap::SemanticsOptions s = semantics;
-          s.enet_propagation = propagation;
-          semap::StereoLabelStage stage(depth, s, classes, /*labels_from_keyframes=*/true);
-          semap::KeyframeSchedule schedule(n);
-          semap::KeyframeLabels keyframe;
-          Result r;
-          std::vector<std::vector<Label>>& ref = reference[label_source];
-          const bool fill_reference = n == 1 && !(label_source == "enet" && separate_reference);
-          std::map<Label, std::pair<std::size_t, std::size_t>>* classes_agree = nullptr;
-          if (label_source == "enet") {
-            char name[64];
-            std::snprintf(
-                name, sizeof(name), "N = %d%s", n,
-                n == 1 ? ""
-                       : (propagation == semap::LabelPropagation::kReproject ? ", reproject" : ", reuse"));
-            per_class.emplace_back(name, std::map<Label, std::pair<std::size_t, std::size_t>>{});
-            classes_agree = &per_class.back().second;
-          }
-          for (std::size_t k = 0; k < frames.size(); ++k) {
-            const semap::Frame& f = frames[k];
-            const bool has_pose = f.world_from_cam.has_value();
-            const bool is_keyframe = schedule.IsDue(f.id, has_pose);
-            if (is_keyframe) {
-              schedule.Record(f.id, has_pose);
-              keyframe.frame_id = f.id;
-              keyframe.world_from_cam = f.world_from_cam;
-              keyframe.labels = label_source == "exact" ? f.labels : enet_labels[k];
-              ++r.keyframes;
-            }
-            const semap::LabelledCloud cloud = stage.Process(f, &keyframe);
-            if (fill_reference) ref.push_back(cloud.labels);
-            const std::vector<Label>& per_frame = ref.at(k);
-            if (per_frame.size() != cloud.size()) throw std::runtime_error("point sets differ between runs");
-            for (std::size_t i = 0; i < cloud.size(); ++i) {
-              const Label label = cloud.labels[i];
-              bool correct = false, role = false;
-              if (exact) {
-                const int u = static_cast<int>(std::lround(cloud.pixels_px[i].x()));
-                const int v = static_cast<int>(std::lround(cloud.pixels_px[i].y()));
-                const Label truth = f.labels.at<Label>(std::clamp(v, 0, f.labels.rows - 1),
-                                                       std::clamp(u, 0, f.labels.cols - 1));
-                correct = label == truth;
-                role = classes.Role(label) == classes.Role(truth);
-              }
-              if (classes_agree != nullptr) {
-                auto& c = (*classes_agree)[per_frame[i]];
-                ++c.first;
-                c.second += label == per_frame[i];
-              }
-              for (Tally* t : {&r.all, is_keyframe ? nullptr : &r.between}) {
-                if (t == nullptr) continue;
-                ++t->points;
-                t->correct += correct;
-                t->role_correct += role;
-                t->agree += label == per_frame[i];
-              }
-            }
-          }
-          std::printf("| %s | %d | %s | %d | %s | %s | %s | %s | %s |\n", label_source.c_str(), n,
-                      n == 1 ? "–" : semap::LabelPropagationName(propagation), r.keyframes,
-                      Cell(r.all, r.all.correct, exact).c_str(),
-                      Cell(r.between, r.between.correct, exact).c_str(),
-                      Cell(r.all, r.all.role_correct, exact).c_str(), Cell(r.all, r.all.agree, true).c_str(),
-                      Cell(r.between, r.between.agree, true).c_str());
-          std::fflush(stdout);
-        }
-      }
-    }
-    // Agreement per class of the reference (ENet on every frame at the reference input), all frames.
-    std::printf(
-        "\nAgreement per class with ENet on every frame at %dx%d (share of the points of each reference "
-        "class given that class; ENet at %dx%d):\n\n| class | points |",
-        reference_semantics.enet_input_width_px, reference_semantics.enet_input_height_px,
-        semantics.enet_input_width_px, semantics.enet_input_height_px);
-    for (const auto& [name, counts] : per_class) std::printf(" %s |", name.c_str());
-    std::printf("\n|---|---:|");
-    for (std::size_t k = 0; k < per_class.size(); ++k) std::printf("---:|");
-    std::printf("\n");
-    if (!per_class.empty()) {
-      for (const auto& [label, first] : per_class.front().second) {
-        const std::string name = classes.Contains(label) ? classes.Get(label).name : std::to_string(label);
-        std::printf("| %s | %zu |", name.c_str(), first.first);
-        for (const auto& [name, counts] : per_class) {
-          const auto it = counts.find(label);
-          const auto c = it == counts.end() ? std::pair<std::size_t, std::size_t>{0, 0} : it->second;
-          std::printf(" %.1f %% |", c.first ? 100.0 * double(c.second) / double(c.first) : 0.0);
-        }
-        std::printf("\n");
-      }
-    }
+    std::vector<std::pair<std::string, ClassAgreement>> per_class;
+    RunConfigurations({frames, classes, exact, enet.labels}, sources, every, semantics, separate_reference,
+                      &reference, &per_class);
+    PrintPerClass(semantics, reference_semantics, classes, per_class);
     std::printf("\n%s: %zu frames, ENet input %dx%d: %.0f ms CPU, %.0f ms wall per frame\n", sequence.c_str(),
                 frames.size(), semantics.enet_input_width_px, semantics.enet_input_height_px,
-                1000.0 * enet_cpu_s / double(frames.size()), 1000.0 * enet_wall_s / double(frames.size()));
+                1000.0 * enet.cpu_s / double(frames.size()), 1000.0 * enet.wall_s / double(frames.size()));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "semap_enet_keyframe_eval: %s\n", e.what());
     return 1;

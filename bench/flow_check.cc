@@ -76,6 +76,266 @@ struct Stats {
   std::vector<double> radial, tangential;
 };
 
+constexpr std::size_t kDepthBins = std::size(kBinEdgesM) - 1;
+constexpr std::size_t kRadiusBins = std::size(kRadiusEdgesPx) - 1;
+
+// Everything the check measures, summed over the frame pairs.
+struct Figures {
+  // KLT started at the predicted position (index 0) and at the previous one (1): the error away from the
+  // focus of expansion and across it, per depth bin, and along the direction away from the principal point
+  // and away from the focus of expansion, per distance from the principal point.
+  std::vector<Stats> by_depth[2] = {std::vector<Stats>(kDepthBins), std::vector<Stats>(kDepthBins)};
+  std::vector<Stats> by_radius[2] = {std::vector<Stats>(kRadiusBins), std::vector<Stats>(kRadiusBins)};
+  // KLT started at the predicted position: the error away from the focus of expansion per depth bin (rows)
+  // and distance from the principal point (columns), so that depth and image position are told apart.
+  std::vector<std::vector<std::vector<double>>> grid = std::vector<std::vector<std::vector<double>>>(
+      kDepthBins, std::vector<std::vector<double>>(kRadiusBins));
+  // KLT on frame k's own texture scaled by a known factor about the principal point (the looming of a
+  // fronto-parallel surface, exact): the error away from the principal point, per scale.
+  std::vector<std::vector<double>> scaled = std::vector<std::vector<double>>(std::size(kScales));
+  // The stereo disparity error per start (true disparity, kStereoStartOffPx short) and depth bin.
+  std::vector<std::vector<double>> stereo[2] = {std::vector<std::vector<double>>(kDepthBins),
+                                                std::vector<std::vector<double>>(kDepthBins)};
+};
+
+// KLT as the odometry runs it.
+struct Klt {
+  cv::Size win;
+  cv::TermCriteria term;
+  const semap::StereoOdometryOptions& o;
+};
+
+// Frame k's corners with a Velodyne return within one pixel: where they are, where the poses move them in
+// frame k + 1, and their depth.
+struct TrueFlow {
+  std::vector<cv::Point2f> start, predicted;
+  std::vector<double> depth_m;
+};
+
+// The nearest Velodyne depth within one pixel of (u, v) (the first found, rows first); 0 when none.
+double DepthNear(const cv::Mat& lidar, int u, int v) {
+  for (int dv = -1; dv <= 1; ++dv) {
+    for (int du = -1; du <= 1; ++du) {
+      const int uu = u + du, vv = v + dv;
+      if (uu < 0 || vv < 0 || uu >= lidar.cols || vv >= lidar.rows) continue;
+      const float zl = lidar.at<float>(vv, uu);
+      if (zl > 0.0f) return zl;
+    }
+  }
+  return 0.0;
+}
+
+TrueFlow CornersWithTrueFlow(const cv::Mat& previous_gray, const cv::Mat& lidar,
+                             const semap::Pose3d& b_from_a, const semap::StereoCalibration& c, const Klt& klt,
+                             double smooth_share) {
+  std::vector<cv::KeyPoint> corners;
+  cv::FAST(previous_gray, corners, klt.o.fast_threshold, true);
+  TrueFlow flow;
+  for (const auto& k : corners) {
+    const int u = static_cast<int>(std::lround(k.pt.x)), v = static_cast<int>(std::lround(k.pt.y));
+    const double z = DepthNear(lidar, u, v);
+    if (z <= 0.0) continue;
+    if (smooth_share > 0.0 && !SmoothDepth(lidar, u, v, z, smooth_share)) continue;
+    const Eigen::Vector3d p = b_from_a * c.Unproject(k.pt.x, k.pt.y, z);
+    if (p.z() <= 0.0) continue;
+    const Eigen::Vector2d uv = c.Project(p);
+    if (!c.InImage(uv)) continue;
+    flow.start.push_back(k.pt);
+    flow.predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+    flow.depth_m.push_back(z);
+  }
+  return flow;
+}
+
+// KLT from frame k into itself scaled by each of kScales about the principal point, started at the corners'
+// old positions: the error along the direction away from the principal point.
+void TrackScaledImages(const cv::Mat& previous_gray, const semap::StereoCalibration& c,
+                       const std::vector<cv::Point2f>& start, const Klt& klt, Figures* figures) {
+  for (size_t si = 0; si < std::size(kScales); ++si) {
+    const double sc = kScales[si];
+    const cv::Mat a =
+        (cv::Mat_<double>(2, 3) << sc, 0.0, c.cx_px * (1.0 - sc), 0.0, sc, c.cy_px * (1.0 - sc));
+    cv::Mat warped;
+    cv::warpAffine(previous_gray, warped, a, previous_gray.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+    std::vector<cv::Point2f> from, truth;
+    for (const auto& p : start) {
+      const cv::Point2f q(static_cast<float>(c.cx_px + sc * (p.x - c.cx_px)),
+                          static_cast<float>(c.cy_px + sc * (p.y - c.cy_px)));
+      const double r = std::hypot(q.x - c.cx_px, q.y - c.cy_px);
+      if (r < kMinRadiusPx || q.x < 0.0f || q.y < 0.0f || q.x >= static_cast<float>(warped.cols) ||
+          q.y >= static_cast<float>(warped.rows)) {
+        continue;
+      }
+      from.push_back(p);
+      truth.push_back(q);
+    }
+    if (from.empty()) continue;
+    std::vector<cv::Point2f> tracked = from;
+    std::vector<uchar> status;
+    std::vector<float> err;
+    cv::calcOpticalFlowPyrLK(previous_gray, warped, from, tracked, status, err, klt.win, klt.o.klt_levels,
+                             klt.term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t i = 0; i < from.size(); ++i) {
+      const Eigen::Vector2d e(tracked[i].x - truth[i].x, tracked[i].y - truth[i].y);
+      if (!status[i] || e.norm() > kMaxErrorPx) continue;
+      const Eigen::Vector2d r(truth[i].x - c.cx_px, truth[i].y - c.cy_px);
+      figures->scaled[si].push_back(e.dot(r.normalized()));
+    }
+  }
+}
+
+// The stereo side: the corners matched into frame k's right image as the odometry matches them (pyramidal
+// KLT with its stereo levels), started at the true disparity fB/z and kStereoStartOffPx short of it; the
+// measured disparity minus the true one, per depth bin.
+void MatchStereo(const cv::Mat& previous_gray, const cv::Mat& right_gray, const semap::StereoCalibration& c,
+                 const TrueFlow& flow, const Klt& klt, Figures* figures) {
+  if (flow.start.empty()) return;
+  for (int mode = 0; mode < 2; ++mode) {
+    std::vector<cv::Point2f> right(flow.start.size());
+    for (size_t i = 0; i < flow.start.size(); ++i) {
+      const double d = c.fx_px * c.baseline_m / flow.depth_m[i] - (mode == 0 ? 0.0 : kStereoStartOffPx);
+      right[i] = cv::Point2f(flow.start[i].x - static_cast<float>(d), flow.start[i].y);
+    }
+    std::vector<uchar> status;
+    std::vector<float> err;
+    cv::calcOpticalFlowPyrLK(previous_gray, right_gray, flow.start, right, status, err, klt.win,
+                             klt.o.stereo_levels, klt.term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t i = 0; i < flow.start.size(); ++i) {
+      if (!status[i] || std::abs(right[i].y - flow.start[i].y) > klt.o.max_epipolar_error_px) continue;
+      const double e = (flow.start[i].x - right[i].x) - c.fx_px * c.baseline_m / flow.depth_m[i];
+      const int b = BinOf(kBinEdgesM, flow.depth_m[i]);
+      if (std::abs(e) <= kMaxErrorPx && b >= 0) figures->stereo[mode][static_cast<size_t>(b)].push_back(e);
+    }
+  }
+}
+
+// The temporal tracks: KLT from frame k into k + 1 started at the predicted position (mode 0) and at the old
+// one (1); the error against the prediction along and across the direction away from the focus of expansion
+// `foe`, per depth bin, and by distance from the principal point.
+void TrackTemporally(const cv::Mat& previous_gray, const cv::Mat& gray, const semap::StereoCalibration& c,
+                     const Eigen::Vector2d& foe, const TrueFlow& flow, const Klt& klt, Figures* figures) {
+  if (flow.start.empty()) return;
+  for (int mode = 0; mode < 2; ++mode) {
+    std::vector<cv::Point2f> tracked = mode == 0 ? flow.predicted : flow.start;
+    std::vector<uchar> status;
+    std::vector<float> err;
+    cv::calcOpticalFlowPyrLK(previous_gray, gray, flow.start, tracked, status, err, klt.win, klt.o.klt_levels,
+                             klt.term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    std::vector<Stats>& stats = figures->by_depth[mode];
+    std::vector<Stats>& by_radius = figures->by_radius[mode];
+    for (size_t i = 0; i < flow.start.size(); ++i) {
+      if (!status[i]) continue;
+      const cv::Point2f& predicted = flow.predicted[i];
+      const Eigen::Vector2d e(tracked[i].x - predicted.x, tracked[i].y - predicted.y);
+      if (e.norm() > kMaxErrorPx) continue;
+      const Eigen::Vector2d r(predicted.x - foe.x(), predicted.y - foe.y());
+      if (r.norm() < kMinRadiusPx) continue;
+      const Eigen::Vector2d radial = r.normalized();
+      // By distance from the principal point: the error along that direction (a lens distortion left in the
+      // rectified images would stretch or shrink the flow there).
+      const Eigen::Vector2d from_centre(predicted.x - c.cx_px, predicted.y - c.cy_px);
+      const double rc = from_centre.norm();
+      const int rb = rc > 0.0 ? BinOf(kRadiusEdgesPx, rc) : -1;
+      const int zb = BinOf(kBinEdgesM, flow.depth_m[i]);
+      if (rb >= 0) {
+        by_radius[static_cast<size_t>(rb)].radial.push_back(e.dot(from_centre / rc));
+        by_radius[static_cast<size_t>(rb)].tangential.push_back(e.dot(radial));
+        if (mode == 0 && zb >= 0)
+          figures->grid[static_cast<size_t>(zb)][static_cast<size_t>(rb)].push_back(e.dot(radial));
+      }
+      if (zb >= 0) {
+        stats[static_cast<size_t>(zb)].radial.push_back(e.dot(radial));
+        stats[static_cast<size_t>(zb)].tangential.push_back(radial.x() * e.y() - radial.y() * e.x());
+      }
+    }
+  }
+}
+
+// One pair of consecutive frames (the previous one with a Velodyne scan, both with poses) into the figures;
+// false, with nothing added, when the camera does not move forwards (no focus of expansion ahead): such a
+// pair does not count towards kScaleEveryFrames.
+bool AddFramePair(const semap::Frame& previous, const cv::Mat& previous_gray, const semap::Frame& frame,
+                  const cv::Mat& gray, int frame_index, const Klt& klt, double smooth_share,
+                  Figures* figures) {
+  const semap::StereoCalibration& c = frame.calibration;
+  const cv::Mat lidar = semap::LidarDepthImage(*previous.velodyne, c, kMaxDepthM);
+  const semap::Pose3d b_from_a = frame.world_from_cam->inverse() * *previous.world_from_cam;
+  // The focus of expansion: the image of the motion's direction in frame k + 1, from frame k's camera centre
+  // (b_from_a's translation, in b's coordinates) to b's.
+  const Eigen::Vector3d direction_b = -b_from_a.translation();
+  if (direction_b.z() <= 0.0) return false;
+  const Eigen::Vector2d foe = c.Project(direction_b);
+  const TrueFlow flow = CornersWithTrueFlow(previous_gray, lidar, b_from_a, c, klt, smooth_share);
+  if (frame_index % kScaleEveryFrames == 1) TrackScaledImages(previous_gray, c, flow.start, klt, figures);
+  MatchStereo(previous_gray, Gray(previous.right), c, flow, klt, figures);
+  TrackTemporally(previous_gray, gray, c, foe, flow, klt, figures);
+  return true;
+}
+
+const char* TemporalStart(int mode) { return mode == 0 ? "the predicted position" : "the previous position"; }
+
+void PrintFigures(const std::string& sequence, const semap::StereoOdometryOptions& o, const Figures& f) {
+  std::printf("KLT tracks (window %d px, %d levels) minus the flow of the poses and the Velodyne, %s\n\n",
+              o.klt_window_px, o.klt_levels, sequence.c_str());
+  std::printf(
+      "| KLT started at | depth | tracks | radial mean (px) | radial median (px) | across mean (px) |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (int mode = 0; mode < 2; ++mode) {
+    const std::vector<Stats>& stats = f.by_depth[mode];
+    for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
+      std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f | %+.4f |\n", TemporalStart(mode), kBinEdgesM[b],
+                  kBinEdgesM[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
+                  Mean(stats[b].tangential));
+    }
+  }
+  std::printf(
+      "\n| KLT started at | distance from the principal point | tracks | mean along it (px) | median along "
+      "it "
+      "(px) | mean away from the focus of expansion (px) |\n|---|---|---|---|---|---|\n");
+  for (int mode = 0; mode < 2; ++mode) {
+    const std::vector<Stats>& stats = f.by_radius[mode];
+    for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
+      std::printf("| %s | %.0f-%.0f px | %zu | %+.4f | %+.4f | %+.4f |\n", TemporalStart(mode),
+                  kRadiusEdgesPx[b], kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial),
+                  Median(stats[b].radial), Mean(stats[b].tangential));
+    }
+  }
+  std::printf(
+      "\nStereo: KLT disparity (left to right, %d levels) minus fB/z of the Velodyne\n\n| KLT started at | "
+      "depth | matches | mean (px) | median (px) |\n|---|---|---|---|---|\n",
+      o.stereo_levels);
+  for (int mode = 0; mode < 2; ++mode) {
+    for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
+      std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f |\n",
+                  mode == 0 ? "the true disparity" : "2 px short of it", kBinEdgesM[b], kBinEdgesM[b + 1],
+                  f.stereo[mode][b].size(), Mean(f.stereo[mode][b]), Median(f.stereo[mode][b]));
+    }
+  }
+  std::printf(
+      "\nKLT on frame k's own image scaled by a known factor about the principal point (every %d frames, "
+      "started at the corner's old position): error away from the principal point\n\n| scale | tracks | "
+      "mean (px) | median (px) |\n|---|---|---|---|\n",
+      kScaleEveryFrames);
+  for (size_t si = 0; si < std::size(kScales); ++si) {
+    std::printf("| %.2f | %zu | %+.4f | %+.4f |\n", kScales[si], f.scaled[si].size(), Mean(f.scaled[si]),
+                Median(f.scaled[si]));
+  }
+  std::printf(
+      "\nKLT started at the predicted position: median error away from the focus of expansion (px, "
+      "tracks), by depth and distance from the principal point\n\n| depth |");
+  for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
+    std::printf(" %.0f-%.0f px |", kRadiusEdgesPx[b], kRadiusEdgesPx[b + 1]);
+  }
+  std::printf("\n|---|");
+  for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) std::printf("---|");
+  std::printf("\n");
+  for (size_t z = 0; z + 1 < std::size(kBinEdgesM); ++z) {
+    std::printf("| %.0f-%.0f m |", kBinEdgesM[z], kBinEdgesM[z + 1]);
+    for (const auto& cell : f.grid[z]) std::printf(" %+.3f (%zu) |", Median(cell), cell.size());
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -93,230 +353,28 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     const semap::app::Config config = args.LoadConfig();
-    const std::string& sequence = args.sequence;
-    auto source = semap::io::OpenFrameSource(sequence, args.Input(config, true));
+    auto source = semap::io::OpenFrameSource(args.sequence, args.Input(config, true));
     const semap::StereoOdometryOptions& o = config.odometry;
-    const cv::Size win(o.klt_window_px, o.klt_window_px);
-    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations,
-                                kKltEpsilonPx);
-    std::vector<Stats> from_truth(std::size(kBinEdgesM) - 1), from_start(std::size(kBinEdgesM) - 1);
-    std::vector<Stats> radius_truth(std::size(kRadiusEdgesPx) - 1),
-        radius_start(std::size(kRadiusEdgesPx) - 1);
-    // KLT started at the predicted position: the error away from the focus of expansion per depth bin (rows)
-    // and distance from the principal point (columns), so that depth and image position are told apart.
-    std::vector<std::vector<std::vector<double>>> grid(
-        std::size(kBinEdgesM) - 1, std::vector<std::vector<double>>(std::size(kRadiusEdgesPx) - 1));
+    const Klt klt{
+        cv::Size(o.klt_window_px, o.klt_window_px),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kKltMaxIterations, kKltEpsilonPx),
+        o};
+    Figures figures;
     std::optional<semap::Frame> previous;
     cv::Mat previous_gray;
-    // KLT on frame k's own texture scaled by a known factor about the principal point (the looming of a
-    // fronto-parallel surface, exact): the error away from the principal point, per scale.
-    std::vector<std::vector<double>> scaled(std::size(kScales));
     int frame_index = 0;
-    // The stereo disparity error per start (true disparity, kStereoStartOffPx short) and depth bin.
-    std::vector<std::vector<double>> stereo[2] = {
-        std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1),
-        std::vector<std::vector<double>>(std::size(kBinEdgesM) - 1)};
     while (auto frame = source->Next()) {
       const cv::Mat gray = Gray(frame->left);
+      bool counted = true;
       if (previous && previous->velodyne && previous->world_from_cam && frame->world_from_cam) {
-        const semap::StereoCalibration& c = frame->calibration;
-        const cv::Mat lidar = semap::LidarDepthImage(*previous->velodyne, c, kMaxDepthM);
-        const semap::Pose3d b_from_a = frame->world_from_cam->inverse() * *previous->world_from_cam;
-        // The focus of expansion: the image of the motion's direction in frame k + 1, from frame k's camera
-        // centre (b_from_a's translation, in b's coordinates) to b's.
-        const Eigen::Vector3d direction_b = -b_from_a.translation();
-        if (direction_b.z() <= 0.0) {
-          previous = std::move(*frame);
-          previous_gray = gray;
-          continue;
-        }
-        const Eigen::Vector2d foe = c.Project(direction_b);
-        std::vector<cv::KeyPoint> corners;
-        cv::FAST(previous_gray, corners, o.fast_threshold, true);
-        std::vector<cv::Point2f> start, predicted;
-        std::vector<double> depth_m;
-        for (const auto& k : corners) {
-          const int u = static_cast<int>(std::lround(k.pt.x)), v = static_cast<int>(std::lround(k.pt.y));
-          double z = 0.0;  // the nearest Velodyne depth within one pixel
-          for (int dv = -1; dv <= 1 && z == 0.0; ++dv) {
-            for (int du = -1; du <= 1; ++du) {
-              const int uu = u + du, vv = v + dv;
-              if (uu < 0 || vv < 0 || uu >= lidar.cols || vv >= lidar.rows) continue;
-              const float zl = lidar.at<float>(vv, uu);
-              if (zl > 0.0f) {
-                z = zl;
-                break;
-              }
-            }
-          }
-          if (z <= 0.0) continue;
-          if (smooth_share > 0.0 && !SmoothDepth(lidar, u, v, z, smooth_share)) continue;
-          const Eigen::Vector3d p = b_from_a * c.Unproject(k.pt.x, k.pt.y, z);
-          if (p.z() <= 0.0) continue;
-          const Eigen::Vector2d uv = c.Project(p);
-          if (!c.InImage(uv)) continue;
-          start.push_back(k.pt);
-          predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
-          depth_m.push_back(z);
-        }
-        if (frame_index % kScaleEveryFrames == 1) {
-          for (size_t si = 0; si < std::size(kScales); ++si) {
-            const double sc = kScales[si];
-            const cv::Mat a =
-                (cv::Mat_<double>(2, 3) << sc, 0.0, c.cx_px * (1.0 - sc), 0.0, sc, c.cy_px * (1.0 - sc));
-            cv::Mat warped;
-            cv::warpAffine(previous_gray, warped, a, previous_gray.size(), cv::INTER_CUBIC,
-                           cv::BORDER_REFLECT);
-            std::vector<cv::Point2f> from, truth;
-            for (const auto& p : start) {
-              const cv::Point2f q(static_cast<float>(c.cx_px + sc * (p.x - c.cx_px)),
-                                  static_cast<float>(c.cy_px + sc * (p.y - c.cy_px)));
-              const double r = std::hypot(q.x - c.cx_px, q.y - c.cy_px);
-              if (r < kMinRadiusPx || q.x < 0.0f || q.y < 0.0f || q.x >= static_cast<float>(warped.cols) ||
-                  q.y >= static_cast<float>(warped.rows)) {
-                continue;
-              }
-              from.push_back(p);
-              truth.push_back(q);
-            }
-            if (from.empty()) continue;
-            std::vector<cv::Point2f> tracked = from;
-            std::vector<uchar> status;
-            std::vector<float> err;
-            cv::calcOpticalFlowPyrLK(previous_gray, warped, from, tracked, status, err, win, o.klt_levels,
-                                     term, cv::OPTFLOW_USE_INITIAL_FLOW);
-            for (size_t i = 0; i < from.size(); ++i) {
-              const Eigen::Vector2d e(tracked[i].x - truth[i].x, tracked[i].y - truth[i].y);
-              if (!status[i] || e.norm() > kMaxErrorPx) continue;
-              const Eigen::Vector2d r(truth[i].x - c.cx_px, truth[i].y - c.cy_px);
-              scaled[si].push_back(e.dot(r.normalized()));
-            }
-          }
-        }
-        // The stereo side: the corners matched into frame k's right image as the odometry matches them
-        // (pyramidal KLT with its stereo levels), started at the true disparity fB/z and kStereoStartOffPx
-        // short of it; the measured disparity minus the true one, per depth bin.
-        {
-          const cv::Mat right_gray = Gray(previous->right);
-          for (int mode = 0; mode < 2; ++mode) {
-            std::vector<cv::Point2f> right(start.size());
-            for (size_t i = 0; i < start.size(); ++i) {
-              const double d = c.fx_px * c.baseline_m / depth_m[i] - (mode == 0 ? 0.0 : kStereoStartOffPx);
-              right[i] = cv::Point2f(start[i].x - static_cast<float>(d), start[i].y);
-            }
-            std::vector<uchar> status;
-            std::vector<float> err;
-            if (start.empty()) break;
-            cv::calcOpticalFlowPyrLK(previous_gray, right_gray, start, right, status, err, win,
-                                     o.stereo_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
-            for (size_t i = 0; i < start.size(); ++i) {
-              if (!status[i] || std::abs(right[i].y - start[i].y) > o.max_epipolar_error_px) continue;
-              const double e = (start[i].x - right[i].x) - c.fx_px * c.baseline_m / depth_m[i];
-              const int b = BinOf(kBinEdgesM, depth_m[i]);
-              if (std::abs(e) <= kMaxErrorPx && b >= 0) stereo[mode][static_cast<size_t>(b)].push_back(e);
-            }
-          }
-        }
-        for (int mode = 0; mode < 2; ++mode) {
-          std::vector<cv::Point2f> tracked = mode == 0 ? predicted : start;
-          std::vector<uchar> status;
-          std::vector<float> err;
-          if (start.empty()) break;
-          cv::calcOpticalFlowPyrLK(previous_gray, gray, start, tracked, status, err, win, o.klt_levels, term,
-                                   cv::OPTFLOW_USE_INITIAL_FLOW);
-          std::vector<Stats>& stats = mode == 0 ? from_truth : from_start;
-          std::vector<Stats>& by_radius = mode == 0 ? radius_truth : radius_start;
-          for (size_t i = 0; i < start.size(); ++i) {
-            if (!status[i]) continue;
-            const Eigen::Vector2d e(tracked[i].x - predicted[i].x, tracked[i].y - predicted[i].y);
-            if (e.norm() > kMaxErrorPx) continue;
-            const Eigen::Vector2d r(predicted[i].x - foe.x(), predicted[i].y - foe.y());
-            if (r.norm() < kMinRadiusPx) continue;
-            const Eigen::Vector2d radial = r.normalized();
-            // By distance from the principal point: the error along that direction (a lens distortion left
-            // in the rectified images would stretch or shrink the flow there).
-            const Eigen::Vector2d from_centre(predicted[i].x - c.cx_px, predicted[i].y - c.cy_px);
-            const double rc = from_centre.norm();
-            const int rb = rc > 0.0 ? BinOf(kRadiusEdgesPx, rc) : -1;
-            const int zb = BinOf(kBinEdgesM, depth_m[i]);
-            if (rb >= 0) {
-              by_radius[static_cast<size_t>(rb)].radial.push_back(e.dot(from_centre / rc));
-              by_radius[static_cast<size_t>(rb)].tangential.push_back(e.dot(radial));
-              if (mode == 0 && zb >= 0)
-                grid[static_cast<size_t>(zb)][static_cast<size_t>(rb)].push_back(e.dot(radial));
-            }
-            if (zb >= 0) {
-              stats[static_cast<size_t>(zb)].radial.push_back(e.dot(radial));
-              stats[static_cast<size_t>(zb)].tangential.push_back(radial.x() * e.y() - radial.y() * e.x());
-            }
-          }
-        }
+        counted =
+            AddFramePair(*previous, previous_gray, *frame, gray, frame_index, klt, smooth_share, &figures);
       }
       previous = std::move(*frame);
       previous_gray = gray;
-      ++frame_index;
+      if (counted) ++frame_index;
     }
-    std::printf("KLT tracks (window %d px, %d levels) minus the flow of the poses and the Velodyne, %s\n\n",
-                o.klt_window_px, o.klt_levels, sequence.c_str());
-    std::printf(
-        "| KLT started at | depth | tracks | radial mean (px) | radial median (px) | across mean (px) |\n");
-    std::printf("|---|---|---|---|---|---|\n");
-    for (int mode = 0; mode < 2; ++mode) {
-      const std::vector<Stats>& stats = mode == 0 ? from_truth : from_start;
-      for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
-        std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f | %+.4f |\n",
-                    mode == 0 ? "the predicted position" : "the previous position", kBinEdgesM[b],
-                    kBinEdgesM[b + 1], stats[b].radial.size(), Mean(stats[b].radial), Median(stats[b].radial),
-                    Mean(stats[b].tangential));
-      }
-    }
-    std::printf(
-        "\n| KLT started at | distance from the principal point | tracks | mean along it (px) | median along "
-        "it "
-        "(px) | mean away from the focus of expansion (px) |\n|---|---|---|---|---|---|\n");
-    for (int mode = 0; mode < 2; ++mode) {
-      const std::vector<Stats>& stats = mode == 0 ? radius_truth : radius_start;
-      for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
-        std::printf("| %s | %.0f-%.0f px | %zu | %+.4f | %+.4f | %+.4f |\n",
-                    mode == 0 ? "the predicted position" : "the previous position", kRadiusEdgesPx[b],
-                    kRadiusEdgesPx[b + 1], stats[b].radial.size(), Mean(stats[b].radial),
-                    Median(stats[b].radial), Mean(stats[b].tangential));
-      }
-    }
-    std::printf(
-        "\nStereo: KLT disparity (left to right, %d levels) minus fB/z of the Velodyne\n\n| KLT started at | "
-        "depth | matches | mean (px) | median (px) |\n|---|---|---|---|---|\n",
-        o.stereo_levels);
-    for (int mode = 0; mode < 2; ++mode) {
-      for (size_t b = 0; b + 1 < std::size(kBinEdgesM); ++b) {
-        std::printf("| %s | %.0f-%.0f m | %zu | %+.4f | %+.4f |\n",
-                    mode == 0 ? "the true disparity" : "2 px short of it", kBinEdgesM[b], kBinEdgesM[b + 1],
-                    stereo[mode][b].size(), Mean(stereo[mode][b]), Median(stereo[mode][b]));
-      }
-    }
-    std::printf(
-        "\nKLT on frame k's own image scaled by a known factor about the principal point (every %d frames, "
-        "started at the corner's old position): error away from the principal point\n\n| scale | tracks | "
-        "mean (px) | median (px) |\n|---|---|---|---|\n",
-        kScaleEveryFrames);
-    for (size_t si = 0; si < std::size(kScales); ++si) {
-      std::printf("| %.2f | %zu | %+.4f | %+.4f |\n", kScales[si], scaled[si].size(), Mean(scaled[si]),
-                  Median(scaled[si]));
-    }
-    std::printf(
-        "\nKLT started at the predicted position: median error away from the focus of expansion (px, "
-        "tracks), by depth and distance from the principal point\n\n| depth |");
-    for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) {
-      std::printf(" %.0f-%.0f px |", kRadiusEdgesPx[b], kRadiusEdgesPx[b + 1]);
-    }
-    std::printf("\n|---|");
-    for (size_t b = 0; b + 1 < std::size(kRadiusEdgesPx); ++b) std::printf("---|");
-    std::printf("\n");
-    for (size_t z = 0; z + 1 < std::size(kBinEdgesM); ++z) {
-      std::printf("| %.0f-%.0f m |", kBinEdgesM[z], kBinEdgesM[z + 1]);
-      for (const auto& cell : grid[z]) std::printf(" %+.3f (%zu) |", Median(cell), cell.size());
-      std::printf("\n");
-    }
+    PrintFigures(args.sequence, o, figures);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "semap_flow_check: %s\n", e.what());
     return 1;

@@ -9,6 +9,7 @@
 
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
+#include "engine/eval/internal/top_view_steps.h"
 
 namespace semap {
 namespace {
@@ -18,29 +19,6 @@ constexpr int kLegendHeightPx = 30;
 const cv::Vec3b kBackground(255, 255, 255);
 // kError bin colours (BGR): green, yellow, orange, red.
 const cv::Vec3f kErrorColours[4] = {{60, 170, 60}, {40, 210, 230}, {30, 140, 240}, {40, 40, 215}};
-
-struct Projection {
-  Eigen::Vector3d right, image_up, into;  // image right, image up, viewing direction (into the scene)
-};
-
-Projection MakeProjection(const Eigen::Vector3d& up_in, const TopViewOptions& o) {
-  const Eigen::Vector3d up = up_in.normalized();
-  int axis = 0;
-  for (int i = 1; i < 3; ++i) {
-    if (std::abs(up[i]) < std::abs(up[axis]) - 1e-9) axis = i;
-  }
-  Eigen::Vector3d h = Eigen::Vector3d::Unit(axis);
-  h = (h - up * up.dot(h)).normalized();
-  const double az = o.azimuth_deg * kPi / 180.0;
-  const Eigen::Vector3d e1 = std::cos(az) * h + std::sin(az) * up.cross(h);
-  const Eigen::Vector3d e2 = up.cross(e1);
-  const double el = o.elevation_deg * kPi / 180.0;
-  Projection p;
-  p.right = e1;
-  p.into = (std::cos(el) * e2 - std::sin(el) * up).normalized();
-  p.image_up = p.right.cross(p.into);
-  return p;
-}
 
 // Blue → cyan → green → yellow → red for t in [0, 1] (BGR).
 cv::Vec3f HeightColour(double t) {
@@ -141,135 +119,163 @@ Eigen::Vector2d TopView::ToPixel(const Eigen::Vector3d& p) const {
           margin_px + (up_max - image_up.dot(p)) / metres_per_px};
 }
 
-TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopViewOptions& options,
-                      const std::function<double(const Eigen::Vector3d&)>& distance,
-                      const std::vector<Eigen::Vector3d>& track) {
-  options.Check();
-  SEMAP_CHECK_OPTION(up.allFinite() && up.norm() > 0.0, "up", up.transpose(), "must be a non-zero direction");
-  SEMAP_ASSERT(mesh.IsConsistent(), "inconsistent mesh");
-  SEMAP_ASSERT(options.colour != TopViewColour::kError || distance,
-               "colour by error needs a distance function");
-  const Projection proj = MakeProjection(up, options);
-  TopView view;
-  view.right = proj.right;
-  view.image_up = proj.image_up;
-  view.margin_px = options.margin_px;
+namespace eval_internal {
 
-  // Extent of the projected mesh (vertices of triangles only) and track.
-  double a_min = std::numeric_limits<double>::infinity(), a_max = -a_min, b_min = a_min, b_max = -a_min;
-  const auto extend = [&](const Eigen::Vector3d& p) {
+Projection MakeProjection(const Eigen::Vector3d& up_in, const TopViewOptions& o) {
+  const Eigen::Vector3d up = up_in.normalized();
+  int axis = 0;
+  for (int i = 1; i < 3; ++i) {
+    if (std::abs(up[i]) < std::abs(up[axis]) - 1e-9) axis = i;
+  }
+  Eigen::Vector3d h = Eigen::Vector3d::Unit(axis);
+  h = (h - up * up.dot(h)).normalized();
+  const double az = o.azimuth_deg * kPi / 180.0;
+  const Eigen::Vector3d e1 = std::cos(az) * h + std::sin(az) * up.cross(h);
+  const Eigen::Vector3d e2 = up.cross(e1);
+  const double el = o.elevation_deg * kPi / 180.0;
+  Projection p;
+  p.right = e1;
+  p.into = (std::cos(el) * e2 - std::sin(el) * up).normalized();
+  p.image_up = p.right.cross(p.into);
+  return p;
+}
+
+ViewExtent ProjectedExtent(const Mesh& mesh, const Projection& proj,
+                           const std::vector<Eigen::Vector3d>& track) {
+  if (mesh.triangles.empty()) return ViewExtent{};
+  ViewExtent e;
+  e.a_min = e.b_min = std::numeric_limits<double>::infinity();
+  e.a_max = e.b_max = -std::numeric_limits<double>::infinity();
+  const auto extend = [&e, &proj](const Eigen::Vector3d& p) {
     const double a = proj.right.dot(p), b = proj.image_up.dot(p);
-    a_min = std::min(a_min, a), a_max = std::max(a_max, a), b_min = std::min(b_min, b),
-    b_max = std::max(b_max, b);
+    e.a_min = std::min(e.a_min, a), e.a_max = std::max(e.a_max, a), e.b_min = std::min(e.b_min, b),
+    e.b_max = std::max(e.b_max, b);
   };
   for (const auto& t : mesh.triangles) {
     for (std::uint32_t v : t) extend(mesh.vertices[v]);
   }
-  if (!mesh.triangles.empty()) {
-    for (const Eigen::Vector3d& c : track) extend(c);
-  }
+  for (const Eigen::Vector3d& c : track) extend(c);
+  return e;
+}
+
+ViewSize FitView(const ViewExtent& e, const Projection& proj, const TopViewOptions& options, TopView* view) {
   const int m = options.margin_px;
   const int legend_px = options.legend ? kLegendHeightPx : 0;
-  if (mesh.triangles.empty()) {
-    a_min = b_min = 0.0;
-    a_max = b_max = 1.0;
-  }
-  const double span_a = std::max(a_max - a_min, 1e-6), span_b = std::max(b_max - b_min, 1e-6);
+  const double span_a = std::max(e.a_max - e.a_min, 1e-6), span_b = std::max(e.b_max - e.b_min, 1e-6);
   const double px_per_m =
       std::min((options.max_width_px - 2 * m) / span_a, (options.max_height_px - 2 * m - legend_px) / span_b);
-  const int width = std::min(options.max_width_px, static_cast<int>(std::ceil(span_a * px_per_m)) + 2 * m);
-  const int height =
+  ViewSize size;
+  size.width = std::min(options.max_width_px, static_cast<int>(std::ceil(span_a * px_per_m)) + 2 * m);
+  size.height =
       std::min(options.max_height_px - legend_px, static_cast<int>(std::ceil(span_b * px_per_m)) + 2 * m);
-  view.metres_per_px = 1.0 / px_per_m;
-  view.right_min = a_min;
-  view.up_max = b_max;
+  size.rows = size.height + legend_px;
+  view->right = proj.right;
+  view->image_up = proj.image_up;
+  view->margin_px = m;
+  view->metres_per_px = 1.0 / px_per_m;
+  view->right_min = e.a_min;
+  view->up_max = e.b_max;
+  return size;
+}
 
-  const int rows = height + legend_px;
-  cv::Mat depth(rows, width, CV_64FC1, cv::Scalar(std::numeric_limits<double>::infinity()));
-  view.triangle = cv::Mat(rows, width, CV_32SC1, cv::Scalar(-1));
-  view.points = cv::Mat(rows, width, CV_64FC3, cv::Scalar(0, 0, 0));
-  cv::Mat base(rows, width, CV_32FC3, cv::Scalar(200, 200, 200));  // BGR before shading
+ZBuffer EmptyRaster(const ViewSize& size, TopView* view) {
+  ZBuffer z;
+  z.depth = cv::Mat(size.rows, size.width, CV_64FC1, cv::Scalar(std::numeric_limits<double>::infinity()));
+  view->triangle = cv::Mat(size.rows, size.width, CV_32SC1, cv::Scalar(-1));
+  view->points = cv::Mat(size.rows, size.width, CV_64FC3, cv::Scalar(0, 0, 0));
+  z.base = cv::Mat(size.rows, size.width, CV_32FC3, cv::Scalar(200, 200, 200));
+  return z;
+}
+
+void RasteriseTriangle(const Mesh& mesh, std::size_t ti, const Eigen::Vector3d& into, int height,
+                       TopView* view, ZBuffer* z) {
+  const auto& t = mesh.triangles[ti];
+  Eigen::Vector2d s[3];
+  double zv[3];
+  for (int k = 0; k < 3; ++k) {
+    s[k] = view->ToPixel(mesh.vertices[t[k]]);
+    zv[k] = into.dot(mesh.vertices[t[k]]);
+  }
+  const double area = (s[1] - s[0]).x() * (s[2] - s[0]).y() - (s[1] - s[0]).y() * (s[2] - s[0]).x();
+  if (std::abs(area) < 1e-12) return;  // edge-on: covers no pixel centre
+  const int width = view->triangle.cols;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
+  const int x1 =
+      std::min(width - 1, static_cast<int>(std::ceil(std::max({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
+  const int y1 =
+      std::min(height - 1, static_cast<int>(std::ceil(std::max({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
   const bool vertex_colours = !mesh.colors_rgb.empty();
-
-  // Rasterisation: pixel centres inside the projected triangle (edge functions), nearest along `into` wins.
-  for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
-    const auto& t = mesh.triangles[ti];
-    Eigen::Vector2d s[3];
-    double z[3];
-    for (int k = 0; k < 3; ++k) {
-      s[k] = view.ToPixel(mesh.vertices[t[k]]);
-      z[k] = proj.into.dot(mesh.vertices[t[k]]);
-    }
-    const double area = (s[1] - s[0]).x() * (s[2] - s[0]).y() - (s[1] - s[0]).y() * (s[2] - s[0]).x();
-    if (std::abs(area) < 1e-12) continue;  // edge-on: covers no pixel centre
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
-    const int x1 =
-        std::min(width - 1, static_cast<int>(std::ceil(std::max({s[0].x(), s[1].x(), s[2].x()}) - 0.5)));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
-    const int y1 =
-        std::min(height - 1, static_cast<int>(std::ceil(std::max({s[0].y(), s[1].y(), s[2].y()}) - 0.5)));
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const Eigen::Vector2d c(x + 0.5, y + 0.5);
-        double w[3];
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector2d c(x + 0.5, y + 0.5);
+      double w[3];
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector2d& p = s[(k + 1) % 3];
+        const Eigen::Vector2d& q = s[(k + 2) % 3];
+        w[k] = ((q - p).x() * (c - p).y() - (q - p).y() * (c - p).x()) / area;
+      }
+      if (w[0] < -1e-9 || w[1] < -1e-9 || w[2] < -1e-9) continue;  // centres on a shared edge: both
+      const double zc = w[0] * zv[0] + w[1] * zv[1] + w[2] * zv[2];
+      double& d = z->depth.at<double>(y, x);
+      if (zc >= d) continue;
+      d = zc;
+      view->triangle.at<int>(y, x) = static_cast<int>(ti);
+      const Eigen::Vector3d p =
+          w[0] * mesh.vertices[t[0]] + w[1] * mesh.vertices[t[1]] + w[2] * mesh.vertices[t[2]];
+      view->points.at<cv::Vec3d>(y, x) = cv::Vec3d(p.x(), p.y(), p.z());
+      if (vertex_colours) {
+        cv::Vec3f rgb(0, 0, 0);
         for (int k = 0; k < 3; ++k) {
-          const Eigen::Vector2d& p = s[(k + 1) % 3];
-          const Eigen::Vector2d& q = s[(k + 2) % 3];
-          w[k] = ((q - p).x() * (c - p).y() - (q - p).y() * (c - p).x()) / area;
+          const auto& col = mesh.colors_rgb[t[k]];
+          rgb += cv::Vec3f(col[2], col[1], col[0]) * static_cast<float>(w[k]);
         }
-        if (w[0] < -1e-9 || w[1] < -1e-9 || w[2] < -1e-9) continue;  // centres on a shared edge: both
-        const double zc = w[0] * z[0] + w[1] * z[1] + w[2] * z[2];
-        double& d = depth.at<double>(y, x);
-        if (zc >= d) continue;
-        d = zc;
-        view.triangle.at<int>(y, x) = static_cast<int>(ti);
-        const Eigen::Vector3d p =
-            w[0] * mesh.vertices[t[0]] + w[1] * mesh.vertices[t[1]] + w[2] * mesh.vertices[t[2]];
-        view.points.at<cv::Vec3d>(y, x) = cv::Vec3d(p.x(), p.y(), p.z());
-        if (vertex_colours) {
-          cv::Vec3f rgb(0, 0, 0);
-          for (int k = 0; k < 3; ++k) {
-            const auto& col = mesh.colors_rgb[t[k]];
-            rgb += cv::Vec3f(col[2], col[1], col[0]) * static_cast<float>(w[k]);
-          }
-          base.at<cv::Vec3f>(y, x) = rgb;
-        }
+        z->base.at<cv::Vec3f>(y, x) = rgb;
       }
     }
   }
+}
 
-  // Base colours by height or error.
-  const Eigen::Vector3d up_unit = up.normalized();
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (int y = 0; y < rows; ++y) {
-    for (int x = 0; x < width; ++x) {
+HeightRange CoveredHeights(const TopView& view, const Eigen::Vector3d& up_unit) {
+  HeightRange r;
+  r.low = std::numeric_limits<double>::infinity();
+  r.high = -r.low;
+  for (int y = 0; y < view.triangle.rows; ++y) {
+    for (int x = 0; x < view.triangle.cols; ++x) {
       if (view.triangle.at<int>(y, x) < 0) continue;
       const cv::Vec3d& p = view.points.at<cv::Vec3d>(y, x);
       const double h = up_unit.dot(Eigen::Vector3d(p[0], p[1], p[2]));
-      low = std::min(low, h), high = std::max(high, h);
+      r.low = std::min(r.low, h), r.high = std::max(r.high, h);
     }
   }
-  if (options.colour != TopViewColour::kMesh) {
-    ParallelFor(0, rows, 8, [&](int first, int last) {
-      for (int y = first; y < last; ++y) {
-        for (int x = 0; x < width; ++x) {
-          if (view.triangle.at<int>(y, x) < 0) continue;
-          const cv::Vec3d& q = view.points.at<cv::Vec3d>(y, x);
-          const Eigen::Vector3d p(q[0], q[1], q[2]);
-          base.at<cv::Vec3f>(y, x) =
-              options.colour == TopViewColour::kHeight
-                  ? HeightColour(high > low ? (up_unit.dot(p) - low) / (high - low) : 0.5)
-                  : kErrorColours[ErrorBin(distance(p), options.error_bins_m)];
-        }
-      }
-    });
-  }
+  return r;
+}
 
-  // Flat shading, two-sided: a light from behind the viewer, up and to the right.
+void ColourByHeightOrError(const TopView& view, const TopViewOptions& options,
+                           const std::function<double(const Eigen::Vector3d&)>& distance,
+                           const Eigen::Vector3d& up_unit, const HeightRange& heights, cv::Mat* base) {
+  if (options.colour == TopViewColour::kMesh) return;
+  const double low = heights.low, high = heights.high;
+  ParallelFor(0, view.triangle.rows, 8, [&](int first, int last) {
+    for (int y = first; y < last; ++y) {
+      for (int x = 0; x < view.triangle.cols; ++x) {
+        if (view.triangle.at<int>(y, x) < 0) continue;
+        const cv::Vec3d& q = view.points.at<cv::Vec3d>(y, x);
+        const Eigen::Vector3d p(q[0], q[1], q[2]);
+        base->at<cv::Vec3f>(y, x) =
+            options.colour == TopViewColour::kHeight
+                ? HeightColour(high > low ? (up_unit.dot(p) - low) / (high - low) : 0.5)
+                : kErrorColours[ErrorBin(distance(p), options.error_bins_m)];
+      }
+    }
+  });
+}
+
+cv::Mat ShadeImage(const Mesh& mesh, const Projection& proj, const TopView& view, const cv::Mat& base) {
   const Eigen::Vector3d light = (-proj.into + 0.5 * proj.right + 0.3 * proj.image_up).normalized();
-  view.image = cv::Mat(rows, width, CV_8UC3, cv::Scalar(kBackground));
-  for (int y = 0; y < rows; ++y) {
-    for (int x = 0; x < width; ++x) {
+  cv::Mat image(view.triangle.rows, view.triangle.cols, CV_8UC3, cv::Scalar(kBackground));
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
       const int ti = view.triangle.at<int>(y, x);
       if (ti < 0) continue;
       const auto& t = mesh.triangles[ti];
@@ -278,20 +284,48 @@ TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopView
       const float shade = static_cast<float>(0.35 + 0.65 * std::abs(n.dot(light)));
       const cv::Vec3f c = base.at<cv::Vec3f>(y, x) * shade;
       // Never pure white, so that covered pixels always differ from the background.
-      view.image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<std::uint8_t>(std::min(c[0], 250.0f)),
-                                                 cv::saturate_cast<std::uint8_t>(std::min(c[1], 250.0f)),
-                                                 cv::saturate_cast<std::uint8_t>(std::min(c[2], 250.0f)));
+      image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<std::uint8_t>(std::min(c[0], 250.0f)),
+                                            cv::saturate_cast<std::uint8_t>(std::min(c[1], 250.0f)),
+                                            cv::saturate_cast<std::uint8_t>(std::min(c[2], 250.0f)));
     }
   }
-  if (track.size() >= 2) {
-    std::vector<cv::Point> line;
-    for (const Eigen::Vector3d& c : track) {
-      const Eigen::Vector2d px = view.ToPixel(c);
-      line.emplace_back(static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y())));
-    }
-    cv::polylines(view.image, line, false, cv::Scalar(140, 40, 20), 2, cv::LINE_AA);
+  return image;
+}
+
+void DrawTrack(const std::vector<Eigen::Vector3d>& track, TopView* view) {
+  if (track.size() < 2) return;
+  std::vector<cv::Point> line;
+  for (const Eigen::Vector3d& c : track) {
+    const Eigen::Vector2d px = view->ToPixel(c);
+    line.emplace_back(static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y())));
   }
-  if (options.legend) DrawLegend(options, view.metres_per_px, low, high, view.image);
+  cv::polylines(view->image, line, false, cv::Scalar(140, 40, 20), 2, cv::LINE_AA);
+}
+
+}  // namespace eval_internal
+
+TopView RenderTopView(const Mesh& mesh, const Eigen::Vector3d& up, const TopViewOptions& options,
+                      const std::function<double(const Eigen::Vector3d&)>& distance,
+                      const std::vector<Eigen::Vector3d>& track) {
+  using namespace eval_internal;
+  options.Check();
+  SEMAP_CHECK_OPTION(up.allFinite() && up.norm() > 0.0, "up", up.transpose(), "must be a non-zero direction");
+  SEMAP_ASSERT(mesh.IsConsistent(), "inconsistent mesh");
+  SEMAP_ASSERT(options.colour != TopViewColour::kError || distance,
+               "colour by error needs a distance function");
+  const Projection proj = MakeProjection(up, options);
+  TopView view;
+  const ViewSize size = FitView(ProjectedExtent(mesh, proj, track), proj, options, &view);
+  ZBuffer z = EmptyRaster(size, &view);
+  for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
+    RasteriseTriangle(mesh, ti, proj.into, size.height, &view, &z);
+  }
+  const Eigen::Vector3d up_unit = up.normalized();
+  const HeightRange heights = CoveredHeights(view, up_unit);
+  ColourByHeightOrError(view, options, distance, up_unit, heights, &z.base);
+  view.image = ShadeImage(mesh, proj, view, z.base);
+  DrawTrack(track, &view);
+  if (options.legend) DrawLegend(options, view.metres_per_px, heights.low, heights.high, view.image);
   return view;
 }
 

@@ -95,6 +95,72 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The soak curve, a row every kEvery frames, written to `path`: the frames' rows (indices into csv.rows)
+// and the mean CPU ms per frame since the previous row.
+struct Curve {
+  std::vector<int> at;
+  std::vector<double> frame_cpu_ms;
+};
+
+Curve WriteCurve(const Csv& csv, const fs::path& path) {
+  const int c_elapsed = csv.Col("elapsed_s"), c_cpu = csv.Col("cpu_s"), c_rss = csv.Col("rss_mb"),
+            c_vertices = csv.Col("map_vertices"), c_cells = csv.Col("map_cells"),
+            c_tris = csv.Col("mesh_triangles"), c_map_ms = csv.Col("map_ms"),
+            c_depth_q = csv.Col("depth_queue"), c_simplify_q = csv.Col("simplify_queue"),
+            c_map_q = csv.Col("map_queue");
+  // Per-frame times (wall and CPU) are means since the previous row.
+  std::ofstream curve(path);
+  curve << "frame,rss_mb,map_vertices,map_cells,mesh_triangles,frame_ms,map_ms,depth_queue,simplify_queue,"
+           "map_queue,frame_cpu_ms\n";
+  Curve out;
+  for (size_t i = kEvery; i <= csv.rows.size(); i += kEvery) {
+    const auto& r = csv.rows[i - 1];
+    const auto& prev = csv.rows[i - kEvery];
+    const double ms = 1000.0 * (r[c_elapsed] - prev[c_elapsed]) / (kEvery - 1);
+    const double cpu_ms = 1000.0 * (r[c_cpu] - prev[c_cpu]) / (kEvery - 1);
+    double map_ms = 0.0;
+    for (size_t j = i - kEvery; j < i; ++j) map_ms += csv.rows[j][c_map_ms] / kEvery;
+    curve << i << ',' << r[c_rss] << ',' << r[c_vertices] << ',' << r[c_cells] << ',' << r[c_tris] << ','
+          << ms << ',' << map_ms << ',' << r[c_depth_q] << ',' << r[c_simplify_q] << ',' << r[c_map_q] << ','
+          << cpu_ms << '\n';
+    out.at.push_back(static_cast<int>(i - 1));
+    out.frame_cpu_ms.push_back(cpu_ms);
+  }
+  return out;
+}
+
+// The live map's size swings within a pass of the looped sequence (2-5x on this small map, with far points
+// waiting for confirmation and finalisation every few frames), so one row is no reference for its bound:
+// the largest size over the second half of the curve's rows after warm-up is held against the largest over
+// the first half (the same number of rows each, many passes of the sequence), which a growing map exceeds.
+// RSS is held against its value at the end of warm-up (the row `warm` − 1) plus the allowance the file's
+// comment explains.
+struct MemoryFigures {
+  double first_vertices = 0, first_cells = 0, second_vertices = 0, second_cells = 0, max_rss = 0;
+};
+
+MemoryFigures ExpectBoundedMemory(const Csv& csv, const Curve& curve, size_t warm) {
+  const int c_rss = csv.Col("rss_mb"), c_vertices = csv.Col("map_vertices"), c_cells = csv.Col("map_cells"),
+            c_tris = csv.Col("mesh_triangles");
+  const auto& w = csv.rows[curve.at[warm - 1]];
+  const size_t half = warm + (curve.at.size() - warm) / 2;
+  MemoryFigures m;
+  for (size_t k = warm; k < curve.at.size(); ++k) {
+    const auto& r = csv.rows[curve.at[k]];
+    double& vertices = k < half ? m.first_vertices : m.second_vertices;
+    double& cells = k < half ? m.first_cells : m.second_cells;
+    vertices = std::max(vertices, r[c_vertices]);
+    cells = std::max(cells, r[c_cells]);
+    const double allowed_mb = w[c_rss] + 64.0 + 192.0 * (r[c_tris] - w[c_tris]) / (1024.0 * 1024.0);
+    EXPECT_LE(r[c_rss], allowed_mb) << "RSS at frame " << curve.at[k] << " (" << r[c_tris]
+                                    << " mesh triangles)";
+    m.max_rss = std::max(m.max_rss, r[c_rss]);
+  }
+  EXPECT_LE(m.second_vertices, 1.5 * m.first_vertices) << "the map's live size grows: memory bound broken";
+  EXPECT_LE(m.second_cells, 1.5 * m.first_cells) << "the map's live size grows: memory bound broken";
+  return m;
+}
+
 TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
   const int total = EnvInt("SEMAP_SOAK_FRAMES", 10000);
   const int loops = (total + kSequenceFrames - 1) / kSequenceFrames;
@@ -132,57 +198,15 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
 
   const Csv csv = ReadCsv(out / "frames.csv");
   ASSERT_EQ(static_cast<std::int64_t>(csv.rows.size()), processed);
-  const int c_elapsed = csv.Col("elapsed_s"), c_cpu = csv.Col("cpu_s"), c_rss = csv.Col("rss_mb"),
-            c_vertices = csv.Col("map_vertices"), c_cells = csv.Col("map_cells"),
-            c_tris = csv.Col("mesh_triangles"), c_map_ms = csv.Col("map_ms"),
-            c_depth_q = csv.Col("depth_queue"), c_simplify_q = csv.Col("simplify_queue"),
-            c_map_q = csv.Col("map_queue");
-
-  // The curve, every kEvery frames; per-frame times (wall and CPU) are means since the previous row.
-  std::ofstream curve(dir / "soak.csv");
-  curve << "frame,rss_mb,map_vertices,map_cells,mesh_triangles,frame_ms,map_ms,depth_queue,simplify_queue,"
-           "map_queue,frame_cpu_ms\n";
-  std::vector<int> at;
-  std::vector<double> frame_cpu_ms;
-  for (size_t i = kEvery; i <= csv.rows.size(); i += kEvery) {
-    const auto& r = csv.rows[i - 1];
-    const auto& prev = csv.rows[i - kEvery];
-    const double ms = 1000.0 * (r[c_elapsed] - prev[c_elapsed]) / (kEvery - 1);
-    const double cpu_ms = 1000.0 * (r[c_cpu] - prev[c_cpu]) / (kEvery - 1);
-    double map_ms = 0.0;
-    for (size_t j = i - kEvery; j < i; ++j) map_ms += csv.rows[j][c_map_ms] / kEvery;
-    curve << i << ',' << r[c_rss] << ',' << r[c_vertices] << ',' << r[c_cells] << ',' << r[c_tris] << ','
-          << ms << ',' << map_ms << ',' << r[c_depth_q] << ',' << r[c_simplify_q] << ',' << r[c_map_q] << ','
-          << cpu_ms << '\n';
-    at.push_back(static_cast<int>(i - 1));
-    frame_cpu_ms.push_back(cpu_ms);
-  }
-  curve.close();
-  ASSERT_GE(at.size(), 8u) << "too short a run to judge";
+  const Curve curve = WriteCurve(csv, dir / "soak.csv");
+  ASSERT_GE(curve.at.size(), 8u) << "too short a run to judge";
 
   // Warm-up: the first 10 % of the frames (at least one pass of the sequence).
-  const size_t warm = std::max<size_t>(at.size() / 10, kSequenceFrames / kEvery);
-  const auto& w = csv.rows[at[warm - 1]];
-  // The live map's size swings within a pass of the looped sequence (2-5x on this small map, with far points
-  // waiting for confirmation and finalisation every few frames), so one row is no reference for its bound:
-  // the largest size over the second half of the rows after warm-up is held against the largest over the
-  // first half (the same number of rows each, many passes of the sequence), which a growing map exceeds.
-  const size_t half = warm + (at.size() - warm) / 2;
-  double first_vertices = 0, first_cells = 0, second_vertices = 0, second_cells = 0, max_rss = 0;
-  for (size_t k = warm; k < at.size(); ++k) {
-    const auto& r = csv.rows[at[k]];
-    double& vertices = k < half ? first_vertices : second_vertices;
-    double& cells = k < half ? first_cells : second_cells;
-    vertices = std::max(vertices, r[c_vertices]);
-    cells = std::max(cells, r[c_cells]);
-    const double allowed_mb = w[c_rss] + 64.0 + 192.0 * (r[c_tris] - w[c_tris]) / (1024.0 * 1024.0);
-    EXPECT_LE(r[c_rss], allowed_mb) << "RSS at frame " << at[k] << " (" << r[c_tris] << " mesh triangles)";
-    max_rss = std::max(max_rss, r[c_rss]);
-  }
-  EXPECT_LE(second_vertices, 1.5 * first_vertices) << "the map's live size grows: memory bound broken";
-  EXPECT_LE(second_cells, 1.5 * first_cells) << "the map's live size grows: memory bound broken";
+  const size_t warm = std::max<size_t>(curve.at.size() / 10, kSequenceFrames / kEvery);
+  const MemoryFigures memory = ExpectBoundedMemory(csv, curve, warm);
 
-  const size_t q = (at.size() - warm) / 4;
+  const std::vector<double>& frame_cpu_ms = curve.frame_cpu_ms;
+  const size_t q = (curve.at.size() - warm) / 4;
   const double early =
       Median({frame_cpu_ms.begin() + warm, frame_cpu_ms.begin() + warm + std::max<size_t>(q, 1)});
   const double late = Median({frame_cpu_ms.end() - std::max<size_t>(q, 1), frame_cpu_ms.end()});
@@ -196,6 +220,7 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
                              << manifold.num_nonmanifold_vertices << " non-manifold vertices\n"
                              << manifold.Summary();
 
+  const int c_rss = csv.Col("rss_mb"), c_tris = csv.Col("mesh_triangles");
   std::ofstream(dir / "soak_summary.json")
       << nlohmann::json{{"frames", frames},
                         {"processed", processed},
@@ -203,14 +228,14 @@ TEST(Soak, TenThousandFramesThroughTheWholeEngine) {
                         {"dropped", dropped},
                         {"fps", summary["fps"]},
                         {"elapsed_s", summary["elapsed_s"]},
-                        {"warmup_frames", at[warm - 1] + 1},
-                        {"rss_mb_after_warmup", w[c_rss]},
-                        {"rss_mb_max_after_warmup", max_rss},
+                        {"warmup_frames", curve.at[warm - 1] + 1},
+                        {"rss_mb_after_warmup", csv.rows[curve.at[warm - 1]][c_rss]},
+                        {"rss_mb_max_after_warmup", memory.max_rss},
                         {"rss_mb_end", csv.rows.back()[c_rss]},
-                        {"map_vertices_max_first_half", first_vertices},
-                        {"map_vertices_max_second_half", second_vertices},
-                        {"map_cells_max_first_half", first_cells},
-                        {"map_cells_max_second_half", second_cells},
+                        {"map_vertices_max_first_half", memory.first_vertices},
+                        {"map_vertices_max_second_half", memory.second_vertices},
+                        {"map_cells_max_first_half", memory.first_cells},
+                        {"map_cells_max_second_half", memory.second_cells},
                         {"mesh_triangles_end", csv.rows.back()[c_tris]},
                         {"frame_cpu_ms_median_early", early},
                         {"frame_cpu_ms_median_late", late}}

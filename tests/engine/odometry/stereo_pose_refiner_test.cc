@@ -5,19 +5,10 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "tests/engine/odometry/kitti_calibration.h"
+
 namespace semap::odometry_internal {
 namespace {
-
-StereoCalibration Kitti() {
-  StereoCalibration c;
-  c.fx_px = c.fy_px = 718.856;
-  c.cx_px = 607.19;
-  c.cy_px = 185.22;
-  c.baseline_m = 0.537;
-  c.width_px = 1241;
-  c.height_px = 376;
-  return c;
-}
 
 Pose3d Motion() {
   Pose3d m = Pose3d::Identity();
@@ -50,7 +41,7 @@ std::vector<StereoMatch> Matches(const StereoCalibration& c, const Pose3d& cur_f
 }
 
 TEST(StereoPoseRefiner, ExactMatchesGiveTheExactMotionFromARoughStart) {
-  const StereoCalibration c = Kitti();
+  const StereoCalibration c = test::KittiOdometryCalibration();
   std::mt19937 rng(1);
   const std::vector<StereoMatch> matches = Matches(c, Motion(), 200, 0.0, &rng);
   Pose3d start = Motion();
@@ -64,7 +55,7 @@ TEST(StereoPoseRefiner, ExactMatchesGiveTheExactMotionFromARoughStart) {
 }
 
 TEST(StereoPoseRefiner, OutliersAreFoundAndDoNotPullTheMotion) {
-  const StereoCalibration c = Kitti();
+  const StereoCalibration c = test::KittiOdometryCalibration();
   std::mt19937 rng(2);
   constexpr double kNoisePx = 0.3;
   std::vector<StereoMatch> matches = Matches(c, Motion(), 300, kNoisePx, &rng);
@@ -91,7 +82,7 @@ std::vector<StereoMatch> WithRightOffset(std::vector<StereoMatch> matches, doubl
 }
 
 TEST(StereoPoseRefiner, ExactMatchesGiveTheDisparityOffsetAndTheMotion) {
-  const StereoCalibration c = Kitti();
+  const StereoCalibration c = test::KittiOdometryCalibration();
   std::mt19937 rng(3);
   constexpr double kOffsetPx = 0.4;
   const std::vector<StereoMatch> matches = WithRightOffset(Matches(c, Motion(), 200, 0.0, &rng), kOffsetPx);
@@ -116,7 +107,7 @@ TEST(StereoPoseRefiner, ExactMatchesGiveTheDisparityOffsetAndTheMotion) {
 
 // A rig whose offset grows with the row (a roll between the cameras): exact matches give both terms.
 TEST(StereoPoseRefiner, ExactMatchesGiveBothTermsOfAPerRowOffset) {
-  const StereoCalibration c = Kitti();
+  const StereoCalibration c = test::KittiOdometryCalibration();
   std::mt19937 rng(8);
   const DisparityOffset truth{0.3, 1.5};
   std::vector<StereoMatch> matches = Matches(c, Motion(), 300, 0.0, &rng);
@@ -137,7 +128,7 @@ TEST(StereoPoseRefiner, ExactMatchesGiveBothTermsOfAPerRowOffset) {
 // With pixel noise, the estimate lands within a few of its own standard deviations of the truth, the
 // standard deviation is what the noise implies, and ignoring the offset stretches the step.
 TEST(StereoPoseRefiner, NoisyMatchesGiveTheOffsetWithinItsStandardDeviation) {
-  const StereoCalibration c = Kitti();
+  const StereoCalibration c = test::KittiOdometryCalibration();
   constexpr double kNoisePx = 0.3;
   constexpr double kOffsetPx = 0.5;
   constexpr double kSigmas = 4.0;
@@ -165,7 +156,7 @@ TEST(StereoPoseRefiner, NoisyMatchesGiveTheOffsetWithinItsStandardDeviation) {
 
 // Without motion the depths cannot tell the offset: its standard deviation says so.
 TEST(StereoPoseRefiner, StandingStillCannotTellTheOffset) {
-  const StereoCalibration c = Kitti();
+  const StereoCalibration c = test::KittiOdometryCalibration();
   std::mt19937 rng(7);
   const std::vector<StereoMatch> matches = Matches(c, Pose3d::Identity(), 300, 0.3, &rng);
   RefinerOptions o;
@@ -178,7 +169,7 @@ TEST(StereoPoseRefiner, StandingStillCannotTellTheOffset) {
 }
 
 TEST(StereoPoseRefiner, WithoutMatchesTheStartIsKept) {
-  const RefinedMotion r = RefineStereoMotion(Kitti(), {}, Motion(), {}, {});
+  const RefinedMotion r = RefineStereoMotion(test::KittiOdometryCalibration(), {}, Motion(), {}, {});
   EXPECT_TRUE(r.cur_from_ref.isApprox(Motion()));
   EXPECT_EQ(r.num_inliers, 0);
 }
