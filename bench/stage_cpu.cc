@@ -1,10 +1,10 @@
 // semap_stage_cpu: the CPU time of each stage of `semap run` per frame, one stage after the other on one
 // thread (TBB limited to one thread, OpenCV to one), so that each figure is that stage's own work and does
 // not depend on how busy the machine is (CPU time, not wall time: on a shared machine wall time drifts, CPU
-// time far less). The same stages and options as `semap run` (app/run/engine_run.cc): the frame source, ENet
-// on keyframes (semantics.source enet, semantics.enet_every_frames; the frames between labelled from their
-// keyframe), the reader's row alignment (depth.align_rows), the depth stage (SGBM + labels), the windowed
-// simplifier and the incremental map.
+// time far less). The same stages and options as `semap run` (app/run/engine_pipeline.cc): the frame source,
+// ENet on keyframes (semantics.source enet, semantics.enet_every_frames; the frames between labelled from
+// their keyframe), the reader's row alignment (depth.align_rows), the depth stage (SGBM + labels), the
+// windowed simplifier and the incremental map.
 //
 // Usage: semap_stage_cpu SEQUENCE [--frames N] [--config FILE] [--set section.key=value ...] [--csv FILE]
 //

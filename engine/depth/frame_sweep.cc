@@ -52,7 +52,8 @@ PlaneSweepView ScaledView(const CalibratedView& view, double scale) {
   return out;
 }
 
-DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& sweep, bool half_resolution) {
+DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& sweep, bool half_resolution,
+                                    const std::vector<SweepDirection>& directions) {
   const std::string name = "frame " + std::to_string(frame.id);
   if (frame.neighbour_views.empty()) {
     throw std::invalid_argument(name + ": no right image and no neighbour views to sweep its depth against");
@@ -67,7 +68,7 @@ DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& s
   std::vector<PlaneSweepView> neighbours;
   neighbours.reserve(frame.neighbour_views.size());
   for (const CalibratedView& view : frame.neighbour_views) neighbours.push_back(ScaledView(view, scale));
-  const PlaneSweepResult swept = sweep.Compute(reference, neighbours);
+  const PlaneSweepResult swept = sweep.Compute(reference, neighbours, directions);
 
   cv::Mat depth_m = swept.depth_m;
   if (depth_m.size() != frame.left.size()) {
@@ -88,6 +89,19 @@ DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& s
     }
   }
   return result;
+}
+
+cv::Mat DepthFromSweepDisparity(const Frame& frame, const cv::Mat& disparity_px) {
+  const double focal_baseline_px_m = frame.calibration.fx_px * frame.calibration.baseline_m;
+  cv::Mat depth_m = cv::Mat::zeros(disparity_px.size(), CV_32F);
+  for (int v = 0; v < disparity_px.rows; ++v) {
+    const float* d = disparity_px.ptr<float>(v);
+    float* z = depth_m.ptr<float>(v);
+    for (int u = 0; u < disparity_px.cols; ++u) {
+      if (d[u] > 0.0f) z[u] = static_cast<float>(focal_baseline_px_m / d[u]);
+    }
+  }
+  return depth_m;
 }
 
 }  // namespace semap

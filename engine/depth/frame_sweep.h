@@ -22,6 +22,11 @@ PlaneSweepView ScaledView(const CalibratedView& view, double scale);
 // (the sweep's own cost and confidence thresholds have dropped the unreliable pixels). Throws
 // std::invalid_argument naming the frame when it has no neighbour views, no pose, or a calibration
 // without a positive baseline, and what PlaneSweepDepth::Compute throws.
-DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& sweep, bool half_resolution);
+// `directions`: the sweep directions besides the fronto-parallel planes (PlaneSweepDepth::Compute).
+DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& sweep, bool half_resolution,
+                                    const std::vector<SweepDirection>& directions = {});
+
+// Camera-frame depth (m) from a SweepFrameDisparity result: f·B / d where d > 0, 0 elsewhere.
+cv::Mat DepthFromSweepDisparity(const Frame& frame, const cv::Mat& disparity_px);
 
 }  // namespace semap

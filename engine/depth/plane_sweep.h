@@ -45,6 +45,7 @@ struct PlaneSweepOptions {
   int min_views = 1;
   double max_cost = 0.6;
   double min_confidence = 0.05;
+  bool label_directions = true;
 
   // Each field's config key and text, declared once here. Visitor: Field(key, T*, text).
   template <typename Visitor>
@@ -82,6 +83,13 @@ struct PlaneSweepOptions {
     v.Field("min_confidence", &min_confidence,
             "pixels whose confidence 1 − best / second-best local minimum of the cost falls below this give "
             "no depth (higher: fewer ambiguous pixels)");
+    // A frame where directions were found is swept a second time, both families: more pixels with a depth
+    // and a lower median error on slanted ground and facades, for about twice and a half the sweep's time
+    // (bench/RESULTS.md, "Plane sweep"). Without ground or wall labels nothing changes.
+    v.Field("label_directions", &label_directions,
+            "multi-view frames: after a fronto-parallel sweep, fit a RANSAC plane to the ground's and the "
+            "walls' labelled pixels and sweep again with planes parallel to each (offsets within 20 % of "
+            "the fitted plane's distance): slanted ground and facades get their depth");
   }
 
   void Check() const;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "engine/core/check.h"
+#include "engine/depth/dominant_planes.h"
 #include "engine/depth/frame_sweep.h"
 #include "engine/depth/row_alignment.h"
 
@@ -111,7 +112,23 @@ DisparityResult StereoLabelStage::Disparity(const Frame& frame) const {
 }
 
 LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
-  const DisparityResult disparity = Disparity(frame);
+  DisparityResult disparity = Disparity(frame);
+  const cv::Mat labels = keyframe_labels != nullptr
+                             ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_,
+                                                  class_map_.unlabelled_id())
+                             : FrameLabels(frame, semantics_, segmenter_.get());
+  if (frame.right.empty() && sweep_.options().label_directions) {
+    // The ground's and the walls' planes from the first sweep's depth and the labels, swept as well.
+    PlaneSweepView camera;
+    camera.K << frame.calibration.fx_px, 0.0, frame.calibration.cx_px, 0.0, frame.calibration.fy_px,
+        frame.calibration.cy_px, 0.0, 0.0, 1.0;
+    camera.world_from_cam = frame.world_from_cam.value_or(Pose3d::Identity());
+    const std::vector<SweepDirection> directions = DominantDirections(
+        DepthFromSweepDisparity(frame, disparity.disparity_px), labels, camera, class_map_);
+    if (!directions.empty()) {
+      disparity = SweepFrameDisparity(frame, sweep_, depth_.options().half_resolution, directions);
+    }
+  }
   LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
   DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
   if (cloud.size() == 0) {
@@ -121,10 +138,6 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels
                              ": no valid disparity (no point in the depth "
                              "range; uniform, dark or unmatched images?)");
   }
-  const cv::Mat labels = keyframe_labels != nullptr
-                             ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_,
-                                                  class_map_.unlabelled_id())
-                             : FrameLabels(frame, semantics_, segmenter_.get());
   ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), class_map_.unlabelled_id(),
                          semantics_.size_mismatch);
   if (semantics_.drop_sky && sky_label_ && RemoveLabel(cloud, *sky_label_) > 0 && cloud.size() == 0) {

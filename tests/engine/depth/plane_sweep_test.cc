@@ -178,15 +178,8 @@ TEST(PlaneSweep, GrazingGroundNeedsItsOwnSweepDirection) {
   // The ground, 1 m below a camera pitched down by 10°, seen at a grazing angle from views up to 1 m apart:
   // its disparity changes by about a pixel per row, several pixels across one window.
   constexpr double kHeightM = 1.0;
-  TexturedPlane ground;
-  ground.texture = RandomTexture(2048, 2);
-  ground.texels_per_m = 50.0;
-  ground.axis_s = Eigen::Vector3d::UnitX();
-  ground.axis_t = Eigen::Vector3d::UnitZ();
-  ground.point_world = Eigen::Vector3d(-20.0, kHeightM, 0.5);
-  const std::vector<TexturedPlane> scene{ground};
-  const Pose3d world_from_reference =
-      LookAt(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, std::tan(0.1745), 1.0));
+  const std::vector<TexturedPlane> scene{Ground(kHeightM, 2)};
+  const Pose3d world_from_reference = PitchedDown();
   cv::Mat truth_m;
   const PlaneSweepView reference = Render(scene, world_from_reference, &truth_m);
   std::vector<PlaneSweepView> neighbours;

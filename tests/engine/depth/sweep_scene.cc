@@ -95,4 +95,16 @@ TexturedPlane Wall(double depth_m, std::uint64_t seed) {
   return p;
 }
 
+TexturedPlane Ground(double height_m, std::uint64_t seed) {
+  TexturedPlane ground;
+  ground.texture = RandomTexture(2048, seed);
+  ground.texels_per_m = 50.0;
+  ground.axis_s = Eigen::Vector3d::UnitX();
+  ground.axis_t = Eigen::Vector3d::UnitZ();
+  ground.point_world = Eigen::Vector3d(-20.0, height_m, 0.5);
+  return ground;
+}
+
+Pose3d PitchedDown() { return LookAt(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, std::tan(0.1745), 1.0)); }
+
 }  // namespace semap::sweep_scene

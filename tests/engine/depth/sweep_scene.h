@@ -45,4 +45,10 @@ Pose3d LookAt(const Eigen::Vector3d& centre_world, const Eigen::Vector3d& target
 // A wall facing the reference camera (at the origin, looking along +z) at depth `depth_m`.
 TexturedPlane Wall(double depth_m, std::uint64_t seed);
 
+// The ground: the plane y = height_m (world, y down), textured over x in [-20, 20] m, z in [0.5, 41] m.
+TexturedPlane Ground(double height_m, std::uint64_t seed);
+
+// A camera at the origin pitched down by 10° (looking along +z, tilted towards +y).
+Pose3d PitchedDown();
+
 }  // namespace semap::sweep_scene

@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <deque>
+#include <iostream>
 #include <opencv2/imgproc.hpp>
 #include <set>
 
 #include "engine/core/mesh_delta.h"
 #include "tests/common/frames_reader.h"
+#include "tests/engine/depth/sweep_scene.h"
 #include "tests/engine/map/street_scene.h"
 
 namespace semap {
@@ -257,6 +259,64 @@ TEST(RowAlignmentReader, AStreamWithoutTextureIsMeasuredOnlyAtTheStartAndAtTheIn
   ASSERT_EQ(seen.size(), static_cast<std::size_t>(next_try + 1));
   EXPECT_EQ(seen[first_tries].matches, 0) << "measured after the first tries";
   EXPECT_NEAR(seen[next_try].At(320.0, 120.0), 0.8, 0.1) << "not measured at the interval";
+}
+
+}  // namespace
+}  // namespace semap
+
+namespace semap {
+namespace {
+
+// A multi-view frame (no right image) of the ground 1 m below a camera pitched down by 10°, seen at a
+// grazing angle by four neighbours up to 1 m away, labelled road: with plane_sweep.label_directions the
+// stage fits the ground from the first sweep and sweeps its planes too, and more of the frame's points lie
+// on the ground.
+TEST(StereoLabelStage, AMultiViewFrameSweepsTheLabelledGroundsPlanes) {
+  using namespace sweep_scene;
+  constexpr double kHeightM = 1.0;
+  const std::vector<TexturedPlane> scene{Ground(kHeightM, 2)};
+  const Pose3d world_from_reference = PitchedDown();
+  const PlaneSweepView reference = Render(scene, world_from_reference);
+  Frame f;
+  f.id = 3;
+  f.left = reference.image;
+  f.calibration = {
+      reference.K(0, 0), reference.K(1, 1), reference.K(0, 2), reference.K(1, 2), 1.0, kWidth, kHeight};
+  f.world_from_cam = world_from_reference;
+  f.labels = cv::Mat(kHeight, kWidth, CV_8UC1, cv::Scalar(ClassMap::Cityscapes().FindByName("road")));
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(-1.0, 0.0, 0.0), Eigen::Vector3d(1.0, 0.0, 0.0),
+                                   Eigen::Vector3d(0.0, -0.6, 0.0), Eigen::Vector3d(0.3, 0.0, 1.0)}) {
+    Pose3d moved = world_from_reference;
+    moved.translation() += world_from_reference.linear() * c;
+    f.neighbour_views.push_back(Render(scene, moved));
+  }
+  DepthOptions depth;
+  depth.min_depth_m = 2.0;
+  depth.max_depth_m = 20.0;
+  depth.max_points_per_frame = 0;  // every point
+  SemanticsOptions semantics;
+  semantics.source = LabelSource::kDisk;
+  PlaneSweepOptions sweep;
+  sweep.num_planes = 96;
+  sweep.min_depth_m = 2.0;
+  sweep.max_depth_m = 20.0;
+  // The points within 2 % of their depth from the ground, with and without the label directions.
+  auto on_ground = [&](bool label_directions) {
+    sweep.label_directions = label_directions;
+    const LabelledCloud cloud =
+        StereoLabelStage(depth, semantics, ClassMap::Cityscapes(), false, sweep).Process(f, nullptr);
+    int close = 0;
+    for (const Eigen::Vector3d& p : cloud.positions_world) {
+      const double depth_m = (world_from_reference.inverse() * p).z();
+      close += std::abs(p.y() - kHeightM) <= 0.02 * depth_m * std::sin(0.1745 + 0.05) + 0.01;
+    }
+    return close;
+  };
+  const int fronto = on_ground(false), with_ground = on_ground(true);
+  std::cout << "[ measured ] points on the ground: fronto-parallel " << fronto
+            << ", with the ground's planes " << with_ground << "\n";
+  EXPECT_GT(with_ground, fronto + fronto / 5)
+      << "fronto-parallel " << fronto << ", with the ground's planes " << with_ground;
 }
 
 }  // namespace
