@@ -50,7 +50,6 @@ std::vector<PendingVertex> DepthVoteMode::LocateHeld(MapUpdateResult* result) {
     PointRecord& record = state_.points[id];
     record.position = h.position;
     record.last_seen = state_.frame;
-    record.sighting_depth_m = h.depth_m;
     if (Fusing()) {
       record.filter.Start(h.position, view.DepthSigma(h.depth_m, state_.options.disparity_sigma_px));
     }
@@ -110,11 +109,10 @@ std::vector<PendingVertex> DepthVoteMode::ClassifyByProjection(const LabelledClo
   std::vector<ProjectionGrid> grids;
   grids.reserve(frame.camera_views.size());
   const std::uint32_t removing_mark = state_.NewMark();
-  std::vector<RefineCandidate> candidates;
   for (std::size_t c = 0; c < frame.camera_views.size(); ++c) {
     const VotingView& view = integrator_.views()[first_view + c];
     grids.emplace_back(view, state_.options.merge_radius_px);
-    ProjectLiveVertices(view, c, removing_mark, &grids.back(), result, &pending, &candidates);
+    ProjectLiveVertices(view, removing_mark, &grids.back(), result, &pending);
   }
   // A frame's far points are matched against the points the earlier frames hold, in a grid of their own per
   // camera (a frame does not confirm its own points).
@@ -131,42 +129,20 @@ std::vector<PendingVertex> DepthVoteMode::ClassifyByProjection(const LabelledClo
         ClassifyPoint(frame, i, integrator_.views()[first_view + camera], &grids[camera], result, &pending);
   }
   if (confirm) held_.DropConfirmed();
-  for (const RefineCandidate& candidate : candidates) {
-    if (grids[candidate.camera].CoveredAround(candidate.gu, candidate.gv)) removing_.push_back(candidate.id);
-  }
   return pending;
 }
 
-void DepthVoteMode::ProjectLiveVertices(const VotingView& view, std::size_t camera,
-                                        std::uint32_t removing_mark, ProjectionGrid* grid,
-                                        MapUpdateResult* result, std::vector<PendingVertex>* pending,
-                                        std::vector<RefineCandidate>* candidates) {
-  const MapOptions& options = state_.options;
-  Delaunay& dt = state_.dt;
+void DepthVoteMode::ProjectLiveVertices(const VotingView& view, std::uint32_t removing_mark,
+                                        ProjectionGrid* grid, MapUpdateResult* result,
+                                        std::vector<PendingVertex>* pending) {
+  const Delaunay& dt = state_.dt;
   if (dt.dimension() < 0) return;
-  // A vertex this view measures again from much nearer, within the noise of the sighting that placed it,
-  // is a candidate, kept out of the grid: no point of this view merges into it.
-  const bool refine =
-      options.refine_depth_ratio > 0.0 && options.disparity_sigma_px > 0.0 && view.focal_baseline_m_px > 0.0;
-  const double band_per_depth2 =
-      refine ? options.refine_noise_sigmas * options.disparity_sigma_px / view.focal_baseline_m_px : 0.0;
   const bool fuse = Fusing();
   for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
     if (v->info().steiner || v->info().stamp == removing_mark) continue;  // removed by an earlier camera
     int gu, gv;
     double depth;
-    float seen_m = 0.0f;
-    if (!grid->Locate(ToEigen(v->point()), &gu, &gv, &depth, refine ? &seen_m : nullptr)) continue;
-    if (refine && seen_m > 0.0f && std::isfinite(seen_m)) {
-      const auto record = state_.points.find(v->info().id);
-      const double sighting_m = record == state_.points.end() ? 0.0 : record->second.sighting_depth_m;
-      if (seen_m < options.refine_depth_ratio * sighting_m &&
-          std::abs(depth - seen_m) <= band_per_depth2 * sighting_m * sighting_m && Removable(v->info().id)) {
-        candidates->push_back({v->info().id, camera, gu, gv});
-        v->info().stamp = removing_mark;
-        continue;
-      }
-    }
+    if (!grid->Locate(ToEigen(v->point()), &gu, &gv, &depth)) continue;
     std::uint32_t id = v->info().id;
     if (fuse) {
       id = FilterVertex(v, view, result, pending);
@@ -190,7 +166,6 @@ std::uint32_t DepthVoteMode::ClassifyPoint(const LabelledCloud& frame, std::uint
   }
   Landing at;
   at.in_view = grid->Locate(p, &at.gu, &at.gv, &at.depth_m);
-  if (at.in_view) grid->Cover(at.gu, at.gv);
   // Fusing, a point within the gate of the vertex it lands on is one more sighting of it, whatever
   // merge_depth_fraction says (at 10 m on KITTI 3 % is 1.2 σ_z: most sightings would become new vertices,
   // each as noisy as one frame).
@@ -208,7 +183,7 @@ std::uint32_t DepthVoteMode::ClassifyPoint(const LabelledCloud& frame, std::uint
   if (options.confirm_beyond_m > 0.0 && at.in_view && at.depth_m > options.confirm_beyond_m) {
     return ConfirmOrHold(frame, i, view, camera, at, grid, result, pending);
   }
-  return NewSightedPoint(frame, i, view, at, range, grid, pending);
+  return NewSightedPoint(frame, i, view, at, grid, pending);
 }
 
 std::uint32_t DepthVoteMode::ConfirmOrHold(const LabelledCloud& frame, std::uint32_t i,
@@ -234,7 +209,6 @@ std::uint32_t DepthVoteMode::ConfirmOrHold(const LabelledCloud& frame, std::uint
   const std::uint32_t target = state_.NewPoint(frame, i, pending);
   PointRecord& record = state_.points.at(target);
   record.position = (w_first * first.position + w_now * p) / (w_first + w_now);
-  record.sighting_depth_m = at.depth_m;
   record.support = 2;
   if (Fusing()) {
     record.filter.Start(first.position, view.DepthSigma(first.depth_m, sigma_px));
@@ -249,16 +223,15 @@ std::uint32_t DepthVoteMode::ConfirmOrHold(const LabelledCloud& frame, std::uint
 }
 
 std::uint32_t DepthVoteMode::NewSightedPoint(const LabelledCloud& frame, std::uint32_t i,
-                                             const VotingView& view, const Landing& at, double range_m,
-                                             ProjectionGrid* grid, std::vector<PendingVertex>* pending) {
+                                             const VotingView& view, const Landing& at, ProjectionGrid* grid,
+                                             std::vector<PendingVertex>* pending) {
   const Eigen::Vector3d& p = frame.positions_world[i];
   const std::uint32_t target = state_.NewPoint(frame, i, pending);
-  PointRecord& record = state_.points.at(target);
-  record.sighting_depth_m = at.in_view ? at.depth_m : range_m;
   if (at.in_view) {
     grid->Offer(at.gu, at.gv, at.depth_m, target);
     if (Fusing()) {
-      record.filter.Start(p, AlongRaySigma(view, view.ToCamera(p), state_.options.disparity_sigma_px));
+      state_.points.at(target).filter.Start(
+          p, AlongRaySigma(view, view.ToCamera(p), state_.options.disparity_sigma_px));
     }
   }
   return target;
@@ -364,9 +337,6 @@ void DepthVoteMode::RemoveVertices(MapUpdateResult* result) {
       [created_mark](CellHandle c) { c->info().created = created_mark; });
   for (const VertexHandle v : removed) dt.remove_and_give_new_cells(v, mark_created);
   for (std::uint32_t id : removing_) state_.points.erase(id);
-  const std::size_t refined = removing_.size() - result->vertices_moved - result->vertices_outliers;
-  result->vertices_refined = refined;
-  state_.counters.vertices_refined += refined;
   state_.counters.vertices_moved += result->vertices_moved;
   state_.counters.vertices_outliers += result->vertices_outliers;
   removing_.clear();

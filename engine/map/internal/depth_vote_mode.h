@@ -49,24 +49,15 @@ class DepthVoteMode : public VoteMode {
     int gu = 0, gv = 0;
     double depth_m = 0.0;
   };
-  // A vertex a view measures again from much nearer (map.refine_depth_ratio), with the camera and grid cell
-  // where it does; removed where that view's own points land around it, to replace them.
-  struct RefineCandidate {
-    std::uint32_t id;
-    std::size_t camera;
-    int gu, gv;
-  };
 
   // The frame's points that no live vertex explains (see MapOptions::merge_radius_px) go to the returned
   // pending vertices; the others add to the support of the vertex they land on.
   std::vector<PendingVertex> ClassifyByProjection(const LabelledCloud& frame, MapUpdateResult* result);
-  // Fills `grid` (of `view`, camera `camera` of the frame) with the live vertices the view sees, each in the
-  // cell it projects to, after its sighting is fused (FilterVertex); a vertex the view measures again from
-  // much nearer goes to `candidates` instead. Vertices stamped `removing_mark` (listed for removal by an
-  // earlier camera) are passed over; those listed now get the stamp.
-  void ProjectLiveVertices(const VotingView& view, std::size_t camera, std::uint32_t removing_mark,
-                           ProjectionGrid* grid, MapUpdateResult* result, std::vector<PendingVertex>* pending,
-                           std::vector<RefineCandidate>* candidates);
+  // Fills `grid` (of `view`) with the live vertices the view sees, each in the cell it projects to, after its
+  // sighting is fused (FilterVertex). Vertices stamped `removing_mark` (listed for removal by an earlier
+  // camera) are passed over; those listed now get the stamp.
+  void ProjectLiveVertices(const VotingView& view, std::uint32_t removing_mark, ProjectionGrid* grid,
+                           MapUpdateResult* result, std::vector<PendingVertex>* pending);
   // Frame point i: dropped (beyond map.max_ray_length_m), merged into the vertex it lands on in `grid` (its
   // camera's), held, confirming a held point, or a new point. Returns its point id, or kDroppedPoint.
   std::uint32_t ClassifyPoint(const LabelledCloud& frame, std::uint32_t i, const VotingView& view,
@@ -80,8 +71,7 @@ class DepthVoteMode : public VoteMode {
                               MapUpdateResult* result, std::vector<PendingVertex>* pending);
   // Frame point i as a new point, its depth filter started from its sighting when `at` is in view.
   std::uint32_t NewSightedPoint(const LabelledCloud& frame, std::uint32_t i, const VotingView& view,
-                                const Landing& at, double range_m, ProjectionGrid* grid,
-                                std::vector<PendingVertex>* pending);
+                                const Landing& at, ProjectionGrid* grid, std::vector<PendingVertex>* pending);
   // A point seen again: more support, and its age restarts.
   void SeenAgain(std::uint32_t id);
   // map.fuse_gate_sigmas > 0 (and a depth noise model): each live vertex is the fused estimate of its
@@ -99,9 +89,9 @@ class DepthVoteMode : public VoteMode {
   // Whether the vertex of point `id` may be removed this frame: live, neither frozen nor left irregular, and
   // no pinned cell around it (its removal must not change a seam).
   bool Removable(std::uint32_t id) const;
-  // Removes the vertices of removing_ (refined, moved or outliers; the successors of the moved ones are
-  // pending insertion): the cells refilling their holes are marked created (update.created_mark) and the
-  // vertices around them listed in removed_link_.
+  // Removes the vertices of removing_ (moved or outliers; the successors of the moved ones are pending
+  // insertion): the cells refilling their holes are marked created (update.created_mark) and the vertices
+  // around them listed in removed_link_.
   void RemoveVertices(MapUpdateResult* result);
   // Inserts `pending`, each cell the insertion creates starting with the votes of the destroyed cell it was
   // built on (the one inside the hole across its facet opposite the new vertex): what the map knew there.

@@ -46,8 +46,6 @@ struct PointRecord {
   std::int64_t last_seen = 0;
   std::vector<std::uint32_t> rays;  // rays: its rays, the first one from its first camera
   std::uint32_t support = 1;        // depth: the observations merged into it, its own included
-  // depth: the camera-frame depth of the sighting that placed it (its stereo noise grows with its square).
-  double sighting_depth_m = 0.0;
   // depth, map.fuse_gate_sigmas > 0: the fused estimate of its sightings (depth_filter.h).
   DepthFilter filter;
   // Where the output mesh puts its vertex once output_version > 0 (VertexInfo): the fused estimate as it

@@ -21,10 +21,8 @@ class ProjectionGrid {
  public:
   ProjectionGrid(const VotingView& view, double merge_radius_px);
 
-  // The grid cell of a world point and its camera-frame depth, or false outside the view; `view_depth_m`
-  // (when given) receives the view's depth at the point's pixel.
-  bool Locate(const Eigen::Vector3d& p_world, int* gu, int* gv, double* depth_m,
-              float* view_depth_m = nullptr) const {
+  // The grid cell of a world point and its camera-frame depth, or false outside the view.
+  bool Locate(const Eigen::Vector3d& p_world, int* gu, int* gv, double* depth_m) const {
     const Eigen::Vector3d p = view_.ToCamera(p_world);
     if (!(p.z() > 0.0)) return false;
     const Eigen::Vector2d px = view_.view->intrinsics.Project(p);
@@ -33,16 +31,7 @@ class ProjectionGrid {
     *gu = int(uv.x());
     *gv = int(uv.y());
     *depth_m = p.z();
-    if (view_depth_m) *view_depth_m = view_.view->At(px.x(), px.y());
     return true;
-  }
-  // Records that a point of the frame lands in cell (gu, gv).
-  void Cover(int gu, int gv) { covered_[std::size_t(gv) * width_ + gu] = 1; }
-  // Whether a point of the frame landed in the 3×3 cells around (gu, gv).
-  bool CoveredAround(int gu, int gv) const {
-    bool covered = false;
-    ForAround(gu, gv, [&](std::size_t cell) { covered = covered || covered_[cell]; });
-    return covered;
   }
   // Keeps `id` in its cell when it is nearer than what the cell holds.
   void Offer(int gu, int gv, double depth_m, std::uint32_t id) {
@@ -84,7 +73,6 @@ class ProjectionGrid {
   double cells_per_px_;
   int width_, height_;
   std::vector<Entry> cells_;
-  std::vector<char> covered_;
 };
 
 }  // namespace semap::map_internal

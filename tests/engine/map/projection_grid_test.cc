@@ -39,12 +39,6 @@ TEST(ProjectionGrid, PointsLandInTheCellOfTheirPixelAndMatchTheNearestDepthAroun
   EXPECT_EQ(grid.Match(3, 1, 5.0, 0.1), kNoId);
   grid.Offer(3, 1, 9.0, 4);  // farther: hidden behind what the cell holds
   EXPECT_EQ(grid.Match(3, 1, 9.0, 0.1), kNoId);
-
-  EXPECT_FALSE(grid.CoveredAround(4, 2));
-  grid.Cover(3, 1);
-  EXPECT_TRUE(grid.CoveredAround(4, 2));
-  EXPECT_TRUE(grid.CoveredAround(2, 0));
-  EXPECT_FALSE(grid.CoveredAround(5, 1));
 }
 
 TEST(ProjectionGrid, CellsSpanTheMergeRadiusInFullResolutionPixels) {
