@@ -35,7 +35,6 @@ struct MapUpdateResult {
   std::size_t cells_carved = 0;     // local growth
   std::size_t points_finalised = 0;
   std::size_t vertices_removed = 0;  // finalised points and released Steiner vertices
-  std::size_t vertices_refined = 0;  // kDepth: vertices replaced by a nearer sighting (refine_depth_ratio)
   // kDepth, map.fuse_gate_sigmas: vertices moved to their fused estimate (replaced by a vertex there), and
   // vertices the views saw through that left the map (map.outlier_sightings).
   std::size_t vertices_moved = 0;

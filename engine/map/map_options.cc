@@ -25,10 +25,6 @@ void MapOptions::Check() const {
                      confirm_beyond_m, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(confirm_window_frames >= 1, "confirm_window_frames", confirm_window_frames,
                      "must be >= 1");
-  SEMAP_CHECK_OPTION(refine_depth_ratio >= 0.0 && refine_depth_ratio < 1.0, "refine_depth_ratio",
-                     refine_depth_ratio, "must be in [0, 1)");
-  SEMAP_CHECK_OPTION(refine_noise_sigmas >= 0.0 && refine_noise_sigmas < 1e3, "refine_noise_sigmas",
-                     refine_noise_sigmas, "must be in [0, 1000)");
   SEMAP_CHECK_OPTION(std::isfinite(disparity_sigma_px) && disparity_sigma_px >= 0.0, "disparity_sigma_px",
                      disparity_sigma_px, "must be finite and >= 0");
   SEMAP_CHECK_OPTION(std::isfinite(matter_behind_sigmas) && matter_behind_sigmas >= 0.0,

@@ -47,8 +47,6 @@ struct MapOptions {
   double fuse_move_sigmas = 3.0;
   double fuse_output_sigmas = 1.0;
   int outlier_sightings = 3;
-  double refine_depth_ratio = 0.0;
-  double refine_noise_sigmas = 6.0;
   double confirm_beyond_m = 20.0;
   int confirm_window_frames = 3;
   double sigma_free_m = 0.05;          // paper: 0.05 m
@@ -126,20 +124,6 @@ struct MapOptions {
             "depth: a vertex that at least this many views saw through (their depth at its pixel beyond the "
             "gate, or sky), and more than saw it, leaves the map (an SGBM mismatch, or a moving object that "
             "left); 0 = never");
-    // A vertex keeps the position of the sighting that placed it, and the first sighting of what lies ahead
-    // is the farthest and noisiest (σ_z grows with z²). Off by default: on 80 urban frames (PS) ratio 0.75
-    // with a 6 σ band puts 75.5 % of the area within 0.2 m of the truth instead of 73.3 %, the paper's RMSE
-    // falls 6 % and the mesh 14 %, but the strict RMSE rises 3 % and the frame rate falls 14 %; KITTI 04:
-    // Velodyne pixels covered −0.5 point, strict RMSE +1.4 % (bench/results/map-accuracy.md, "Vertices seen
-    // again from nearer").
-    v.Field(
-        "refine_depth_ratio", &refine_depth_ratio,
-        "depth: a live vertex that a view sees again from less than this fraction of the depth of the "
-        "sighting that placed it, within refine_noise_sigmas of that sighting's depth σ, is removed where "
-        "that view's points land around it, and they replace it; 0 = never (in [0, 1))");
-    v.Field("refine_noise_sigmas", &refine_noise_sigmas,
-            "depth: see refine_depth_ratio: the band, in depth σ of the vertex's sighting, of the sightings "
-            "that refine it");
     // A far sighting is noisy (σ_z = z²σ/(f·B): 0.5 m at 20 m, 1.2 m at 30 m on KITTI), and a vertex keeps
     // the position it was placed at; SGBM's outliers at range seldom repeat. 80 frames, PS, 20 m and 3
     // frames against 0: area within 0.2 m of the truth 73.3 → 77.9 % (urban), 71.1 → 73.8 % (vegetated);

@@ -42,8 +42,6 @@ struct MapStatistics {
   // map.fill_unseen_holes_facets: unseen surface facets taken as seen so far (small holes ringed by seen
   // ones).
   std::uint64_t facets_taken_as_seen = 0;
-  // map.refine_depth_ratio: vertices replaced by a nearer sighting so far.
-  std::uint64_t vertices_refined = 0;
   // map.fuse_gate_sigmas: vertices moved to their fused estimate, and outliers removed, so far.
   std::uint64_t vertices_moved = 0;
   std::uint64_t vertices_outliers = 0;

@@ -67,10 +67,10 @@ TEST(WrittenMeshes, LongGeneratedDriveThatFinalisesIsManifold) {
 }
 
 // Runs are reproducible: the same frames give the same mesh.ply, byte for byte, also where vertices are
-// removed (finalisation, map.refine_depth_ratio). CGAL orders handles inside its removal; by address, that
-// order would follow where the allocator put the triangulation's blocks, and 2 of 4 runs of a looped drive
-// gave another mesh. This run finalises and refines all the time; without the time stamps of
-// engine/map/internal/triangulation.h it fails only some of the time, so a unit test in tests/engine/map
+// removed (finalisation, the fused vertices that move or leave). CGAL orders handles inside its removal; by
+// address, that order would follow where the allocator put the triangulation's blocks, and 2 of 4 runs of a
+// looped drive gave another mesh. This run finalises and moves vertices all the time; without the time stamps
+// of engine/map/internal/triangulation.h it fails only some of the time, so a unit test in tests/engine/map
 // (Triangulation.HandlesCompareByCreationNotByAddress) checks the mechanism itself.
 TEST(WrittenMeshes, TheSameFramesGiveTheSameMeshFileRunAfterRun) {
   const fs::path seq = test::SmallGeneratedSequence(80);
@@ -80,7 +80,7 @@ TEST(WrittenMeshes, TheSameFramesGiveTheSameMeshFileRunAfterRun) {
     const CliRun r = RunSemap("run " + seq.string() +
                               " --method PS --set input.loops=3"
                               " --set depth.max_points_per_frame=1500 --set map.finalise_age_frames=10"
-                              " --set map.finalise_every_frames=5 --set map.refine_depth_ratio=0.75"
+                              " --set map.finalise_every_frames=5"
                               " --progress-interval 0 --out " +
                               out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -1,4 +1,4 @@
-// Compact bookkeeping of the live points, cameras and rays of the incremental map.
+// Compact bookkeeping of the live cameras and rays of the incremental map (map.visibility: rays).
 #pragma once
 
 #include <Eigen/Core>
@@ -6,28 +6,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "engine/map/internal/depth_filter.h"
-#include "engine/map/internal/surface_extraction.h"
 #include "engine/map/internal/triangulation.h"
 
 namespace semap::map_internal {
-
-struct PointRecord {
-  VertexHandle vertex;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  // The frame its age counts from, for finalisation: its arrival, or (kDepth) the last frame that saw it
-  // again, refreshed every finalise_every_frames (an arrival-queue entry that does not match it is stale).
-  std::int64_t last_seen = 0;
-  std::vector<std::uint32_t> rays;  // kRays: its rays, the first one from its first camera
-  std::uint32_t support = 1;        // kDepth: the observations merged into it, its own included
-  // kDepth: the camera-frame depth of the sighting that placed it (its stereo noise grows with its square).
-  double sighting_depth_m = 0.0;
-  // kDepth, map.fuse_gate_sigmas > 0: the fused estimate of its sightings (depth_filter.h).
-  DepthFilter filter;
-  // Where the output mesh puts its vertex once output_version > 0 (VertexInfo): the fused estimate as it
-  // stood at the last bump.
-  Eigen::Vector3d output_position = Eigen::Vector3d::Zero();
-};
 
 struct CameraRecord {
   Eigen::Vector3d center;

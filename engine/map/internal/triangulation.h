@@ -91,8 +91,9 @@ bool IsPinned(const C& cell) {
 // inside its algorithms, e.g. the std::map of facets that vertex removal re-triangulates a hole from; by
 // address, that order follows where the allocator put the containers' blocks, which depends on the other
 // threads' allocations and frees: the same frames gave different meshes once vertices were removed
-// (finalisation, map.refine_depth_ratio). With a time stamp (CGAL's Has_timestamp, made for Mesh_3's
-// determinism) Compact_container numbers each element as it is created and handles compare by that number.
+// (finalisation, the fused vertices that move or leave). With a time stamp (CGAL's Has_timestamp, made for
+// Mesh_3's determinism) Compact_container numbers each element as it is created and handles compare by that
+// number.
 template <class Base>
 class CreationOrdered : public Base {
  public:

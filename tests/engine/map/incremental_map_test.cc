@@ -598,57 +598,6 @@ std::vector<double> AddDepthSquaredNoise(double k, LabelledCloud* frame,
   return depths;
 }
 
-// map.refine_depth_ratio: points carry stereo-like depth noise, σ_z = k·z² along their ray (the views are
-// exact), so the first sighting of what lies ahead is the noisiest. A vertex that a view 25 % nearer measures
-// again within its noise band is removed and that view's points replace it: the published mesh stays a
-// 2-manifold after every frame, and its vertices lie nearer the street than without the refinement.
-TEST(IncrementalMap, DepthVotesRefineVerticesANearerViewMeasuresAgain) {
-  const test::StreetScene scene;
-  constexpr double kFocalBaselineMPx = 24.0;  // the views' f·B (48 px × 0.5 m)
-  constexpr double kNoisePerDepth2 = 0.001;   // σ_z = k·z²: 0.025 m at 5 m, 0.6 m at 25 m
-  MapOptions options;
-  options.finalise_age_frames = 10;
-  options.finalise_every_frames = 3;
-  options.visibility = Visibility::kDepth;
-  options.disparity_sigma_px = kNoisePerDepth2 * kFocalBaselineMPx;  // the map's noise model is the points'
-  options.refine_noise_sigmas = 3.0;
-  options.fuse_gate_sigmas = 0.0;  // the rule on first-sighting vertices (fused ones gain nothing from it)
-  MapOptions plain_options = options;
-  plain_options.refine_depth_ratio = 0.0;
-  options.refine_depth_ratio = 0.75;
-  IncrementalMap map(options), plain_map(plain_options);
-  PublishedMesh published, plain_published;
-  std::mt19937 rng(11);
-  std::normal_distribution<double> unit(0.0, 1.0);
-  std::size_t refined = 0;
-  for (int f = 0; f < 30; ++f) {
-    LabelledCloud frame = test::StreetDepthFrame(scene, 1.0 * f, 2);
-    auto view = std::make_shared<DepthView>(*frame.camera_views[0]);
-    view->intrinsics.baseline_m = kFocalBaselineMPx / view->intrinsics.fx_px;
-    frame.camera_views[0] = view;
-    AddDepthSquaredNoise(kNoisePerDepth2, &frame, &unit, &rng);
-    refined += map.Update(frame).vertices_refined;
-    EXPECT_EQ(plain_map.Update(frame).vertices_refined, 0u);
-    published.Update(&map, f);
-    plain_published.Update(&plain_map, f);
-    const auto report = test::CheckManifold(published.accumulator.ToMesh(), /*allow_boundary=*/true);
-    ASSERT_TRUE(report.ok()) << "frame " << f << "\n" << report.Summary();
-  }
-  const auto distance = [&](const Eigen::Vector3d& p) { return scene.Distance(p); };
-  const Mesh mesh = published.accumulator.ToMesh(), plain = plain_published.accumulator.ToMesh();
-  const test::SurfaceError error = test::MeshError(mesh, distance),
-                           plain_error = test::MeshError(plain, distance);
-  std::cout << refined << " vertices refined; " << mesh.num_triangles() << " triangles, median "
-            << error.median_m << " m, mean " << error.mean_m << " m (without: " << plain.num_triangles()
-            << " triangles, median " << plain_error.median_m << " m, mean " << plain_error.mean_m << " m)\n";
-  EXPECT_GT(refined, 100u);
-  EXPECT_EQ(map.Statistics().vertices_refined, refined);
-  EXPECT_EQ(plain_map.Statistics().vertices_refined, 0u);
-  EXPECT_GT(mesh.num_triangles(), 1000u);
-  EXPECT_LT(error.mean_m, plain_error.mean_m);
-  EXPECT_LT(error.median_m, plain_error.median_m);
-}
-
 // map.confirm_beyond_m: the same street with σ_z = k·z² noise. Points beyond 10 m wait for a later frame's
 // point to land on them (the first frame's are held: no id, nothing live beyond 10 m); the confirmed pairs
 // become vertices at their 1/z⁴-weighted mean. The published mesh stays a 2-manifold after every frame and

@@ -53,7 +53,7 @@ TEST(Triangulation, HandlesCompareByCreationNotByAddress) {
 }
 
 // The incremental map removes its moved and outlier vertices one at a time and marks the cells each removal
-// hands over as created (IncrementalState::RemoveRefined). Removing neighbours one after the other destroys
+// hands over as created (DepthVoteMode::RemoveVertices). Removing neighbours one after the other destroys
 // cells an earlier removal created, and new cells may reuse their slots: the marks must still fall on exactly
 // the cells that were not there before, as a stamp of every old cell tells.
 TEST(Triangulation, CellsGivenByOneRemovalAfterAnotherAreExactlyTheNewCells) {
@@ -88,7 +88,7 @@ TEST(Triangulation, CellsGivenByOneRemovalAfterAnotherAreExactlyTheNewCells) {
 }
 
 // The incremental map finds each point's conflict region as it inserts the points, and leaves out a point
-// whose region holds a pinned cell carved across a facet (IncrementalState::InsertVerticesInheriting). That
+// whose region holds a pinned cell carved across a facet (DepthVoteMode::InsertInheriting). That
 // relies on two facts checked here against a pass over the triangulation before any insertion: the points
 // left out are those whose region in the old triangulation held such a cell, and the old cells destroyed are
 // those in the old region of a point that went in.
