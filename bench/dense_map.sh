@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The dense map's figures (#17): `semap run` on a generated urban sequence, exhaustive, pinned to two cores,
+# The dense map's figures: `semap run` on a generated urban sequence, exhaustive, pinned to two cores,
 # for each configuration below, one after the other; then `semap eval` of each mesh. Prints a markdown table:
 # frames per second, per-step mean ms of the map, CPU use, peak RSS, mesh size, accuracy.
 #

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Frame rate of `semap run` with ENet labels (on keyframes every N frames, semantics.enet_every_frames) against
-# the same run with label files (issue #21: "ENet off the critical path"), under `taskset -c $CPUS`.
+# the same run with label files (ENet off the critical path), under `taskset -c $CPUS`.
 # Prints one markdown table (and writes it to OUT/enet_rate.md).
 #
 #   bench/enet_rate.sh [--every "1 2 4 6"] [--out DIR] [--repeats R]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The long-drive figures of issue #17: is the map's time per frame flat and its memory bounded over a long
+# The long-drive figures: is the map's time per frame flat and its memory bounded over a long
 # drive? `semap run` on a generated urban drive (default 2,000 frames, 1242×375, labels from the sequence),
 # exhaustive, pinned to two cores; then per-frame map time, live map size and RSS from the run's frames.csv.
 # Prints a markdown summary by block of N/10 frames (map ms of the second block against the last one: for 2,000

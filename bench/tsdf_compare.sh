@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# semap against a voxel TSDF on the same input (issue #17): Open3D's ScalableTSDFVolume (0.1 m and 0.05 m voxels)
+# semap against a voxel TSDF on the same input: Open3D's ScalableTSDFVolume (0.1 m and 0.05 m voxels)
 # fusing semap's own SGBM depth maps with the same poses, beside `semap run` with PS and with O. Every method
 # runs under `taskset -c $CPUS` (default 0,1: two cores), timed end to end by the wall clock; every mesh is
 # evaluated by `semap eval` against the same frames. Prints one markdown table and writes it to OUT/tsdf_compare.md.
