@@ -54,10 +54,13 @@ semap::Frame KittiFrame(int id, const std::vector<int>& offsets) {
   return reference;
 }
 
-void Sweep(benchmark::State& state, const semap::Frame& frame) {
+// `range`: the depths swept (both 0: from the cameras, where their optical axes meet).
+void Sweep(benchmark::State& state, const semap::Frame& frame, semap::DepthRange range = {}) {
   cv::setNumThreads(1);
   semap::PlaneSweepOptions o;
   o.num_planes = static_cast<int>(state.range(1));
+  o.min_depth_m = range.min_depth_m;
+  o.max_depth_m = range.max_depth_m;
   const semap::PlaneSweepDepth sweep(o);
   const bool half = state.range(0) != 0;
   double valid = 0.0;
@@ -85,7 +88,8 @@ BENCHMARK(BM_SweepFountain)
 
 void BM_SweepKitti(benchmark::State& state) {
   static const semap::Frame frame = KittiFrame(25, {-2, -1, 1, 2});
-  Sweep(state, frame);
+  // A forward-driving camera's optical axes are nearly parallel: the range is depth.min/max_depth_m's.
+  Sweep(state, frame, {1.0, 40.0});
 }
 BENCHMARK(BM_SweepKitti)
     ->ArgsProduct({{1, 0}, {32, 64, 128}})
