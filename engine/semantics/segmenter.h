@@ -29,7 +29,6 @@ struct SemanticsOptions {
   int enet_input_width_px = 1024;  // the model was trained at 1024x512
   int enet_input_height_px = 512;
   bool enet_keep_aspect = true;
-  int enet_threads = 0;
   int enet_every_frames = 6;
   LabelPropagation enet_propagation = LabelPropagation::kReproject;
   LabelSizePolicy size_mismatch = LabelSizePolicy::kResizeNearest;
@@ -60,9 +59,6 @@ struct SemanticsOptions {
         "enet_keep_aspect", &enet_keep_aspect,
         "keep the image's aspect ratio in the network input (scale to fit, pad with the border replicated) "
         "instead of stretching it");
-    v.Field("enet_threads", &enet_threads,
-            "OpenCV threads of ENet's forward pass (cv::setNumThreads is process-wide; 0 = unchanged)",
-            AtLeast(0));
     // Beyond this the labels would be carried over far more than the keyframe can see.
     constexpr int kMaxEnetEveryFrames = 1000;
     // The default keeps a run with ENet labels near the frame rate of a run with label files at no measured

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -215,6 +216,22 @@ TEST(OptionKeys, DefaultYamlHoldsEveryDeclaredKeyWithItsDefault) {
       in_file << YAML::Flow << node[f.key];
       in_code << YAML::Flow << YAML::Load(YAML::Dump(f.dump()));
       EXPECT_EQ(std::string(in_file.c_str()), std::string(in_code.c_str())) << section.name << "." << f.key;
+    }
+  }
+}
+
+// A removed option (CHANGELOG.md, Removed) in a user's file or --set is an error naming it.
+TEST(OptionKeys, ARemovedKeyIsAnErrorNamingIt) {
+  const auto path = test::TempDir() / "old.yaml";
+  std::ofstream(path) << "semantics:\n  enet_threads: 2\n";
+  for (const auto& [file, overrides] : {std::pair<std::filesystem::path, std::vector<std::string>>{path, {}},
+                                        {"", {"semantics.enet_threads=2"}}}) {
+    try {
+      LoadConfig(file, overrides);
+      ADD_FAILURE() << "a removed key loaded";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("unknown config key 'semantics.enet_threads'"), std::string::npos)
+          << e.what();
     }
   }
 }
