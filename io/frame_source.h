@@ -10,6 +10,7 @@
 
 #include "engine/core/class_map.h"
 #include "engine/core/frame.h"
+#include "engine/core/options.h"
 #include "engine/pipeline/stages.h"
 #include "io/file_error.h"
 
@@ -40,8 +41,8 @@ struct FrameSourceOptions {
   double loop_gap_m = 100.0;
   int neighbour_views = 4;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Enum("layout", &layout,
@@ -51,14 +52,15 @@ struct FrameSourceOptions {
             {"kitti_stereo2015", DatasetLayout::kKittiStereo2015},
             {"strecha", DatasetLayout::kStrecha}},
            "dataset layout; auto detects it from the folder's contents");
-    v.Field("first_frame", &first_frame, "first frame index to read (0-based, as numbered on disk)");
-    v.Field("max_frames", &max_frames, "number of frames to read; 0 = to the end of the sequence");
+    v.Field("first_frame", &first_frame, "first frame index to read (0-based, as numbered on disk)",
+            AtLeast(0));
+    v.Field("max_frames", &max_frames, "number of frames to read; 0 = to the end of the sequence",
+            AtLeast(0));
     v.Field("load_velodyne", &load_velodyne,
             "read the Velodyne scans when present (needed for evaluation only)");
     v.Field("labels_dir", &labels_dir,
             "folder of label PNGs, one per frame with the image's stem; empty = the layout's own (e.g. "
-            "semantic/data of a "
-            "generated sequence) if any");
+            "semantic/data of a generated sequence) if any");
     v.Field("class_map", &class_map,
             "YAML class map naming the id scheme of the label images; empty = Cityscapes 20 classes");
     v.Enum(
@@ -66,22 +68,24 @@ struct FrameSourceOptions {
         {{"auto", CameraPair::kAuto}, {"gray", CameraPair::kGray}, {"color", CameraPair::kColor}},
         "KITTI odometry: stereo pair to read (gray image_0/1, colour image_2/3; auto = colour if present)");
     v.Field("default_frame_period_s", &default_frame_period_s,
-            "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)");
+            "frame period for timestamps when the dataset has none, s (KITTI records at 10 Hz)", Above(0));
     // The map meets new ground on every pass (see OpenFrameSource).
     v.Field("loops", &loops,
             "read the frames this many times in a row (soak runs); pass k is shifted k times along the "
-            "longest axis of "
-            "the first pass's track, its ids and timestamps following on");
+            "longest axis of the first pass's track, its ids and timestamps following on",
+            AtLeast(1));
     // Above 2 × depth.max_depth_m, what one pass sees does not overlap the next.
     v.Field("loop_gap_m", &loop_gap_m,
-            "gap between the camera tracks of consecutive passes, m (keep above 2 x depth.max_depth_m)");
+            "gap between the camera tracks of consecutive passes, m (keep above 2 x depth.max_depth_m)",
+            AtLeast(0));
     v.Field("neighbour_views", &neighbour_views,
             "multi-view sets (strecha layout): each frame's depth is swept against this many of the set's "
             "views, the nearest cameras looking the same way (more: fewer occlusions and ambiguities, cost "
-            "grows with it; >= 1)");
+            "grows with it)",
+            AtLeast(1));
   }
 
-  void Check() const;
+  void Check() const { CheckDeclaredRanges(*this); }
 };
 
 // What a dataset folder holds, as `semap info` reports it (nothing but the first image's header is read).

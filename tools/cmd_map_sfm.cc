@@ -22,12 +22,14 @@ struct MapSfmArgs {
 };
 
 std::vector<std::string> Overrides(const MapSfmArgs& a) {
+  using app::Config;
+  using app::Override;
   std::vector<std::string> o = a.common.overrides;
-  if (!a.out.empty()) o.push_back("output.dir=" + a.out);
-  if (!a.method.empty()) o.push_back("simplify.method=" + a.method);
+  if (!a.out.empty()) o.push_back(Override(&Config::output, &io::OutputOptions::dir, a.out));
+  if (!a.method.empty()) o.push_back(Override(&Config::simplify, &SimplifyOptions::method, a.method));
   if (!a.lcm_url.empty()) {
-    o.push_back("lcm.enabled=true");
-    o.push_back("lcm.url=" + a.lcm_url);
+    o.push_back(Override(&Config::lcm, &io::LcmOptions::enabled, "true"));
+    o.push_back(Override(&Config::lcm, &io::LcmOptions::url, a.lcm_url));
   }
   return o;
 }

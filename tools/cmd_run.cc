@@ -42,19 +42,22 @@ struct RunArgs {
 
 // Command-line shortcuts become config overrides, so that they are validated like any config value.
 std::vector<std::string> Overrides(const RunArgs& a) {
+  using app::Config;
+  using app::Override;
   std::vector<std::string> o = a.common.overrides;
-  if (!a.out.empty()) o.push_back("output.dir=" + a.out);
-  if (!a.method.empty()) o.push_back("simplify.method=" + a.method);
-  if (!a.mode.empty()) o.push_back("pipeline.mode=" + a.mode);
+  if (!a.out.empty()) o.push_back(Override(&Config::output, &io::OutputOptions::dir, a.out));
+  if (!a.method.empty()) o.push_back(Override(&Config::simplify, &SimplifyOptions::method, a.method));
+  if (!a.mode.empty()) o.push_back(Override(&Config::pipeline, &PipelineOptions::mode, a.mode));
   if (a.realtime_speed) {
-    o.push_back("pipeline.mode=realtime");
-    o.push_back("pipeline.realtime_speed=" +
-                (a.realtime_speed->empty() ? std::string("1") : *a.realtime_speed));
+    o.push_back(Override(&Config::pipeline, &PipelineOptions::mode, "realtime"));
+    o.push_back(Override(&Config::pipeline, &PipelineOptions::realtime_speed,
+                         a.realtime_speed->empty() ? std::string("1") : *a.realtime_speed));
   }
-  if (a.frames >= 0) o.push_back("input.max_frames=" + std::to_string(a.frames));
+  if (a.frames >= 0)
+    o.push_back(Override(&Config::input, &io::FrameSourceOptions::max_frames, std::to_string(a.frames)));
   if (!a.lcm_url.empty()) {
-    o.push_back("lcm.enabled=true");
-    o.push_back("lcm.url=" + a.lcm_url);
+    o.push_back(Override(&Config::lcm, &io::LcmOptions::enabled, "true"));
+    o.push_back(Override(&Config::lcm, &io::LcmOptions::url, a.lcm_url));
   }
   return o;
 }

@@ -146,4 +146,14 @@ std::string DumpConfig(const Config& config) {
   return os.str();
 }
 
+std::string KeyOfMember(Config& config, const void* member) {
+  for (const auto& s : BindSections(config)) {
+    for (const auto& f : s.binder.fields()) {
+      if (f.member == member) return s.name + "." + f.key;
+    }
+  }
+  SEMAP_ASSERT(false, "KeyOfMember: no config key is bound to this member");
+  return {};
+}
+
 }  // namespace semap::app

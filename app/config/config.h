@@ -66,4 +66,23 @@ const std::string& OneFramePresetYaml();
 // The YAML text of `config` with each section and field preceded by its doc comment.
 std::string DumpConfig(const Config& config);
 
+// The "section.key" bound to the member of `config` at `member` (BindSections, each options struct's
+// Describe()); asserts that one is.
+std::string KeyOfMember(Config& config, const void* member);
+
+// The "section.key" of `field` of the options struct `options` of a Config, from their declarations:
+// ConfigKey(&Config::simplify, &SimplifyOptions::method) is "simplify.method". Code that names a key says
+// which member it means, and the key is written once, where the member is described.
+template <typename Options, typename T>
+std::string ConfigKey(Options Config::*options, T Options::*field) {
+  Config config;
+  return KeyOfMember(config, &((config.*options).*field));
+}
+
+// A --set override of that key: "section.key=value".
+template <typename Options, typename T>
+std::string Override(Options Config::*options, T Options::*field, const std::string& value) {
+  return ConfigKey(options, field) + "=" + value;
+}
+
 }  // namespace semap::app

@@ -146,10 +146,14 @@ bool WriteIncrementalTable(const TableRequest& args) {
     const auto [name, path] = NameAndPath(arg);
     for (const char* method : {"O", "PS"}) {
       std::vector<std::string> overrides = args.overrides;
-      overrides.push_back(std::string("simplify.method=") + method);
-      overrides.push_back("pipeline.mode=exhaustive");
-      overrides.push_back("output.dir=" + (std::filesystem::path(args.out) / name / method).string());
-      if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
+      overrides.push_back(Override(&Config::simplify, &SimplifyOptions::method, method));
+      overrides.push_back(Override(&Config::pipeline, &PipelineOptions::mode, "exhaustive"));
+      overrides.push_back(Override(&Config::output, &io::OutputOptions::dir,
+                                   (std::filesystem::path(args.out) / name / method).string()));
+      if (args.frames > 0) {
+        overrides.push_back(
+            Override(&Config::input, &io::FrameSourceOptions::max_frames, std::to_string(args.frames)));
+      }
       const Config config = LoadConfig(args.config_path, overrides);
       spdlog::info("table: {} ({}) with {}", name, path, method);
       StreamRunRequest request;

@@ -109,11 +109,15 @@ std::optional<std::vector<Row>> CompareIncremental(const CompareRequest& args, c
   for (const std::string& name : names) {
     const bool drop = name == kNoGroundWall;
     std::vector<std::string> overrides = args.overrides;
-    if (!drop) overrides.push_back("simplify.method=" + name);
-    overrides.push_back("pipeline.mode=exhaustive");
-    overrides.push_back("output.dir=" +
-                        (std::filesystem::path(args.out) / (drop ? "no_ground_wall" : name)).string());
-    if (args.frames > 0) overrides.push_back("input.max_frames=" + std::to_string(args.frames));
+    if (!drop) overrides.push_back(Override(&Config::simplify, &SimplifyOptions::method, name));
+    overrides.push_back(Override(&Config::pipeline, &PipelineOptions::mode, "exhaustive"));
+    overrides.push_back(
+        Override(&Config::output, &io::OutputOptions::dir,
+                 (std::filesystem::path(args.out) / (drop ? "no_ground_wall" : name)).string()));
+    if (args.frames > 0) {
+      overrides.push_back(
+          Override(&Config::input, &io::FrameSourceOptions::max_frames, std::to_string(args.frames)));
+    }
     const Config config = LoadConfig(args.config_path, overrides);
     spdlog::info("compare: {}", name);
     Row row;

@@ -89,8 +89,8 @@ OdometryPlan PlanOdometry(const Config& config, bool has_poses, bool raw_layout,
     case PoseSource::kOxts: {
       const bool oxts = config.pose_input.poses == PoseSource::kOxts;
       if (!has_poses || oxts != raw_layout) {
-        throw ConfigError(std::string("input.poses: ") + PoseSourceName(config.pose_input.poses) + ": " +
-                          dataset + " has no " +
+        throw ConfigError(ConfigKey(&Config::pose_input, &PoseInputOptions::poses) + ": " +
+                          PoseSourceName(config.pose_input.poses) + ": " + dataset + " has no " +
                           (oxts ? "OXTS poses (oxts/data of a KITTI raw drive)" : "pose file") +
                           "; use auto or odometry");
       }

@@ -318,23 +318,17 @@ DepthRange SweptRange(const PlaneSweepOptions& o, const PlaneSweepView& referenc
 }  // namespace
 
 void PlaneSweepOptions::Check() const {
-  SEMAP_CHECK_OPTION(num_planes >= 3, "num_planes", num_planes, "must be >= 3");
-  const bool from_cameras = min_depth_m == 0.0 && max_depth_m == 0.0;
-  SEMAP_CHECK_OPTION(from_cameras || (std::isfinite(min_depth_m) && min_depth_m > 0.0), "min_depth_m",
-                     min_depth_m, "must be finite and > 0, or 0 with max_depth_m = 0 (from the cameras)");
-  SEMAP_CHECK_OPTION(from_cameras || (std::isfinite(max_depth_m) && max_depth_m > min_depth_m), "max_depth_m",
-                     max_depth_m, "must be finite and greater than min_depth_m, or 0 with min_depth_m = 0");
-  SEMAP_CHECK_OPTION(std::isfinite(camera_range_factor) && camera_range_factor > 1.0, "camera_range_factor",
-                     camera_range_factor, "must be finite and > 1");
-  SEMAP_CHECK_OPTION(window_px >= 3 && window_px % 2 == 1, "window_px", window_px, "must be odd and >= 3");
-  SEMAP_CHECK_OPTION(std::isfinite(min_window_stddev) && min_window_stddev > 0.0, "min_window_stddev",
-                     min_window_stddev, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(best_views >= 0, "best_views", best_views, "must be >= 0 (0 = all views)");
-  SEMAP_CHECK_OPTION(min_views >= 1, "min_views", min_views, "must be >= 1");
-  SEMAP_CHECK_OPTION(std::isfinite(max_cost) && max_cost > 0.0 && max_cost <= 2.0, "max_cost", max_cost,
-                     "must be in (0, 2]");
-  SEMAP_CHECK_OPTION(std::isfinite(min_confidence) && min_confidence >= 0.0 && min_confidence <= 1.0,
-                     "min_confidence", min_confidence, "must be in [0, 1]");
+  CheckDeclaredRanges(*this);
+  if (min_depth_m == 0.0 && max_depth_m == 0.0) return;  // the range from the cameras
+  if (min_depth_m <= 0.0) {
+    throw OptionError(*this, min_depth_m,
+                      "must be > 0, or 0 with " + KeyOf(*this, max_depth_m) + " = 0 (from the cameras)");
+  }
+  if (max_depth_m <= min_depth_m) {
+    throw OptionError(*this, max_depth_m,
+                      "must be greater than " + KeyOf(*this, min_depth_m) + ", or 0 with " +
+                          KeyOf(*this, min_depth_m) + " = 0");
+  }
 }
 
 std::optional<DepthRange> DepthRangeFromCameras(const PlaneSweepView& reference,

@@ -20,6 +20,7 @@
 
 #include "engine/core/calibration.h"
 #include "engine/core/frame.h"
+#include "engine/core/options.h"
 
 namespace semap {
 
@@ -47,42 +48,53 @@ struct PlaneSweepOptions {
   double min_confidence = 0.05;
   bool label_directions = true;
 
-  // Each field's config key and text, declared once here. Visitor: Field(key, T*, text).
+  // Each field's key, text and valid values, declared once here (engine/core/options.h); Check() tests the
+  // values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Field("num_planes", &num_planes,
             "planes per sweep direction, uniform in inverse depth between min_depth_m and max_depth_m (more: "
-            "finer depth steps, cost grows with it)");
+            "finer depth steps, cost grows with it)",
+            AtLeast(3));
     v.Field("min_depth_m", &min_depth_m,
             "nearest depth swept (reference camera-frame z, m); 0 together with max_depth_m = 0: the range "
             "comes from the cameras (where their optical axes meet, divided and multiplied by "
-            "camera_range_factor)");
+            "camera_range_factor)",
+            AtLeast(0));
     v.Field("max_depth_m", &max_depth_m,
-            "farthest depth swept (m); 0 with min_depth_m = 0: from the cameras");
+            "farthest depth swept (m), beyond min_depth_m; 0 with min_depth_m = 0: from the cameras",
+            AtLeast(0));
     v.Field("camera_range_factor", &camera_range_factor,
             "the range from the cameras spans [z / factor, z · factor] around the depth z where the optical "
-            "axes meet (> 1; larger: surfaces farther from that depth are found, with coarser steps)");
+            "axes meet (larger: surfaces farther from that depth are found, with coarser steps)",
+            Above(1));
     v.Field("window_px", &window_px,
-            "ZNCC window side in px (odd, >= 3; larger: smoother and more reliable, blurs depth edges)");
+            "ZNCC window side in px (larger: smoother and more reliable, blurs depth edges)",
+            AtLeast(3).Odd());
     v.Field("min_window_stddev", &min_window_stddev,
             "floor on a window's grey-level standard deviation: reference windows below it are textureless "
             "and give no depth; the floor also damps the score of flat warped windows (higher: fewer, surer "
-            "pixels)");
+            "pixels)",
+            Above(0));
     v.Field("best_views", &best_views,
             "a plane's cost at a pixel is the mean of its best best_views neighbours' costs, which ignores "
-            "the views where the pixel is occluded (0 = the mean of all views)");
+            "the views where the pixel is occluded (0 = the mean of all views)",
+            AtLeast(0));
     v.Field("left_right_subsets", &left_right_subsets,
             "also aggregate the neighbours left and right of the reference separately (by the sign of their "
             "centre's x in the reference frame) and keep the lower cost: an occlusion hides a pixel from "
             "one side only");
     v.Field("min_views", &min_views,
-            "neighbours that must see a pixel's whole window at a plane for that plane to be scored there");
+            "neighbours that must see a pixel's whole window at a plane for that plane to be scored there",
+            AtLeast(1));
     v.Field("max_cost", &max_cost,
             "pixels whose best aggregated cost (1 − ZNCC, in [0, 2]) exceeds this give no depth (lower: "
-            "fewer, surer pixels)");
+            "fewer, surer pixels)",
+            Above(0).AtMost(2));
     v.Field("min_confidence", &min_confidence,
             "pixels whose confidence 1 − best / second-best local minimum of the cost falls below this give "
-            "no depth (higher: fewer ambiguous pixels)");
+            "no depth (higher: fewer ambiguous pixels)",
+            In(0, 1));
     // A frame where directions were found is swept a second time, both families: more pixels with a depth
     // and a lower median error on slanted ground and facades, for about twice and a half the sweep's time
     // (bench/RESULTS.md, "Plane sweep"). Without ground or wall labels nothing changes.

@@ -18,9 +18,7 @@ namespace {
 
 // OpenCV's fixed-point disparity scale (CV_16S maps hold disparity · 16).
 constexpr float kSgbmDisparityScale = 16.0f;
-// Block sizes OpenCV accepts for SGBM.
-constexpr int kMaxBlockSize = 11;
-constexpr int kDisparityMultiple = 16;
+constexpr int kDisparityMultiple = DepthOptions::kDisparityMultiple;
 
 int ToOpenCvMode(SgbmMode mode) {
   switch (mode) {
@@ -146,39 +144,12 @@ const char* SgbmModeName(SgbmMode mode) {
 }
 
 void DepthOptions::Check() const {
-  SEMAP_CHECK_OPTION(num_disparities >= kDisparityMultiple && num_disparities % kDisparityMultiple == 0,
-                     "num_disparities", num_disparities, "must be a positive multiple of 16");
-  SEMAP_CHECK_OPTION(block_size >= 1 && block_size <= kMaxBlockSize && block_size % 2 == 1, "block_size",
-                     block_size, "must be odd, in [1, 11]");
-  SEMAP_CHECK_OPTION(p1 >= 0, "p1", p1, "must be >= 0 (0 = 8*channels*block_size^2)");
-  SEMAP_CHECK_OPTION(p2 >= 0, "p2", p2, "must be >= 0 (0 = 32*channels*block_size^2)");
-  SEMAP_CHECK_OPTION(p1 == 0 || p2 == 0 || p2 > p1, "p2", p2, "must be greater than p1");
-  SEMAP_CHECK_OPTION(uniqueness_ratio >= 0 && uniqueness_ratio <= 100, "uniqueness_ratio", uniqueness_ratio,
-                     "must be a percentage in [0, 100]");
-  SEMAP_CHECK_OPTION(speckle_window_size >= 0, "speckle_window_size", speckle_window_size, "must be >= 0");
-  SEMAP_CHECK_OPTION(speckle_range_px >= 0, "speckle_range_px", speckle_range_px, "must be >= 0");
-  SEMAP_CHECK_OPTION(disp12_max_diff_px >= -1, "disp12_max_diff_px", disp12_max_diff_px,
-                     "must be >= 0, or -1 to disable the left-right check");
-  SEMAP_CHECK_OPTION(left_right_max_diff_px == -1.0f || left_right_max_diff_px >= 0.0f,
-                     "left_right_max_diff_px", left_right_max_diff_px,
-                     "must be >= 0, or -1 to disable the explicit left-right check");
-  SEMAP_CHECK_OPTION(pre_filter_cap >= 0 && pre_filter_cap <= 63, "pre_filter_cap", pre_filter_cap,
-                     "must be in [0, 63]");
-  SEMAP_CHECK_OPTION(fill_max_gap_px >= 0, "fill_max_gap_px", fill_max_gap_px, "must be >= 0 (0 = off)");
-  SEMAP_CHECK_OPTION(filled_confidence >= 0.0f && filled_confidence <= 1.0f, "filled_confidence",
-                     filled_confidence, "must be in [0, 1]");
-  SEMAP_CHECK_OPTION(std::isfinite(min_depth_m) && min_depth_m > 0.0, "min_depth_m", min_depth_m,
-                     "must be finite and > 0");
-  SEMAP_CHECK_OPTION(std::isfinite(max_depth_m) && max_depth_m > min_depth_m, "max_depth_m", max_depth_m,
-                     "must be finite and greater than min_depth_m");
-  SEMAP_CHECK_OPTION(std::isfinite(align_rows_min_px) && align_rows_min_px >= 0.0, "align_rows_min_px",
-                     align_rows_min_px, "must be finite and >= 0");
-  SEMAP_CHECK_OPTION(pixel_stride >= 1, "pixel_stride", pixel_stride, "must be >= 1");
-  SEMAP_CHECK_OPTION(vote_stride_px >= 1, "vote_stride_px", vote_stride_px, "must be >= 1");
-  SEMAP_CHECK_OPTION(max_points_per_frame >= 0, "max_points_per_frame", max_points_per_frame,
-                     "must be >= 0 (0 = no bound)");
-  SEMAP_CHECK_OPTION(min_point_confidence >= 0.0f && min_point_confidence <= 1.0f, "min_point_confidence",
-                     min_point_confidence, "must be in [0, 1]");
+  CheckDeclaredRanges(*this);
+  if (p1 != 0 && p2 != 0 && p2 <= p1)
+    throw OptionError(*this, p2, "must be greater than " + KeyOf(*this, p1));
+  if (max_depth_m <= min_depth_m) {
+    throw OptionError(*this, max_depth_m, "must be greater than " + KeyOf(*this, min_depth_m));
+  }
 }
 
 StereoDepth::StereoDepth(const DepthOptions& options) : options_(options) { options_.Check(); }

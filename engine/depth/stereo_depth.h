@@ -8,6 +8,7 @@
 
 #include "engine/core/frame.h"
 #include "engine/core/labelled_cloud.h"
+#include "engine/core/options.h"
 
 namespace semap {
 
@@ -50,36 +51,47 @@ struct DepthOptions {
   float min_point_confidence = 1.0f;
   int vote_stride_px = 1;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // OpenCV's SGBM: the disparity range is a multiple of 16, the block size at most 11.
+  static constexpr int kDisparityMultiple = 16;
+  static constexpr int kMaxBlockSize = 11;
+
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
-    v.Field("num_disparities", &num_disparities,
-            "disparity search range in px at full resolution (multiple of 16)");
-    v.Field("block_size", &block_size, "SGBM matched block size in px (odd, 1..11)");
+    v.Field("num_disparities", &num_disparities, "disparity search range in px at full resolution",
+            AtLeast(kDisparityMultiple).MultipleOf(kDisparityMultiple));
+    v.Field("block_size", &block_size, "SGBM matched block size in px", In(1, kMaxBlockSize).Odd());
     v.Field("p1", &p1,
-            "SGBM penalty for 1 px disparity changes; 0 = 8*channels*block_size^2 (OpenCV's recommendation)");
+            "SGBM penalty for 1 px disparity changes; 0 = 8*channels*block_size^2 (OpenCV's recommendation)",
+            AtLeast(0));
     v.Field(
         "p2", &p2,
         "SGBM penalty for larger disparity changes; 0 = 32*channels*block_size^2; must exceed p1 when both "
-        "are set");
+        "are set",
+        AtLeast(0));
     v.Field("uniqueness_ratio", &uniqueness_ratio,
-            "margin in % by which the best cost must beat the second best (0 = no uniqueness test)");
+            "margin in % by which the best cost must beat the second best (0 = no uniqueness test)",
+            In(0, 100));
     v.Field("speckle_window_size", &speckle_window_size,
             "speckle filter: connected regions of at most this many px whose disparity varies by at most "
-            "speckle_range_px are invalidated (0 = off)");
-    v.Field("speckle_range_px", &speckle_range_px, "speckle filter: disparity variation within a region");
+            "speckle_range_px are invalidated (0 = off)",
+            AtLeast(0));
+    v.Field("speckle_range_px", &speckle_range_px, "speckle filter: disparity variation within a region",
+            AtLeast(0));
     // OpenCV 4.6 applies disp12MaxDiff in modes sgbm/hh/hh4 only, not in 3way.
     v.Field("disp12_max_diff_px", &disp12_max_diff_px,
-            "OpenCV's left-right check from the same cost volume: max left/right disparity difference in px "
-            "(-1 = off)");
+            "OpenCV's left-right check from the same cost volume: max left/right disparity difference in px",
+            AtLeast(0).Or(-1, "off"));
     v.Field(
         "left_right_max_diff_px", &left_right_max_diff_px,
         "explicit left-right check (any mode) with a second matching pass, right against left: a pixel is "
-        "kept when the two disparities differ by at most this many px (-1 = off)");
+        "kept when the two disparities differ by at most this many px",
+        AtLeast(0).Or(-1, "off"));
     v.Field("left_right_half_resolution", &left_right_half_resolution,
             "the left-right check's right-image pass at half resolution (a quarter of its cost)");
-    v.Field("pre_filter_cap", &pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)");
+    v.Field("pre_filter_cap", &pre_filter_cap, "SGBM x-derivative prefilter truncation (0 = OpenCV default)",
+            In(0, 63));
     // KITTI's real pairs are off by up to 0.7 px (odometry 04) and 1.6 px (kitti_odometry_turn) at the
     // corners; lining the rows up lowers KITTI 04's SGBM median error by 4 % and the map's static bias at
     // 20-30 m from +0.16 to +0.05 m (bench/results/map-accuracy.md, "rows lined up"). See
@@ -92,7 +104,8 @@ struct DepthOptions {
         "before matching");
     v.Field("align_rows_min_px", &align_rows_min_px,
             "align_rows leaves a pair alone whose fitted misalignment stays below this everywhere, px (a "
-            "rectified pair is not resampled)");
+            "rectified pair is not resampled)",
+            AtLeast(0));
     v.Enum("mode", &mode,
            {{"sgbm", SgbmMode::kSgbm},
             {"hh", SgbmMode::kHh},
@@ -103,30 +116,35 @@ struct DepthOptions {
             "match at half resolution, disparity upscaled back (about 4x faster; doubles pixel_stride)");
     v.Field("fill_max_gap_px", &fill_max_gap_px,
             "fill horizontal gaps up to this many px between two valid pixels of a row with the background "
-            "(smaller) disparity, KITTI's interpolation rule (0 = off)");
+            "(smaller) disparity, KITTI's interpolation rule (0 = off)",
+            AtLeast(0));
     v.Field("fill_left_border", &fill_left_border,
             "extend each row's first valid disparity over the unmatched left band (confidence 0)");
-    v.Field("filled_confidence", &filled_confidence, "confidence of gap-filled pixels (matched = 1)");
-    v.Field("min_depth_m", &min_depth_m, "nearest point kept (camera-frame z, m)");
-    v.Field("max_depth_m", &max_depth_m, "farthest point kept (camera-frame z, m)");
+    v.Field("filled_confidence", &filled_confidence, "confidence of gap-filled pixels (matched = 1)",
+            In(0, 1));
+    v.Field("min_depth_m", &min_depth_m, "nearest point kept (camera-frame z, m)", Above(0));
+    v.Field("max_depth_m", &max_depth_m, "farthest point kept (camera-frame z, m); beyond min_depth_m");
     v.Field("pixel_stride", &pixel_stride,
             "one point every pixel_stride px on every pixel_stride-th row (1 = every pixel; doubled with "
-            "half_resolution: one point per matched pixel)");
+            "half_resolution: one point per matched pixel)",
+            AtLeast(1));
     // Points offered to the simplification and the map's insertion; every valid pixel votes whatever it is
     // (vote_stride_px). Dense SGBM frames have ~350 k valid pixels. At half resolution, one point per matched
     // pixel, 10,000 are 10 % of a frame's valid pixels against 2.5 % at full resolution: there 6,000 ran 200
     // urban frames 15 % faster, with accuracy within ±4 % either way on four sequences (bench/results/
     // frame-rate.md, "The point budget at half resolution").
     v.Field("max_points_per_frame", &max_points_per_frame,
-            "point budget per frame after the stride, by uniform decimation (0 = none)");
+            "point budget per frame after the stride, by uniform decimation (0 = none)", AtLeast(0));
     // The default keeps matched pixels only: the filled pixels improve the disparity map (D1) but are
     // guesses, kept out of the map.
-    v.Field("min_point_confidence", &min_point_confidence, "pixels below this confidence give no point");
+    v.Field("min_point_confidence", &min_point_confidence, "pixels below this confidence give no point",
+            In(0, 1));
     v.Field(
         "vote_stride_px", &vote_stride_px,
         "the map's visibility votes read one pixel in vote_stride_px on every vote_stride_px-th row of the "
         "depth map, each standing for vote_stride_px² rays (map.visibility: depth); every valid one votes, "
-        "whatever max_points_per_frame");
+        "whatever max_points_per_frame",
+        AtLeast(1));
   }
 
   void Check() const;

@@ -9,12 +9,10 @@
 namespace semap {
 
 void DepthAccuracyOptions::Check() const {
-  SEMAP_CHECK_OPTION(min_depth_m > 0.0, "min_depth_m", min_depth_m, "must be > 0");
-  SEMAP_CHECK_OPTION(max_depth_m > min_depth_m, "max_depth_m", max_depth_m, "must be > min_depth_m");
-  SEMAP_CHECK_OPTION(max_abs_error_m >= 0.0, "max_abs_error_m", max_abs_error_m, "must be >= 0 (0 = off)");
-  SEMAP_CHECK_OPTION(surface_threshold_m > 0.0, "surface_threshold_m", surface_threshold_m, "must be > 0");
-  SEMAP_CHECK_OPTION(surface_pixel_stride >= 1, "surface_pixel_stride", surface_pixel_stride, "must be >= 1");
-  SEMAP_CHECK_OPTION(surface_area_samples >= 1, "surface_area_samples", surface_area_samples, "must be >= 1");
+  CheckDeclaredRanges(*this);
+  if (max_depth_m <= min_depth_m) {
+    throw OptionError(*this, max_depth_m, "must be > " + KeyOf(*this, min_depth_m));
+  }
 }
 
 DepthAccuracyOptions PaperProtocol(const DepthAccuracyOptions& strict) {

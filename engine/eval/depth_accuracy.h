@@ -18,6 +18,7 @@
 
 #include "engine/core/calibration.h"
 #include "engine/core/frame.h"
+#include "engine/core/options.h"
 
 namespace semap {
 
@@ -30,26 +31,30 @@ struct DepthAccuracyOptions {
   int surface_pixel_stride = 8;
   int surface_area_samples = 100000;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Field("min_depth_m", &min_depth_m,
-            "reference depths (camera-frame z, not range) nearer than this are ignored, m");
-    v.Field("max_depth_m", &max_depth_m, "reference depths farther than this are ignored, m");
+            "reference depths (camera-frame z, not range) nearer than this are ignored, m", Above(0));
+    v.Field("max_depth_m", &max_depth_m,
+            "reference depths farther than this are ignored, m; beyond min_depth_m");
     v.Field("max_abs_error_m", &max_abs_error_m,
-            "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all");
+            "errors above this are left out of RMSE/MAE (still count as covered); 0 = keep all", AtLeast(0));
     // Against the exact scene mesh: engine/eval/surface_metrics.h.
     v.Field("surface_threshold_m", &surface_threshold_m,
-            "generated sequences: distance τ of accuracy / completeness against the exact scene mesh");
+            "generated sequences: distance τ of accuracy / completeness against the exact scene mesh",
+            Above(0));
     v.Field("surface_pixel_stride", &surface_pixel_stride,
             "generated sequences: exact depth maps sampled every this many pixels give the observed true "
-            "surface");
+            "surface",
+            AtLeast(1));
     // The shares' standard sampling error is at most 0.5 / sqrt(n), 0.16 % at 100,000.
     v.Field(
         "surface_area_samples", &surface_area_samples,
         "generated sequences: points sampled uniformly by area on the mesh for the by-area accuracy (fixed "
-        "seed)");
+        "seed)",
+        AtLeast(1));
   }
 
   void Check() const;

@@ -56,47 +56,7 @@ struct Reference {
 
 }  // namespace
 
-void StereoOdometryOptions::Check() const {
-  SEMAP_CHECK_OPTION(max_features >= 8, "max_features", max_features, "must be >= 8");
-  SEMAP_CHECK_OPTION(grid_cols >= 1, "grid_cols", grid_cols, "must be >= 1");
-  SEMAP_CHECK_OPTION(grid_rows >= 1, "grid_rows", grid_rows, "must be >= 1");
-  SEMAP_CHECK_OPTION(fast_threshold >= 1 && fast_threshold <= 255, "fast_threshold", fast_threshold,
-                     "must be in [1, 255]");
-  SEMAP_CHECK_OPTION(klt_window_px >= 5 && klt_window_px % 2 == 1, "klt_window_px", klt_window_px,
-                     "must be odd and >= 5");
-  SEMAP_CHECK_OPTION(klt_levels >= 0 && klt_levels <= 8, "klt_levels", klt_levels, "must be in [0, 8]");
-  SEMAP_CHECK_OPTION(stereo_levels >= 0 && stereo_levels <= 8, "stereo_levels", stereo_levels,
-                     "must be in [0, 8]");
-  SEMAP_CHECK_OPTION(std::isfinite(max_epipolar_error_px) && max_epipolar_error_px > 0.0,
-                     "max_epipolar_error_px", max_epipolar_error_px, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(std::isfinite(max_stereo_check_px) && max_stereo_check_px > 0.0, "max_stereo_check_px",
-                     max_stereo_check_px, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(std::isfinite(min_disparity_px) && min_disparity_px > 0.0, "min_disparity_px",
-                     min_disparity_px, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(std::isfinite(ransac_threshold_px) && ransac_threshold_px > 0.0, "ransac_threshold_px",
-                     ransac_threshold_px, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(ransac_iterations >= 1, "ransac_iterations", ransac_iterations, "must be >= 1");
-  SEMAP_CHECK_OPTION(std::isfinite(inlier_threshold_px) && inlier_threshold_px > 0.0, "inlier_threshold_px",
-                     inlier_threshold_px, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(min_inliers >= 6, "min_inliers", min_inliers, "must be >= 6");
-  SEMAP_CHECK_OPTION(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0, "min_inlier_ratio", min_inlier_ratio,
-                     "must be in [0, 1]");
-  SEMAP_CHECK_OPTION(std::isfinite(max_speed_mps) && max_speed_mps > 0.0, "max_speed_mps", max_speed_mps,
-                     "must be finite and > 0");
-  SEMAP_CHECK_OPTION(std::isfinite(max_rotation_rate_deg_s) && max_rotation_rate_deg_s > 0.0,
-                     "max_rotation_rate_deg_s", max_rotation_rate_deg_s, "must be finite and > 0");
-  SEMAP_CHECK_OPTION(max_bridged_frames >= 0, "max_bridged_frames", max_bridged_frames, "must be >= 0");
-  SEMAP_CHECK_OPTION(keyframe_max_frames >= 1, "keyframe_max_frames", keyframe_max_frames, "must be >= 1");
-  SEMAP_CHECK_OPTION(keyframe_min_inlier_ratio >= 0.0 && keyframe_min_inlier_ratio <= 1.0,
-                     "keyframe_min_inlier_ratio", keyframe_min_inlier_ratio, "must be in [0, 1]");
-  SEMAP_CHECK_OPTION(
-      std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) <= kMaxDisparityOffsetPx,
-      "disparity_offset_px", disparity_offset_px, "must be finite and within ±5 px");
-  SEMAP_CHECK_OPTION(std::isfinite(disparity_offset_per_row_px) &&
-                         std::abs(disparity_offset_per_row_px) <= kMaxDisparityOffsetPx,
-                     "disparity_offset_per_row_px", disparity_offset_per_row_px,
-                     "must be finite and within ±5 px");
-}
+void StereoOdometryOptions::Check() const { CheckDeclaredRanges(*this); }
 
 const char* OdometryStatusName(OdometryStatus status) {
   switch (status) {

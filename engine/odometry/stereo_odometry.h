@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/calibration.h"
+#include "engine/core/options.h"
 
 namespace semap {
 
@@ -43,56 +44,70 @@ struct StereoOdometryOptions {
   OffsetEstimate estimate_disparity_offset = OffsetEstimate::kOff;
   bool offset_in_depth = false;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // A disparity offset (either term) beyond this is not a rectification error but a wrong calibration, px.
+  static constexpr double kMaxDisparityOffsetPx = 5.0;
+
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Field("max_features", &max_features,
-            "features kept per frame (tracked ones first, then new FAST corners in the emptiest grid cells)");
-    v.Field("grid_cols", &grid_cols, "columns of the grid that spreads the features over the image");
-    v.Field("grid_rows", &grid_rows, "rows of that grid");
-    v.Field("fast_threshold", &fast_threshold, "FAST corner threshold (grey levels)");
-    v.Field("klt_window_px", &klt_window_px, "pyramidal KLT window side, px (odd)");
-    v.Field("klt_levels", &klt_levels,
-            "KLT pyramid levels above full resolution for tracking between frames");
+            "features kept per frame (tracked ones first, then new FAST corners in the emptiest grid cells)",
+            AtLeast(8));
+    v.Field("grid_cols", &grid_cols, "columns of the grid that spreads the features over the image",
+            AtLeast(1));
+    v.Field("grid_rows", &grid_rows, "rows of that grid", AtLeast(1));
+    v.Field("fast_threshold", &fast_threshold, "FAST corner threshold (grey levels)", In(1, 255));
+    v.Field("klt_window_px", &klt_window_px, "pyramidal KLT window side, px", AtLeast(5).Odd());
+    v.Field("klt_levels", &klt_levels, "KLT pyramid levels above full resolution for tracking between frames",
+            In(0, 8));
     v.Field("stereo_levels", &stereo_levels,
-            "KLT pyramid levels for left-to-right matching (reaches disparities of about window x 2^levels)");
+            "KLT pyramid levels for left-to-right matching (reaches disparities of about window x 2^levels)",
+            In(0, 8));
     v.Field("max_epipolar_error_px", &max_epipolar_error_px,
-            "a stereo match may leave the left point's row by this much, px (rectified images)");
+            "a stereo match may leave the left point's row by this much, px (rectified images)", Above(0));
     v.Field("max_stereo_check_px", &max_stereo_check_px,
-            "left -> right -> left round trip of a stereo match must land this close to the start, px");
+            "left -> right -> left round trip of a stereo match must land this close to the start, px",
+            Above(0));
     v.Field("min_disparity_px", &min_disparity_px,
-            "stereo matches below this disparity are not triangulated, px");
-    v.Field("ransac_threshold_px", &ransac_threshold_px, "P3P RANSAC inlier reprojection error, px");
-    v.Field("ransac_iterations", &ransac_iterations, "P3P RANSAC iterations");
+            "stereo matches below this disparity are not triangulated, px", Above(0));
+    v.Field("ransac_threshold_px", &ransac_threshold_px, "P3P RANSAC inlier reprojection error, px",
+            Above(0));
+    v.Field("ransac_iterations", &ransac_iterations, "P3P RANSAC iterations", AtLeast(1));
     v.Field("inlier_threshold_px", &inlier_threshold_px,
-            "after refinement, a track is an inlier when its stereo reprojection error is below this, px");
-    v.Field("min_inliers", &min_inliers, "fewer inliers than this: tracking failed on the frame");
+            "after refinement, a track is an inlier when its stereo reprojection error is below this, px",
+            Above(0));
+    v.Field("min_inliers", &min_inliers, "fewer inliers than this: tracking failed on the frame", AtLeast(6));
     v.Field("min_inlier_ratio", &min_inlier_ratio,
-            "inliers below this fraction of the tracked features: tracking failed on the frame");
-    v.Field("max_speed_mps", &max_speed_mps, "a motion faster than this is a jump: tracking failed, m/s");
+            "inliers below this fraction of the tracked features: tracking failed on the frame", In(0, 1));
+    v.Field("max_speed_mps", &max_speed_mps, "a motion faster than this is a jump: tracking failed, m/s",
+            Above(0));
     v.Field("max_rotation_rate_deg_s", &max_rotation_rate_deg_s,
-            "a rotation faster than this is a jump: tracking failed, deg/s");
+            "a rotation faster than this is a jump: tracking failed, deg/s", Above(0));
     v.Field(
         "max_bridged_frames", &max_bridged_frames,
         "failed frames in a row bridged from the last tracked one before tracking restarts on the current "
-        "frame");
+        "frame",
+        AtLeast(0));
     v.Field("keyframe_max_frames", &keyframe_max_frames,
             "frames tracked from one reference (keyframe) before the last of them becomes the next: fewer "
-            "estimates chained per metre, so less drift (1 = every frame is the next one's reference)");
+            "estimates chained per metre, so less drift (1 = every frame is the next one's reference)",
+            AtLeast(1));
     v.Field("keyframe_min_inlier_ratio", &keyframe_min_inlier_ratio,
             "a tracked frame becomes the reference at once when fewer than this share of the reference's "
-            "features are inliers (the view has moved on)");
+            "features are inliers (the view has moved on)",
+            In(0, 1));
     v.Field(
         "disparity_offset_px", &disparity_offset_px,
         "added to every measured disparity (true = measured + offset) in the odometry, and with "
         "offset_in_depth in the depth of the frames it reads: a rectification off by a fraction of a pixel "
-        "scales every step; the start of the estimate when estimate_disparity_offset, px");
+        "scales every step; the start of the estimate when estimate_disparity_offset, px",
+        In(-kMaxDisparityOffsetPx, kMaxDisparityOffsetPx));
     v.Field("disparity_offset_per_row_px", &disparity_offset_per_row_px,
             "a second term of that offset, growing with the image row: offset = disparity_offset_px + this x "
             "(v - cy) / fy (a roll between the cameras); the start of its estimate when "
-            "estimate_disparity_offset "
-            "is per_row, px");
+            "estimate_disparity_offset is per_row, px",
+            In(-kMaxDisparityOffsetPx, kMaxDisparityOffsetPx));
     v.Enum("estimate_disparity_offset", &estimate_disparity_offset,
            {{"off", OffsetEstimate::kOff},
             {"constant", OffsetEstimate::kConstant},

@@ -49,31 +49,21 @@ using pipeline_internal::SegmentResult;
 using pipeline_internal::SetUpThread;
 using pipeline_internal::SideEvent;
 
+static_assert(PipelineOptions::kCpuSetSize == CPU_SETSIZE);
+
 void PipelineOptions::Check() const {
-  SEMAP_CHECK_OPTION(realtime_rate_hz > 0.0, "realtime_rate_hz", realtime_rate_hz, "must be > 0");
-  SEMAP_CHECK_OPTION(realtime_speed > 0.0 && std::isfinite(realtime_speed), "realtime_speed", realtime_speed,
-                     "must be > 0");
-  SEMAP_CHECK_OPTION(realtime_frames_in_flight >= 1, "realtime_frames_in_flight", realtime_frames_in_flight,
-                     "must be >= 1");
-  SEMAP_CHECK_OPTION(depth_workers >= 1 && depth_workers <= 64, "depth_workers", depth_workers,
-                     "must be in [1, 64]");
-  SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
-  SEMAP_CHECK_OPTION(mesh_every_frames >= 1, "mesh_every_frames", mesh_every_frames, "must be >= 1");
-  SEMAP_CHECK_OPTION(feeder_nice >= 0 && feeder_nice <= 19, "feeder_nice", feeder_nice, "must be in [0, 19]");
-  SEMAP_CHECK_OPTION(opencv_threads >= 0, "opencv_threads", opencv_threads,
-                     "must be >= 0 (0 = OpenCV's setting)");
-  SEMAP_CHECK_OPTION(max_speed_mps >= 0.0 && std::isfinite(max_speed_mps), "max_speed_mps", max_speed_mps,
-                     "must be >= 0 (0 = no check)");
+  CheckDeclaredRanges(*this);
   cpu_set_t available;
   CPU_ZERO(&available);
-  const bool known = sched_getaffinity(0, sizeof(available), &available) == 0;
+  if (sched_getaffinity(0, sizeof(available), &available) != 0) return;
   for (int cpu : cpu_affinity) {
-    SEMAP_CHECK_OPTION(cpu >= 0 && cpu < CPU_SETSIZE, "cpu_affinity", cpu,
-                       "CPU ids must be in [0, CPU_SETSIZE)");
     // Pinning to a CPU this process may not run on would be silently ignored by the kernel.
-    SEMAP_CHECK_OPTION(!known || CPU_ISSET(cpu, &available), "cpu_affinity", cpu,
-                       "no such CPU available to this process (it may use " +
-                           pipeline_internal::AvailableCpus(available) + ")");
+    if (!CPU_ISSET(cpu, &available)) {
+      throw OptionError(*this, cpu_affinity,
+                        "no such CPU available to this process (it may use " +
+                            pipeline_internal::AvailableCpus(available) + ")",
+                        cpu);
+    }
   }
 }
 

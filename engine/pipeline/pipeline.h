@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/core/options.h"
 #include "engine/pipeline/clock.h"
 #include "engine/pipeline/stages.h"
 
@@ -36,8 +37,11 @@ struct PipelineOptions {
   int opencv_threads = 1;
   int mesh_every_frames = 5;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // CPU ids a process can be pinned to: CPU_SETSIZE of <sched.h> (pipeline.cc checks that they agree).
+  static constexpr int kCpuSetSize = 1024;
+
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Enum("mode", &mode, {{"exhaustive", Mode::kExhaustive}, {"realtime", Mode::kRealtime}},
@@ -45,15 +49,18 @@ struct PipelineOptions {
            "stamps, as a camera delivers them, and the oldest waiting frame is dropped when the engine is "
            "behind");
     v.Field("realtime_rate_hz", &realtime_rate_hz,
-            "realtime mode: frames are due at their time stamps, or at this rate when the sequence has none");
+            "realtime mode: frames are due at their time stamps, or at this rate when the sequence has none",
+            Above(0));
     v.Field("realtime_speed", &realtime_speed,
-            "realtime mode: frames are played at this multiple of the sensor's rate (2 = twice as fast)");
+            "realtime mode: frames are played at this multiple of the sensor's rate (2 = twice as fast)",
+            Above(0));
     // Each frame ahead of a frame on its way to the map adds the map's time per frame to its latency; the
     // input queue meanwhile keeps the newest frame only. More frames in flight keep both depth workers busy
     // when the map is faster than the depth; fewer make the published mesh younger.
     v.Field("realtime_frames_in_flight", &realtime_frames_in_flight,
             "realtime mode: frames taken from the input queue and not yet integrated, at most (1 = a frame's "
-            "depth starts once the map has integrated the one before)");
+            "depth starts once the map has integrated the one before)",
+            AtLeast(1));
     // Labels are carried between keyframes by reprojection (semantics.enet_propagation); a keyframe adds the
     // segmenter's time to the CPU the frames share. On: a machine with time to spare labels more often, one
     // that is behind labels less often and maps more of the frames.
@@ -61,21 +68,24 @@ struct PipelineOptions {
             "realtime mode with ENet on keyframes: keyframes as far apart as the frame budget leaves the "
             "segmenter time for (cores x frame period, less the depth, simplification and map times measured "
             "so far; at most 3 s of the sensor's time apart); off: every semantics.enet_every_frames frames, "
-            "as in exhaustive "
-            "mode");
+            "as in exhaustive mode");
     v.Field("depth_workers", &depth_workers,
-            "threads running SGBM depth, the heaviest per-frame stage (frames are reordered after them)");
+            "threads running SGBM depth, the heaviest per-frame stage (frames are reordered after them)",
+            In(1, 64));
     v.Field("queue_capacity", &queue_capacity,
             "exhaustive mode: frames each queue between stages holds at most (realtime mode: the input queue "
-            "holds the newest frame only)");
+            "holds the newest frame only)",
+            AtLeast(1));
     v.Enum("on_error", &on_error, {{"skip", OnError::kSkipFrame}, {"stop", OnError::kStop}},
            "a stage failing on a frame: skip the frame (counted) or stop the run (drain, write the mesh)");
     // The time between the frames is taken as at least 1 / realtime_rate_hz, so repeated timestamps do not
     // reject every frame. A frame with a non-finite or non-rigid pose is skipped and counted the same way.
     v.Field("max_speed_mps", &max_speed_mps,
             "skip (and count) a frame whose camera moved faster than this since the last accepted frame, m/s "
-            "(a GPS/OXTS pose jump); 0 = no check");
-    v.Field("cpu_affinity", &cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any");
+            "(a GPS/OXTS pose jump); 0 = no check",
+            AtLeast(0));
+    v.Field("cpu_affinity", &cpu_affinity, "CPU ids the engine's threads may run on, e.g. [0, 1]; [] = any",
+            AtLeast(0).Below(kCpuSetSize));
     // The map thread is the critical path (its serial steps cannot use a second core, its parallel votes
     // can): on a saturated machine the scheduler should give it the CPU first. Nice 10 weighs a thread about
     // a tenth of one at 0 under Linux's scheduler; the bounded queues keep the feeders ahead, on the CPU the
@@ -83,9 +93,10 @@ struct PipelineOptions {
     // "The map's feeders niced").
     v.Field(
         "feeder_nice", &feeder_nice,
-        "how much nicer (Linux nice steps, 0-19) the threads feeding the map (segment, depth, simplify; "
-        "read in exhaustive mode) run than the map's own thread, so that a saturated machine runs the map "
-        "first; 0 = all alike");
+        "how much nicer (Linux nice steps) the threads feeding the map (segment, depth, simplify; read in "
+        "exhaustive mode) run than the map's own thread, so that a saturated machine runs the map first; 0 = "
+        "all alike",
+        In(0, 19));
     // OpenCV runs its parallel loops (SGBM, ENet) on TBB's workers, which the map's votes share: started at
     // the map's priority (StartTbbWorkers), they ran a feeder's SGBM ahead of the map. With one thread SGBM
     // runs on the depth thread that calls it, at the feeders' priority; depth_workers keep frames in
@@ -94,13 +105,15 @@ struct PipelineOptions {
     v.Field("opencv_threads", &opencv_threads,
             "OpenCV's threads during a run (cv::setNumThreads, process-wide, restored after the run): 1 runs "
             "SGBM and ENet on the feeder thread that calls them, at its priority; more lets them use TBB's "
-            "workers, which run at the map's priority; 0 = OpenCV's setting as it is");
+            "workers, which run at the map's priority; 0 = OpenCV's setting as it is",
+            AtLeast(0));
     // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
     // half-resolution SGBM: 98 of 305 ms per frame; bench/results/frame-rate.md, "Mesh cadence"), while a
     // viewer or a logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.
     v.Field("mesh_every_frames", &mesh_every_frames,
             "the map extracts and publishes the mesh's change every this many frames (and at the end), "
-            "integrating every frame; 1 = every frame; the final mesh is the same for any value");
+            "integrating every frame; 1 = every frame; the final mesh is the same for any value",
+            AtLeast(1));
   }
 
   void Check() const;

@@ -208,7 +208,6 @@ cv::Mat EnetSegmenter::Segment(const cv::Mat& image) {
   } else {
     bgr = image;
   }
-  if (options_.enet_threads > 0) cv::setNumThreads(options_.enet_threads);
   const cv::Size input(options_.enet_input_width_px, options_.enet_input_height_px);
   // Region of the network input that holds the image (all of it unless the aspect ratio is kept).
   cv::Rect roi(0, 0, input.width, input.height);

@@ -7,6 +7,7 @@
 
 #include "engine/core/class_map.h"
 #include "engine/core/frame.h"
+#include "engine/core/options.h"
 #include "engine/semantics/keyframe_labels.h"
 #include "engine/semantics/labelling.h"
 
@@ -28,16 +29,19 @@ struct SemanticsOptions {
   int enet_input_width_px = 1024;  // the model was trained at 1024x512
   int enet_input_height_px = 512;
   bool enet_keep_aspect = true;
-  int enet_threads = 0;
   int enet_every_frames = 6;
   LabelPropagation enet_propagation = LabelPropagation::kReproject;
   LabelSizePolicy size_mismatch = LabelSizePolicy::kResizeNearest;
   bool drop_sky = true;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
+    // The network input size: a multiple of the encoder's total stride within a sane range.
+    constexpr int kEnetStride = 8;
+    constexpr int kEnetMaxInputPx = 4096;
+    const Range input_px = In(kEnetStride, kEnetMaxInputPx).MultipleOf(kEnetStride);
     v.Enum("source", &source,
            {{"auto", LabelSource::kAuto},
             {"disk", LabelSource::kDisk},
@@ -45,24 +49,26 @@ struct SemanticsOptions {
             {"none", LabelSource::kNone}},
            "label source: auto = label images from disk when present else unlabelled, enet = built-in "
            "segmenter");
-    v.Field("enet_model_path", &enet_model_path,
-            "ENet Cityscapes Torch7 model file (read with cv::dnn::readNetFromTorch)");
-    v.Field("enet_input_width_px", &enet_input_width_px, "ENet input width in px (multiple of 8)");
-    v.Field("enet_input_height_px", &enet_input_height_px, "ENet input height in px (multiple of 8)");
+    v.Field(
+        "enet_model_path", &enet_model_path,
+        "ENet Cityscapes Torch7 model file (read with cv::dnn::readNetFromTorch); needed with source enet");
+    v.Field("enet_input_width_px", &enet_input_width_px, "ENet input width in px", input_px);
+    v.Field("enet_input_height_px", &enet_input_height_px, "ENet input height in px", input_px);
     // KITTI's 1242×375 frames stretched to 1024×512 look nothing like Cityscapes.
     v.Field(
         "enet_keep_aspect", &enet_keep_aspect,
         "keep the image's aspect ratio in the network input (scale to fit, pad with the border replicated) "
         "instead of stretching it");
-    v.Field("enet_threads", &enet_threads,
-            "OpenCV threads of ENet's forward pass (cv::setNumThreads is process-wide; 0 = unchanged)");
+    // Beyond this the labels would be carried over far more than the keyframe can see.
+    constexpr int kMaxEnetEveryFrames = 1000;
     // The default keeps a run with ENet labels near the frame rate of a run with label files at no measured
     // loss of label accuracy (bench/results/semantic-labels.md, "ENet off the critical path"). Outside the
     // pipeline (compare --mode single-frame, depth, segment) every frame is segmented. See keyframe_labels.h.
     v.Field(
         "enet_every_frames", &enet_every_frames,
         "semap run: ENet on its own thread on keyframes only, the first frame then every enet_every_frames "
-        "frames (1 = every frame, in the depth workers, each its own network)");
+        "frames (1 = every frame, in the depth workers, each its own network)",
+        In(1, kMaxEnetEveryFrames));
     v.Enum(
         "enet_propagation", &enet_propagation,
         {{"reproject", LabelPropagation::kReproject}, {"reuse", LabelPropagation::kReuse}},

@@ -111,22 +111,10 @@ void MultiViewSetOptions::ScaleImage(double factor) {
 }
 
 void MultiViewSetOptions::Check() const {
-  SEMAP_CHECK_OPTION(num_views >= 1 && num_views <= 1000, "num_views", num_views, "must be in [1, 1000]");
-  SEMAP_CHECK_OPTION(image_width_px >= 16 && image_width_px <= 8192, "image_width_px", image_width_px,
-                     "must be in [16, 8192]");
-  SEMAP_CHECK_OPTION(image_height_px >= 16 && image_height_px <= 8192, "image_height_px", image_height_px,
-                     "must be in [16, 8192]");
-  SEMAP_CHECK_OPTION(fx_px > 0.0 && fy_px > 0.0, "fx_px", fx_px, "focal lengths must be > 0");
-  SEMAP_CHECK_OPTION(min_distance_m >= 2.5, "min_distance_m", min_distance_m,
-                     "must be >= 2.5 (the object's half width and then some)");
-  SEMAP_CHECK_OPTION(max_distance_m >= min_distance_m, "max_distance_m", max_distance_m,
-                     "must be >= min_distance_m");
-  SEMAP_CHECK_OPTION(arc_deg >= 0.0 && arc_deg <= 150.0, "arc_deg", arc_deg,
-                     "must be in [0, 150] (the cameras stay in front of the wall)");
-  SEMAP_CHECK_OPTION(camera_height_m >= 0.5 && camera_height_m <= 5.0, "camera_height_m", camera_height_m,
-                     "must be in [0.5, 5]");
-  SEMAP_CHECK_OPTION(wall_distance_m >= 2.0, "wall_distance_m", wall_distance_m,
-                     "must be >= 2 (behind the object)");
+  CheckDeclaredRanges(*this);
+  if (max_distance_m < min_distance_m) {
+    throw OptionError(*this, max_distance_m, "must be >= " + KeyOf(*this, min_distance_m));
+  }
 }
 
 Scene BuildMultiViewScene(const MultiViewSetOptions& options, std::uint64_t seed) {

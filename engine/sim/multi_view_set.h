@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/core/calibration.h"
+#include "engine/core/options.h"
 #include "engine/sim/camera_renderer.h"
 #include "engine/sim/scene.h"
 #include "engine/sim/synth_options.h"
@@ -25,15 +26,41 @@ struct MultiViewSetOptions {
   int num_views = 11;
   int image_width_px = 768;
   int image_height_px = 512;
-  double fx_px = 690.0;  // fountain-P11's focal length scaled to the width (1379.74 px at 1536 px)
+  double fx_px = 690.0;
   double fy_px = 691.0;
   double cx_px = 383.5;
   double cy_px = 255.5;
-  double min_distance_m = 4.0;   // camera centre to the object's axis, at the arc's ends
-  double max_distance_m = 10.0;  // at the middle of the arc
-  double arc_deg = 90.0;         // angle the arc spans around the object's axis
-  double camera_height_m = 1.6;  // above the ground (each view varies it by up to ±0.15 m)
-  double wall_distance_m = 3.0;  // from the object's axis to the front of the wall
+  double min_distance_m = 4.0;
+  double max_distance_m = 10.0;
+  double arc_deg = 90.0;
+  double camera_height_m = 1.6;
+  double wall_distance_m = 3.0;
+
+  // Each field's key, text and valid values, declared once here (engine/core/options.h); Check() tests the
+  // values against them.
+  template <typename Visitor>
+  void Describe(Visitor& v) {
+    v.Field("num_views", &num_views, "views of the set, on the arc", In(1, 1000));
+    v.Field("image_width_px", &image_width_px, "image width (px)", In(16, 8192));
+    v.Field("image_height_px", &image_height_px, "image height (px)", In(16, 8192));
+    // fountain-P11's focal length scaled to the width (1379.74 px at 1536 px).
+    v.Field("fx_px", &fx_px, "focal length x (px)", Above(0));
+    v.Field("fy_px", &fy_px, "focal length y (px)", Above(0));
+    v.Field("cx_px", &cx_px, "principal point x (px)");
+    v.Field("cy_px", &cy_px, "principal point y (px)");
+    v.Field("min_distance_m", &min_distance_m,
+            "camera centre to the object's axis at the arc's ends, m (the object's half width and then some)",
+            AtLeast(2.5));
+    v.Field("max_distance_m", &max_distance_m,
+            "camera centre to the object's axis at the middle of the arc, m; at least min_distance_m");
+    v.Field("arc_deg", &arc_deg,
+            "angle the arc spans around the object's axis, deg (the cameras stay in front of the wall)",
+            In(0, 150));
+    v.Field("camera_height_m", &camera_height_m,
+            "camera height above the ground, m (each view varies it by up to ±0.15 m)", In(0.5, 5));
+    v.Field("wall_distance_m", &wall_distance_m,
+            "from the object's axis to the front of the wall, m (behind the object)", AtLeast(2));
+  }
 
   // The same field of view at `factor` (> 0) times the image size: sizes and focal lengths scaled, the
   // principal point moved with the pixel centres (integer coordinates), c' = (c + 0.5) · factor − 0.5.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <sstream>
 
 #include "engine/core/check.h"
 #include "engine/simplify/internal/methods.h"
@@ -55,7 +56,9 @@ SimplifyMethod SimplifyMethodFromName(const std::string& name) {
     if (!choices.empty()) choices += '|';
     choices += n.name;
   }
-  throw InvalidOption("method", "unknown simplification method '" + name + "', expected one of " + choices);
+  SimplifyOptions options;
+  throw InvalidOption(KeyOf(options, options.method),
+                      "unknown simplification method '" + name + "', expected one of " + choices);
 }
 
 bool IsSemanticMethod(SimplifyMethod method) {
@@ -74,37 +77,12 @@ bool IsSemanticMethod(SimplifyMethod method) {
 }
 
 void SimplifyOptions::Check() const {
-  SEMAP_CHECK_OPTION(region_radius_m > 0.0, "region_radius_m", region_radius_m, "must be > 0");
-  SEMAP_CHECK_OPTION(region_k >= 3, "region_k", region_k, "must be >= 3");
-  SEMAP_CHECK_OPTION(density_samples >= 0, "density_samples", density_samples, "must be >= 0 (0 = all)");
-  SEMAP_CHECK_OPTION(normal_k >= 3, "normal_k", normal_k, "must be >= 3");
-  SEMAP_CHECK_OPTION(target_conservation > 0.0 && target_conservation < 1.0, "target_conservation",
-                     target_conservation, "must be in (0, 1)");
-  SEMAP_CHECK_OPTION(adaptive_stretch > 0.0, "adaptive_stretch", adaptive_stretch, "must be > 0");
-  SEMAP_CHECK_OPTION(min_conservation >= 0.0 && min_conservation <= target_conservation, "min_conservation",
-                     min_conservation, "must be in [0, target_conservation]");
-  SEMAP_CHECK_OPTION(ps_region_divisor >= 1, "ps_region_divisor", ps_region_divisor, "must be >= 1");
-  SEMAP_CHECK_OPTION(ps_boundary_share > 0.0 && ps_boundary_share <= 1.0, "ps_boundary_share",
-                     ps_boundary_share, "must be in (0, 1]");
-  SEMAP_CHECK_OPTION(ps_interior_sigma_m > 0.0, "ps_interior_sigma_m", ps_interior_sigma_m, "must be > 0");
-  SEMAP_CHECK_OPTION(ps_boundary_sigma_m > 0.0, "ps_boundary_sigma_m", ps_boundary_sigma_m, "must be > 0");
-  SEMAP_CHECK_OPTION(ps_svm_c > 0.0, "ps_svm_c", ps_svm_c, "must be > 0");
-  SEMAP_CHECK_OPTION(ps_svm_max_samples >= 2, "ps_svm_max_samples", ps_svm_max_samples, "must be >= 2");
-  SEMAP_CHECK_OPTION(ransac_threshold_m > 0.0, "ransac_threshold_m", ransac_threshold_m, "must be > 0");
-  SEMAP_CHECK_OPTION(ransac_iterations >= 1, "ransac_iterations", ransac_iterations, "must be >= 1");
-  SEMAP_CHECK_OPTION(ransac_max_points >= 3, "ransac_max_points", ransac_max_points, "must be >= 3");
-  SEMAP_CHECK_OPTION(ransac_confidence > 0.0 && ransac_confidence <= 1.0, "ransac_confidence",
-                     ransac_confidence, "must be in (0, 1]");
-  SEMAP_CHECK_OPTION(gb_flatness_threshold >= 0.0 && gb_flatness_threshold <= 1.0 / 3.0,
-                     "gb_flatness_threshold", gb_flatness_threshold, "must be in [0, 1/3]");
-  SEMAP_CHECK_OPTION(gb_flat_keep_probability >= 0.0 && gb_flat_keep_probability <= 1.0,
-                     "gb_flat_keep_probability", gb_flat_keep_probability, "must be in [0, 1]");
-  SEMAP_CHECK_OPTION(voxel_size_m > 0.0, "voxel_size_m", voxel_size_m, "must be > 0");
-  SEMAP_CHECK_OPTION(hierarchy_cluster_size >= 1, "hierarchy_cluster_size", hierarchy_cluster_size,
-                     "must be >= 1");
-  SEMAP_CHECK_OPTION(hierarchy_max_variation > 0.0 && hierarchy_max_variation <= 1.0 / 3.0,
-                     "hierarchy_max_variation", hierarchy_max_variation, "must be in (0, 1/3]");
-  SEMAP_CHECK_OPTION(window_frames >= 1, "window_frames", window_frames, "must be >= 1");
+  CheckDeclaredRanges(*this);
+  if (min_conservation > target_conservation) {
+    std::ostringstream bound;
+    bound << "must be <= " << KeyOf(*this, target_conservation) << " (" << target_conservation << ")";
+    throw OptionError(*this, min_conservation, bound.str());
+  }
 }
 
 namespace simplify {

@@ -19,6 +19,7 @@
 
 #include "engine/core/class_map.h"
 #include "engine/core/labelled_cloud.h"
+#include "engine/core/options.h"
 
 namespace semap {
 
@@ -43,7 +44,8 @@ enum class SimplifyMethod : std::uint8_t {
 const char* SimplifyMethodName(SimplifyMethod method);
 // Every method in declaration order.
 const std::vector<SimplifyMethod>& AllSimplifyMethods();
-// Parses a name (exact, case-sensitive as listed above); throws InvalidOption("method", ...) if unknown.
+// Parses a name (exact, case-sensitive as listed above); throws InvalidOption naming simplify's method key if
+// unknown.
 SimplifyMethod SimplifyMethodFromName(const std::string& name);
 // True for the methods that use the class map (LS*, AS*, ACS*, PS).
 bool IsSemanticMethod(SimplifyMethod method);
@@ -89,10 +91,12 @@ struct SimplifyOptions {
 
   std::uint64_t seed = 42;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
+    // The largest surface variation λ0/(λ0+λ1+λ2) there is (three equal eigenvalues).
+    const Bound kOneThird(1.0 / 3.0, "1/3");
     std::vector<std::pair<std::string, SimplifyMethod>> methods;
     for (auto m : AllSimplifyMethods()) methods.emplace_back(SimplifyMethodName(m), m);
     v.Enum("method", &method, methods,
@@ -100,49 +104,62 @@ struct SimplifyOptions {
            "regions; PS = probabilistic; baselines without semantics: LSB, ASB, PSB, GB (curvature), voxel, "
            "hierarchy (CGAL)");
     v.Field("region_radius_m", &region_radius_m,
-            "radius of the spherical regions (R methods, PS, LSB/ASB/PSB)");
-    v.Field("region_k", &region_k, "neighbours per region of the K methods (the centre included)");
+            "radius of the spherical regions (R methods, PS, LSB/ASB/PSB)", Above(0));
+    v.Field("region_k", &region_k, "neighbours per region of the K methods (the centre included)",
+            AtLeast(3));
     v.Field("density_samples", &density_samples,
-            "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS/PS); 0 = all");
+            "regions per class group whose densities estimate the mean density D̄ (LS/AS/ACS/PS); 0 = all",
+            AtLeast(0));
     v.Field("normal_k", &normal_k,
-            "neighbours of the PCA tangent-plane normals (ranking r) and of GB's surface variation");
+            "neighbours of the PCA tangent-plane normals (ranking r) and of GB's surface variation",
+            AtLeast(3));
     v.Field("target_conservation", &target_conservation,
-            "c̄: share of points kept in a region of average density (paper: 0.4 / 0.5)");
+            "c̄: share of points kept in a region of average density (paper: 0.4 / 0.5)", Above(0).Below(1));
     v.Field("adaptive_stretch", &adaptive_stretch,
-            "w of AS/ACS's f(x) = 0.5 + w x / (2 (1 + w |x|)), x in units of D̄");
-    v.Field("min_conservation", &min_conservation,
-            "lower clamp of c (paper: 0; above 0 never empties a very dense region)");
+            "w of AS/ACS's f(x) = 0.5 + w x / (2 (1 + w |x|)), x in units of D̄", Above(0));
+    v.Field(
+        "min_conservation", &min_conservation,
+        "lower clamp of c (paper: 0; above 0 never empties a very dense region); at most target_conservation",
+        AtLeast(0));
     v.Field("ps_region_divisor", &ps_region_divisor,
-            "PS: N_r = |points of the class group| / divisor (paper: 8)");
+            "PS: N_r = |points of the class group| / divisor (paper: 8)", AtLeast(1));
     v.Field("ps_boundary_share", &ps_boundary_share,
             "PS: regions with a share of other labels p̃ below this are interior and use P_I, others P_B "
-            "(paper: 0.1)");
+            "(paper: 0.1)",
+            Above(0).AtMost(1));
     v.Field("ps_interior_sigma_m", &ps_interior_sigma_m,
-            "PS: σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²)) on the class plane");
+            "PS: σ of P_I = 1 − exp(−|x − μ|² / (2 d̃ σ²)) on the class plane", Above(0));
     v.Field("ps_boundary_sigma_m", &ps_boundary_sigma_m,
-            "PS: σ of P_B = exp(−d² / (2 σ²)), d to the SVM boundary");
-    v.Field("ps_svm_c", &ps_svm_c, "PS: soft-margin C of the linear SVM (coordinates in region radii)");
+            "PS: σ of P_B = exp(−d² / (2 σ²)), d to the SVM boundary", Above(0));
+    v.Field("ps_svm_c", &ps_svm_c, "PS: soft-margin C of the linear SVM (coordinates in region radii)",
+            Above(0));
     v.Field("ps_svm_max_samples", &ps_svm_max_samples,
-            "PS: training points per SVM at most (evenly strided over the region)");
-    v.Field("ransac_threshold_m", &ransac_threshold_m, "class planes: RANSAC inlier distance to the plane");
+            "PS: training points per SVM at most (evenly strided over the region)", AtLeast(2));
+    v.Field("ransac_threshold_m", &ransac_threshold_m, "class planes: RANSAC inlier distance to the plane",
+            Above(0));
     v.Field("ransac_iterations", &ransac_iterations,
-            "class planes: RANSAC hypotheses per class group, at most");
+            "class planes: RANSAC hypotheses per class group, at most", AtLeast(1));
     v.Field("ransac_max_points", &ransac_max_points,
             "class planes: hypotheses scored on at most this many random points of the group (the best is "
-            "then refitted to its inliers among all the group's points)");
+            "then refitted to its inliers among all the group's points)",
+            AtLeast(3));
     v.Field("ransac_confidence", &ransac_confidence,
             "class planes: RANSAC stops once an all-inlier draw was this likely given the best inlier share "
-            "so far (1 = always ransac_iterations)");
+            "so far (1 = always ransac_iterations)",
+            Above(0).AtMost(1));
     v.Field("gb_flatness_threshold", &gb_flatness_threshold,
-            "GB: surface variation λ0/(λ0+λ1+λ2) below this is flat");
+            "GB: surface variation λ0/(λ0+λ1+λ2) below this is flat", In(0, kOneThird));
     v.Field("gb_flat_keep_probability", &gb_flat_keep_probability,
-            "GB: probability of keeping a flat point (others are always kept)");
-    v.Field("voxel_size_m", &voxel_size_m, "voxel: grid cell edge");
-    v.Field("hierarchy_cluster_size", &hierarchy_cluster_size, "hierarchy: CGAL maximum cluster size");
-    v.Field("hierarchy_max_variation", &hierarchy_max_variation, "hierarchy: CGAL maximum surface variation");
+            "GB: probability of keeping a flat point (others are always kept)", In(0, 1));
+    v.Field("voxel_size_m", &voxel_size_m, "voxel: grid cell edge", Above(0));
+    v.Field("hierarchy_cluster_size", &hierarchy_cluster_size, "hierarchy: CGAL maximum cluster size",
+            AtLeast(1));
+    v.Field("hierarchy_max_variation", &hierarchy_max_variation, "hierarchy: CGAL maximum surface variation",
+            Above(0).AtMost(kOneThird));
     v.Field("window_frames", &window_frames,
             "streaming: frames whose kept points stay in the window and give densities, planes and "
-            "neighbourhoods (should cover the frames that overlap)");
+            "neighbourhoods (should cover the frames that overlap)",
+            AtLeast(1));
     v.Field("seed", &seed,
             "seed of the random generator behind every random choice (same seed, same output)");
   }

@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "engine/core/options.h"
+
 namespace semap::io {
 
 namespace config_internal {
@@ -54,22 +56,26 @@ YAML::Node Dump(const std::vector<T>& values) {
 
 }  // namespace config_internal
 
-// One bound field: its key inside the section, a one-line doc, and how to read and write it.
+// One bound field: its key inside the section, a one-line doc (its text, then its choices or valid range),
+// the member it is bound to, and how to read and write it.
 struct BoundField {
   std::string key;
   std::string doc;
+  const void* member = nullptr;
   std::function<void(const YAML::Node&)> load;  // throws std::runtime_error on a malformed value
   std::function<YAML::Node()> dump;
 };
 
-// Collects the fields of one options struct. Usage in a section's bind function:
-//   b.Field("num_disparities", &o.num_disparities, "disparity search range in px (multiple of 16)");
-//   b.Enum("mode", &o.mode, {{"sgbm", Mode::kSgbm}, {"3way", Mode::kThreeWay}}, "OpenCV SGBM mode");
+// Collects the fields of one options struct: the visitor of its Describe() (engine/core/options.h).
+// A field's doc is its text followed by its valid range ("...; must be >= 1"), an enum's by its choices.
 class FieldBinder {
  public:
-  template <typename T>
-  void Field(std::string key, T* value, std::string doc) {
-    fields_.push_back({std::move(key), std::move(doc),
+  template <typename T, typename Valid = AnyValue>
+  void Field(std::string key, T* value, std::string doc, const Valid& valid = {}) {
+    if constexpr (!std::is_same_v<Valid, AnyValue>) {
+      doc += std::string("; ") + (kIsListOption<T> ? "each " : "") + valid.Requirement();
+    }
+    fields_.push_back({std::move(key), std::move(doc), value,
                        [value](const YAML::Node& n) {
                          T v = n.as<T>();
                          config_internal::CheckFinite(v);
@@ -83,7 +89,7 @@ class FieldBinder {
     std::string choices;
     for (const auto& [name, e] : names) choices += (choices.empty() ? "" : "|") + name;
     doc += " [" + choices + "]";
-    fields_.push_back({std::move(key), std::move(doc),
+    fields_.push_back({std::move(key), std::move(doc), value,
                        [value, names, choices](const YAML::Node& n) {
                          const auto s = n.as<std::string>();
                          for (const auto& [name, e] : names) {

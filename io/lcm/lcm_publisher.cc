@@ -5,6 +5,7 @@
 #include <cmath>
 #include <lcm/lcm-cpp.hpp>
 #include <random>
+#include <sstream>
 #include <thread>
 
 #include "engine/core/check.h"
@@ -40,21 +41,12 @@ class Pacer {
 }  // namespace
 
 void LcmOptions::Check() const {
-  SEMAP_CHECK_OPTION(!url.empty(), "url", "''", "must not be empty");
-  SEMAP_CHECK_OPTION(std::isfinite(block_size_m) && block_size_m >= 0.05 && block_size_m <= 1e4,
-                     "block_size_m", block_size_m, "must be in [0.05, 10000] metres");
-  SEMAP_CHECK_OPTION(max_message_bytes >= 1024 && max_message_bytes <= (1 << 24), "max_message_bytes",
-                     max_message_bytes, "must be in [1024, 16777216]");
-  SEMAP_CHECK_OPTION(std::isfinite(resend_bytes_per_s) && resend_bytes_per_s >= 1000.0, "resend_bytes_per_s",
-                     resend_bytes_per_s, "must be >= 1000");
-  SEMAP_CHECK_OPTION(std::isfinite(max_bytes_per_s) && max_bytes_per_s >= resend_bytes_per_s,
-                     "max_bytes_per_s", max_bytes_per_s,
-                     "must be >= resend_bytes_per_s (" << resend_bytes_per_s << ")");
-  SEMAP_CHECK_OPTION(closing_rounds >= 0 && closing_rounds <= 100, "closing_rounds", closing_rounds,
-                     "must be in [0, 100]");
-  SEMAP_CHECK_OPTION(std::isfinite(closing_max_s) && closing_max_s >= 0.0, "closing_max_s", closing_max_s,
-                     "must be >= 0");
-  SEMAP_CHECK_OPTION(queue_capacity >= 1, "queue_capacity", queue_capacity, "must be >= 1");
+  CheckDeclaredRanges(*this);
+  if (max_bytes_per_s < resend_bytes_per_s) {
+    std::ostringstream bound;
+    bound << "must be >= " << KeyOf(*this, resend_bytes_per_s) << " (" << resend_bytes_per_s << ")";
+    throw OptionError(*this, max_bytes_per_s, bound.str());
+  }
 }
 
 // Deltas composed while the sender was busy: later removals cancel earlier additions.

@@ -15,6 +15,7 @@
 
 #include "engine/core/calibration.h"
 #include "engine/core/mesh_delta.h"
+#include "engine/core/options.h"
 #include "engine/pipeline/frame_stats.h"
 #include "io/lcm/mesh_blocks.h"
 
@@ -37,38 +38,41 @@ struct LcmOptions {
   double closing_max_s = 30.0;
   int queue_capacity = 64;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
     v.Field("enabled", &enabled,
             "publish meshes, frame stats and poses over LCM (semap run --lcm-url turns it on)");
-    v.Field("url", &url, "LCM provider URL; ttl=0 keeps multicast on this host");
+    v.Field("url", &url, "LCM provider URL; ttl=0 keeps multicast on this host", NotEmpty());
     v.Field("channel_prefix", &channel_prefix,
             "channel prefix: <prefix>MESH_BLOCK, MESH_END, FRAME_STATS, CAMERA_POSE");
     v.Field("block_size_m", &block_size_m,
-            "edge of the cubic cells that cut the mesh into blocks (a triangle goes to its centroid's cell)");
+            "edge of the cubic cells that cut the mesh into blocks (a triangle goes to its centroid's cell), "
+            "metres",
+            In(0.05, 1e4));
     v.Field("max_message_bytes", &max_message_bytes,
             "bound on every mesh message, bytes encoded; larger blocks go in parts (<= ~65000: one UDP "
-            "datagram each, "
-            "so one lost datagram loses one part only)");
+            "datagram each, so one lost datagram loses one part only)",
+            In(1024, 1 << 24));
     v.Field("resend_bytes_per_s", &resend_bytes_per_s,
             "budget of the round-robin re-send of block states and of the closing rounds, bytes/s (late "
-            "subscribers converge in about mesh bytes / budget)");
+            "subscribers converge in about mesh bytes / budget)",
+            AtLeast(1000));
     // A stock kernel's socket buffer holds about three full messages.
     v.Field("max_bytes_per_s", &max_bytes_per_s,
-            "ceiling on all mesh traffic (changes and re-sends), bytes/s: messages are spaced so that a "
-            "subscriber's "
-            "socket buffer keeps up; changes published meanwhile are coalesced, never dropped");
+            "ceiling on all mesh traffic (changes and re-sends), bytes/s, at least resend_bytes_per_s: "
+            "messages are spaced so that a subscriber's socket buffer keeps up; changes published meanwhile "
+            "are coalesced, never dropped");
     // What a late or lossy subscriber needs to complete the mesh.
     v.Field("closing_rounds", &closing_rounds,
             "re-send rounds over every block at the end of the run (within the budget), each followed by the "
-            "block "
-            "index, before the run's last message");
+            "block index, before the run's last message",
+            In(0, 100));
     v.Field("closing_max_s", &closing_max_s,
-            "at most this long for the closing rounds, s; the run's last message is sent anyway");
+            "at most this long for the closing rounds, s; the run's last message is sent anyway", AtLeast(0));
     v.Field("queue_capacity", &queue_capacity,
-            "stats/pose messages queued at most; more are dropped and counted");
+            "stats/pose messages queued at most; more are dropped and counted", AtLeast(1));
   }
 
   void Check() const;

@@ -61,8 +61,6 @@ nlohmann::json LatencySummaryJson(const FrameStats& s) {
 
 }  // namespace
 
-void OutputOptions::Check() const { SEMAP_CHECK_OPTION(!dir.empty(), "dir", "''", "must not be empty"); }
-
 MeshFileSink::MeshFileSink(const OutputOptions& options)
     : options_(options), spill_(std::filesystem::path(options.dir) / kSpillFileName) {
   options_.Check();

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "engine/core/mesh_delta.h"
+#include "engine/core/options.h"
 #include "engine/pipeline/pipeline.h"
 #include "io/lcm/lcm_publisher.h"
 #include "io/output/mesh_spill.h"
@@ -23,11 +24,12 @@ struct OutputOptions {
   bool ply_ascii = false;
   bool frame_stats = true;
 
-  // Each field's config key and text, declared once here: app/config binds them to YAML and `semap config
-  // --defaults` prints them. Visitor: Field(key, T*, text) and Enum(key, E*, {{name, E}, ...}, text).
+  // Each field's config key, text and valid values, declared once here (engine/core/options.h): app/config
+  // binds them to YAML, `semap config --defaults` prints them and Check() tests the values against them.
   template <typename Visitor>
   void Describe(Visitor& v) {
-    v.Field("dir", &dir, "output folder (mesh.ply, mesh.off, frames.csv, frames.jsonl, summary.json)");
+    v.Field("dir", &dir, "output folder (mesh.ply, mesh.off, frames.csv, frames.jsonl, summary.json)",
+            NotEmpty());
     v.Field("mesh_ply", &mesh_ply,
             "write the final mesh as PLY (binary unless ply_ascii) with colour and label");
     v.Field("mesh_off", &mesh_off, "write the final mesh as ASCII OFF (the paper's size measure)");
@@ -35,7 +37,7 @@ struct OutputOptions {
     v.Field("frame_stats", &frame_stats, "per-frame statistics as frames.csv and frames.jsonl");
   }
 
-  void Check() const;
+  void Check() const { CheckDeclaredRanges(*this); }
 };
 
 // Accumulates the mesh deltas and writes the final mesh at the end of the run, each file atomically (a

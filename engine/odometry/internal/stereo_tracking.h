@@ -18,8 +18,9 @@ namespace semap::odometry_internal {
 constexpr double kMovingSpeedMps = 0.5;
 // A time step below this is taken as this when turning a motion into a speed (duplicated timestamps), s.
 constexpr double kMinTimeStepS = 1e-3;
-// A disparity offset (either term) beyond this is not a rectification error but a wrong calibration, px.
-constexpr double kMaxDisparityOffsetPx = 5.0;
+// A disparity offset (either term) beyond this is not a rectification error but a wrong calibration, px:
+// the bound of the options' offsets too.
+constexpr double kMaxDisparityOffsetPx = StereoOdometryOptions::kMaxDisparityOffsetPx;
 
 // `motion` scaled to `fraction` of itself (rotation angle and translation), e.g. a velocity over another
 // time step.

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "engine/sim/multi_view_set.h"
 #include "tests/common/test_data.h"
 
 namespace semap::app {
@@ -124,8 +125,8 @@ struct DescribedField {
 
 class DescribeRecorder {
  public:
-  template <typename T>
-  void Field(std::string key, T* value, std::string text) {
+  template <typename T, typename... Valid>
+  void Field(std::string key, T* value, std::string text, const Valid&...) {
     Add(std::move(key), value, std::move(text));
   }
   template <typename E>
@@ -186,6 +187,12 @@ TEST(Config, EveryOptionsStructDescribesEachMemberOnce) {
   ExpectEveryMemberDescribedOnce(c.semantics, "semantics");
   ExpectEveryMemberDescribedOnce(c.simplify, "simplify");
   ExpectEveryMemberDescribedOnce(c.map, "map");
+  ExpectEveryMemberDescribedOnce(c.odometry, "odometry");
+  ExpectEveryMemberDescribedOnce(c.pose_input, "input (poses)");
+  ExpectEveryMemberDescribedOnce(c.one_frame, "input (one frame)");
+  ExpectEveryMemberDescribedOnce(c.plane_sweep, "plane_sweep");
+  sim::MultiViewSetOptions multi_view_set;  // described, not a config section
+  ExpectEveryMemberDescribedOnce(multi_view_set, "multi-view set");
 }
 
 TEST(Config, CommittedDefaultYamlMatchesTheCode) {
