@@ -34,14 +34,19 @@ cv::Mat Resampled(const cv::Mat& image, double scale) {
 
 }  // namespace
 
-PlaneSweepView ReferenceView(const Frame& frame, double scale) {
+PlaneSweepView FrameCamera(const Frame& frame) {
   const StereoCalibration& c = frame.calibration;
   PlaneSweepView view;
   view.frame_id = frame.id;
-  view.image = Resampled(Grey(frame.left), scale);
   view.K << c.fx_px, 0.0, c.cx_px, 0.0, c.fy_px, c.cy_px, 0.0, 0.0, 1.0;
-  view.K = ScaledK(view.K, scale);
   view.world_from_cam = frame.world_from_cam.value_or(Pose3d::Identity());
+  return view;
+}
+
+PlaneSweepView ReferenceView(const Frame& frame, double scale) {
+  PlaneSweepView view = FrameCamera(frame);
+  view.image = Resampled(Grey(frame.left), scale);
+  view.K = ScaledK(view.K, scale);
   return view;
 }
 
@@ -89,19 +94,6 @@ DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& s
     }
   }
   return result;
-}
-
-cv::Mat DepthFromSweepDisparity(const Frame& frame, const cv::Mat& disparity_px) {
-  const double focal_baseline_px_m = frame.calibration.fx_px * frame.calibration.baseline_m;
-  cv::Mat depth_m = cv::Mat::zeros(disparity_px.size(), CV_32F);
-  for (int v = 0; v < disparity_px.rows; ++v) {
-    const float* d = disparity_px.ptr<float>(v);
-    float* z = depth_m.ptr<float>(v);
-    for (int u = 0; u < disparity_px.cols; ++u) {
-      if (d[u] > 0.0f) z[u] = static_cast<float>(focal_baseline_px_m / d[u]);
-    }
-  }
-  return depth_m;
 }
 
 }  // namespace semap

@@ -9,6 +9,9 @@
 
 namespace semap {
 
+// The camera of `frame` as a view without pixels: its intrinsics as K, its pose (identity without one).
+PlaneSweepView FrameCamera(const Frame& frame);
+
 // The reference view of `frame` for the plane sweep: its left image in grey, its intrinsics as K, its pose;
 // resampled by `scale` (0.5: half resolution, the pixel centres kept in place).
 PlaneSweepView ReferenceView(const Frame& frame, double scale);
@@ -25,8 +28,5 @@ PlaneSweepView ScaledView(const CalibratedView& view, double scale);
 // `directions`: the sweep directions besides the fronto-parallel planes (PlaneSweepDepth::Compute).
 DisparityResult SweepFrameDisparity(const Frame& frame, const PlaneSweepDepth& sweep, bool half_resolution,
                                     const std::vector<SweepDirection>& directions = {});
-
-// Camera-frame depth (m) from a SweepFrameDisparity result: f·B / d where d > 0, 0 elsewhere.
-cv::Mat DepthFromSweepDisparity(const Frame& frame, const cv::Mat& disparity_px);
 
 }  // namespace semap

@@ -199,6 +199,18 @@ cv::Mat StereoDepth::ComputeDisparity(const cv::Mat& left, const cv::Mat& right)
   return Compute(left, right).disparity_px;
 }
 
+cv::Mat DepthMapFromDisparity(const cv::Mat& disparity_px, const StereoCalibration& calibration) {
+  cv::Mat depth_m = cv::Mat::zeros(disparity_px.size(), CV_32FC1);
+  for (int v = 0; v < disparity_px.rows; ++v) {
+    const float* d = disparity_px.ptr<float>(v);
+    float* z = depth_m.ptr<float>(v);
+    for (int u = 0; u < disparity_px.cols; ++u) {
+      if (d[u] > 0.0f) z[u] = static_cast<float>(calibration.DepthFromDisparity(d[u]));
+    }
+  }
+  return depth_m;
+}
+
 LabelledCloud StereoDepth::ToCloud(const Frame& frame, const cv::Mat& disparity_px,
                                    const cv::Mat& confidence) const {
   const DepthOptions& o = options_;

@@ -157,6 +157,10 @@ struct DisparityResult {
   double rows_aligned_px = 0.0;  // align_rows: the largest row offset removed from the right image (0: none)
 };
 
+// The camera-frame depth (m) of every pixel of a CV_32F disparity map with a disparity > 0 (f·B / d with the
+// calibration's focal length and baseline), 0 elsewhere: SGBM's, or a plane sweep's in that form.
+cv::Mat DepthMapFromDisparity(const cv::Mat& disparity_px, const StereoCalibration& calibration);
+
 // The depth stage. Stateless apart from its options: const methods may be called from several threads at once
 // (each call builds its own OpenCV matcher).
 class StereoDepth {

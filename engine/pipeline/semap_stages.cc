@@ -49,19 +49,6 @@ void MarkSky(const cv::Mat& labels, Label sky, int stride_px, DepthView* view) {
   }
 }
 
-// The SGBM depth (camera-frame z, m) of every pixel with a valid disparity, 0 elsewhere.
-cv::Mat DepthFromDisparity(const cv::Mat& disparity_px, const StereoCalibration& calibration) {
-  cv::Mat depth_m(disparity_px.size(), CV_32FC1);
-  for (int v = 0; v < disparity_px.rows; ++v) {
-    const float* d = disparity_px.ptr<float>(v);
-    float* z = depth_m.ptr<float>(v);
-    for (int u = 0; u < disparity_px.cols; ++u) {
-      z[u] = d[u] > 0.0f ? static_cast<float>(calibration.DepthFromDisparity(d[u])) : 0.0f;
-    }
-  }
-  return depth_m;
-}
-
 // The label image of `frame` from its keyframe's: the keyframe's own, or carried over
 // (semantics.enet_propagation); reused when a pose is missing or the sizes differ (nothing to reproject
 // with).
@@ -75,7 +62,7 @@ cv::Mat LabelsFromKeyframe(const Frame& frame, const KeyframeLabels& keyframe, c
   StereoCalibration intrinsics = frame.calibration;
   intrinsics.width_px = frame.left.cols;
   intrinsics.height_px = frame.left.rows;
-  return PropagateLabels(keyframe, *frame.world_from_cam, DepthFromDisparity(disparity_px, intrinsics),
+  return PropagateLabels(keyframe, *frame.world_from_cam, DepthMapFromDisparity(disparity_px, intrinsics),
                          intrinsics, unlabelled_id);
 }
 
@@ -119,12 +106,9 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels
                              : FrameLabels(frame, semantics_, segmenter_.get());
   if (frame.right.empty() && sweep_.options().label_directions) {
     // The ground's and the walls' planes from the first sweep's depth and the labels, swept as well.
-    PlaneSweepView camera;
-    camera.K << frame.calibration.fx_px, 0.0, frame.calibration.cx_px, 0.0, frame.calibration.fy_px,
-        frame.calibration.cy_px, 0.0, 0.0, 1.0;
-    camera.world_from_cam = frame.world_from_cam.value_or(Pose3d::Identity());
-    const std::vector<SweepDirection> directions = DominantDirections(
-        DepthFromSweepDisparity(frame, disparity.disparity_px), labels, camera, class_map_);
+    const std::vector<SweepDirection> directions =
+        DominantDirections(DepthMapFromDisparity(disparity.disparity_px, frame.calibration), labels,
+                           FrameCamera(frame), class_map_);
     if (!directions.empty()) {
       disparity = SweepFrameDisparity(frame, sweep_, depth_.options().half_resolution, directions);
     }

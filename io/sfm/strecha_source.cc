@@ -17,14 +17,6 @@ namespace fs = std::filesystem;
 // K(0, 1), the skew, must be 0 within this many px: the frames' pinhole model has none.
 constexpr double kMaxSkewPx = 1e-6;
 
-cv::Mat ReadView(const fs::path& path, int flags, const char* what) {
-  if (!fs::is_regular_file(path)) throw FileError(path, std::string(what) + " not found");
-  cv::Mat m = cv::imread(path.string(), flags);
-  if (m.empty())
-    throw FileError(path, std::string("cannot decode ") + what + " (truncated or corrupt image)");
-  return m;
-}
-
 StereoCalibration Intrinsics(const StrechaView& view, double baseline_m) {
   StereoCalibration c;
   c.fx_px = view.K(0, 0);
@@ -75,14 +67,7 @@ class StrechaSource final : public FrameSource {
   std::optional<Frame> Next() override {
     if (next_ >= selected_.size()) return std::nullopt;
     const std::size_t k = next_++;  // advance first: a bad frame is skipped, the next call reads the next
-    const std::int64_t id = scan_.frames[k].id;
-    try {
-      return ReadFrame(k);
-    } catch (const FileError& e) {
-      throw FrameError(id, "frame " + std::to_string(id) + ": " + e.what());
-    } catch (const cv::Exception& e) {
-      throw FrameError(id, "frame " + std::to_string(id) + ": OpenCV error: " + e.what());
-    }
+    return kitti_internal::ReadAsFrame(scan_.frames[k].id, [&] { return ReadFrame(k); });
   }
 
  private:
@@ -93,13 +78,13 @@ class StrechaSource final : public FrameSource {
     Frame f;
     f.id = scan_.frames[k].id;
     f.timestamp_s = scan_.timestamps_s[k];
-    f.left = ReadView(view.image, cv::IMREAD_COLOR, "image");
+    f.left = kitti_internal::ReadImage(view.image, cv::IMREAD_COLOR, "image");
     f.calibration = Intrinsics(view, around.nearest_m);
     f.world_from_cam = view.world_from_cam;
     for (const std::size_t n : around.views) {
       CalibratedView neighbour;
       neighbour.frame_id = static_cast<std::int64_t>(n);
-      neighbour.image = ReadView(set_[n].image, cv::IMREAD_GRAYSCALE, "neighbour image");
+      neighbour.image = kitti_internal::ReadImage(set_[n].image, cv::IMREAD_GRAYSCALE, "neighbour image");
       neighbour.K = set_[n].K;
       neighbour.world_from_cam = set_[n].world_from_cam;
       f.neighbour_views.push_back(std::move(neighbour));

@@ -18,6 +18,8 @@ namespace fs = std::filesystem;
 // Bytes of a PNG file up to the end of the IHDR width/height fields.
 constexpr size_t kPngHeaderBytes = 24;
 
+}  // namespace
+
 cv::Mat ReadImage(const fs::path& path, int flags, const char* what) {
   if (!fs::is_regular_file(path)) throw FileError(path, std::string(what) + " not found");
   cv::Mat m;
@@ -31,7 +33,15 @@ cv::Mat ReadImage(const fs::path& path, int flags, const char* what) {
   return m;
 }
 
-}  // namespace
+Frame ReadAsFrame(std::int64_t frame_id, const std::function<Frame()>& read) {
+  try {
+    return read();
+  } catch (const FileError& e) {
+    throw FrameError(frame_id, "frame " + std::to_string(frame_id) + ": " + e.what());
+  } catch (const cv::Exception& e) {
+    throw FrameError(frame_id, "frame " + std::to_string(frame_id) + ": OpenCV error: " + e.what());
+  }
+}
 
 std::vector<FrameEntry> ListFrames(const fs::path& dir, const std::regex& pattern) {
   std::error_code ec;
@@ -147,15 +157,7 @@ SequenceSource::SequenceSource(SequenceScan scan) : scan_(std::move(scan)) {}
 std::optional<Frame> SequenceSource::Next() {
   if (next_ >= scan_.frames.size()) return std::nullopt;
   const size_t index = next_++;  // advance first: a bad frame is skipped, the next call reads the next one
-  try {
-    return ReadFrame(index);
-  } catch (const FileError& e) {
-    throw FrameError(scan_.frames[index].id,
-                     "frame " + std::to_string(scan_.frames[index].id) + ": " + e.what());
-  } catch (const cv::Exception& e) {
-    throw FrameError(scan_.frames[index].id,
-                     "frame " + std::to_string(scan_.frames[index].id) + ": OpenCV error: " + e.what());
-  }
+  return ReadAsFrame(scan_.frames[index].id, [&] { return ReadFrame(index); });
 }
 
 Frame SequenceSource::ReadFrame(size_t index) {

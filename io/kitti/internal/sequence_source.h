@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -61,6 +62,13 @@ cv::Size PngSize(const std::filesystem::path& path);
 // Fills frame ids, counts and image size of scan->info from the rest of the scan, and checks that the
 // calibration fits that image size (CheckIntrinsicsFitImage; throws FileError naming the calibration file).
 void FinishInfo(SequenceScan* scan);
+
+// Reads an image (cv::imread `flags`); throws FileError naming the file and `what` ("left image") when it is
+// missing or cannot be decoded.
+cv::Mat ReadImage(const std::filesystem::path& path, int flags, const char* what);
+
+// `read()`'s frame; a FileError or an OpenCV error it throws becomes FrameError(frame_id, "frame N: ...").
+Frame ReadAsFrame(std::int64_t frame_id, const std::function<Frame()>& read);
 
 // Reads frames one at a time. A frame that cannot be read throws FrameError; the next Next() goes on.
 class SequenceSource : public FrameSource {
