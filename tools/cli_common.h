@@ -46,6 +46,7 @@ void RegisterSegmentCommand(CLI::App& app, int* exit_code);
 void RegisterEvalCommand(CLI::App& app, int* exit_code);
 void RegisterEvalPosesCommand(CLI::App& app, int* exit_code);
 void RegisterRunCommand(CLI::App& app, int* exit_code);
+void RegisterMapCommand(CLI::App& app, int* exit_code);
 void RegisterTableCommand(CLI::App& app, int* exit_code);
 void RegisterCompareCommand(CLI::App& app, int* exit_code);
 void RegisterRenderCommand(CLI::App& app, int* exit_code);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/run/stream_run.h"
+#include "app/split/split_run.h"
 #include "engine/pipeline/pipeline.h"
 #include "tools/allocator.h"
 #include "tools/cli_common.h"
@@ -38,6 +39,10 @@ struct RunArgs {
   int frames = -1;
   double progress_s = 1.0;
   bool eval = false;
+  // A split run's depth node.
+  bool publish_depth = false;
+  std::string share = "0/1";
+  std::string node;
 };
 
 // Command-line shortcuts become config overrides, so that they are validated like any config value.
@@ -62,6 +67,26 @@ std::vector<std::string> Overrides(const RunArgs& a) {
   return o;
 }
 
+// The signal handlers reach the pipeline while it runs; the default actions are back once it has ended.
+void StopOnSignals(app::StreamRunRequest* request) {
+  using Handler = void (*)(int);
+  auto previous = std::make_shared<std::pair<Handler, Handler>>(SIG_DFL, SIG_DFL);
+  request->on_running = [previous](Pipeline* pipeline) {
+    g_running_pipeline.store(pipeline);
+    if (pipeline) {
+      previous->first = std::signal(SIGINT, StopOnSignal);
+      previous->second = std::signal(SIGTERM, StopOnSignal);
+    } else {
+      std::signal(SIGINT, previous->first);
+      std::signal(SIGTERM, previous->second);
+    }
+  };
+}
+
+int ExitCode(const app::StreamRunResult& result) {
+  return result.outcome == app::StreamRunOutcome::kDone ? kExitOk : kExitFailure;
+}
+
 int Run(const RunArgs& args) {
   const app::Config config = app::LoadStreamRunConfig(args.common.config_path, Overrides(args), args.path);
   app::StreamRunRequest request;
@@ -69,20 +94,35 @@ int Run(const RunArgs& args) {
   request.progress_s = args.progress_s;
   request.evaluate = args.eval;
   request.start_note = AllocatorDescription();
-  // The signal handlers reach the pipeline while it runs; the default actions are back once it has ended.
-  using Handler = void (*)(int);
-  Handler previous_int = SIG_DFL, previous_term = SIG_DFL;
-  request.on_running = [&](Pipeline* pipeline) {
-    g_running_pipeline.store(pipeline);
-    if (pipeline) {
-      previous_int = std::signal(SIGINT, StopOnSignal);
-      previous_term = std::signal(SIGTERM, StopOnSignal);
-    } else {
-      std::signal(SIGINT, previous_int);
-      std::signal(SIGTERM, previous_term);
-    }
-  };
-  return app::StreamRun(config, request).outcome == app::StreamRunOutcome::kDone ? kExitOk : kExitFailure;
+  StopOnSignals(&request);
+  if (!args.publish_depth) return ExitCode(app::StreamRun(config, request));
+  const app::FrameShare share = app::ParseFrameShare(args.share);
+  const std::string node = args.node.empty() ? "depth-" + std::to_string(share.index) : args.node;
+  return ExitCode(app::RunDepthNodeOverLcm(config, request, share, node));
+}
+
+struct MapArgs {
+  CommonArgs common;
+  std::string out;
+  std::string method;
+  std::string lcm_url;
+  double progress_s = 1.0;
+};
+
+int Map(const MapArgs& args) {
+  using app::Config;
+  using app::Override;
+  std::vector<std::string> o = args.common.overrides;
+  if (!args.out.empty()) o.push_back(Override(&Config::output, &io::OutputOptions::dir, args.out));
+  if (!args.method.empty()) o.push_back(Override(&Config::simplify, &SimplifyOptions::method, args.method));
+  if (!args.lcm_url.empty()) o.push_back(Override(&Config::lcm, &io::LcmOptions::url, args.lcm_url));
+  const app::Config config = app::LoadConfig(args.common.config_path, o);
+  app::StreamRunRequest request;
+  request.dataset = "map node";
+  request.progress_s = args.progress_s;
+  request.start_note = AllocatorDescription();
+  StopOnSignals(&request);
+  return ExitCode(app::RunMapNodeOverLcm(config, request));
 }
 
 }  // namespace
@@ -117,7 +157,33 @@ void RegisterRunCommand(CLI::App& app, int* exit_code) {
       "after the run (not counted in the frame rate), evaluate the mesh against every frame's Velodyne "
       "/ exact depth: totals printed, eval_frames.csv, eval.json, eval.md (both protocols; error by class, "
       "distance and triangle size) and top_view*.png (the mesh from above) in the output folder");
+  cmd->add_flag("--publish-depth", args->publish_depth,
+                "a split run's depth node: compute the frames' depth and labels and publish them over LCM "
+                "(lcm.url, channel <lcm.channel_prefix>DEPTH_FRAME, run split.run_id) for `semap map`; no "
+                "map and no mesh files here");
+  cmd->add_option("--share", args->share,
+                  "with --publish-depth: compute frames I, I+N, I+2N, ... of the sequence (I/N, e.g. 0/2)")
+      ->capture_default_str();
+  cmd->add_option("--node", args->node,
+                  "with --publish-depth: this depth node's name in the map node's messages (default "
+                  "depth-I)");
   cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Run(*args); }); });
+}
+
+void RegisterMapCommand(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<MapArgs>();
+  auto* cmd = app.add_subcommand(
+      "map",
+      "A split run's map node: build the map from the depth frames that `semap run --publish-depth` nodes "
+      "publish over LCM, and write/publish the mesh as `semap run` does");
+  AddCommonOptions(cmd, &args->common);
+  cmd->add_option("--out", args->out, "output folder (output.dir)");
+  cmd->add_option("--method", args->method, "simplification method, e.g. PS or O (simplify.method)");
+  cmd->add_option("--lcm-url", args->lcm_url,
+                  "receive depth frames (and publish the mesh, with lcm.enabled) at this URL (lcm.url)");
+  cmd->add_option("--progress-interval", args->progress_s, "seconds between progress lines")
+      ->capture_default_str();
+  cmd->callback([=]() { *exit_code = RunGuarded(args->common, [&]() { return Map(*args); }); });
 }
 
 }  // namespace semap::tools

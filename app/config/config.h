@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/config/pose_input.h"
+#include "app/split/split_options.h"
 #include "engine/depth/plane_sweep.h"
 #include "engine/depth/stereo_depth.h"
 #include "engine/eval/depth_accuracy.h"
@@ -40,6 +41,7 @@ struct Config {
   PipelineOptions pipeline;        // stage threads, queues, modes
   io::OutputOptions output;        // files written by a run
   io::LcmOptions lcm;              // mesh / stats publishing over LCM
+  SplitOptions split;              // depth nodes and a map node joined over LCM
   DepthAccuracyOptions eval;       // accuracy against Velodyne / exact depth
   StereoOdometryOptions odometry;  // poses from the images (input.poses)
   DepthOptions depth;              // stereo matching and point cloud

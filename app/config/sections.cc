@@ -61,6 +61,10 @@ std::vector<Section> BindSections(Config& c) {
       MakeSection("pipeline", "Streaming engine: threads, queues, real-time or exhaustive.", c.pipeline));
   s.push_back(MakeSection("output", "Files written by `semap run`.", c.output));
   s.push_back(MakeSection("lcm", "LCM publishing (non-blocking, own thread).", c.lcm));
+  s.push_back(MakeSection("split",
+                          "Split runs: depth nodes (semap run --publish-depth) and a map node (semap map) "
+                          "joined over LCM.",
+                          c.split));
   s.push_back(MakeSection(
       "eval", "Accuracy of a mesh against Velodyne / exact depth (semap eval, table, compare).", c.eval));
   return s;

@@ -41,9 +41,8 @@ std::unique_ptr<io::FrameSource> OpenStreamingSource(const Config& config, const
 
 std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_ptr<io::FrameSource> source,
                                              std::unique_ptr<SimplifyStage> simplify,
-                                             const RunOdometry* odometry) {
+                                             const RunOdometry* odometry, const DepthNodeWiring* depth_node) {
   const ClassMap class_map = source->class_map();
-  if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
   std::unique_ptr<FrameReader> reader;
   if (config.semantics.size_mismatch == LabelSizePolicy::kResizeNearest) {
     reader = std::make_unique<LabelSizeWarnings>(std::move(source));
@@ -55,23 +54,49 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
     reader = std::make_unique<OdometryReader>(std::move(reader), config.odometry,
                                               odometry->plan.replace_poses, odometry->log);
   }
+  // Last: the readers before see every frame of the sequence, as they do in a single process.
+  if (depth_node) reader = std::make_unique<FrameShareReader>(std::move(reader), depth_node->share);
   // ENet on keyframes (semantics.enet_every_frames > 1) runs on its own thread and the depth workers load
   // none; on every frame (1) each depth worker runs its own, so that the workers segment frames in parallel
   // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the
   // path).
   const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
-  auto pipeline = std::make_unique<Pipeline>(
-      config.pipeline, std::move(reader),
-      [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map, enet] {
-        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet, sweep);
-      },
-      std::move(simplify),
-      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+  auto make_stage = [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map,
+                     enet] { return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet, sweep); };
+  std::unique_ptr<Pipeline> pipeline;
+  if (depth_node) {
+    pipeline = std::make_unique<Pipeline>(
+        config.pipeline, std::move(reader),
+        [make_stage, sink = depth_node->sink]() -> std::unique_ptr<DepthStage> {
+          return std::make_unique<FrameDepthStage>(make_stage(), sink);
+        },
+        std::make_unique<PassThroughSimplifyStage>(), std::make_unique<NoMapStage>());
+  } else {
+    if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
+    pipeline = std::make_unique<Pipeline>(
+        config.pipeline, std::move(reader), make_stage, std::move(simplify),
+        std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+  }
   if (enet) {
     pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics),
                               config.semantics.enet_every_frames);
   }
   return pipeline;
+}
+
+std::unique_ptr<Pipeline> MakeMapNodePipeline(const Config& config, std::unique_ptr<FrameReader> frames,
+                                              const ClassMap& class_map,
+                                              std::unique_ptr<SimplifyStage> simplify) {
+  if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
+  return std::make_unique<Pipeline>(
+      config.pipeline, std::move(frames),
+      [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map] {
+        // The frames carry their labels: no segmenter (labels_from_keyframes).
+        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, /*labels_from_keyframes=*/true,
+                                                  sweep);
+      },
+      std::move(simplify),
+      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
 }
 
 }  // namespace semap::app

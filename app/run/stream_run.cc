@@ -10,6 +10,7 @@
 #include "app/run/engine_pipeline.h"
 #include "app/run/progress_sink.h"
 #include "io/atomic_file.h"
+#include "io/labels/class_map_yaml.h"
 #include "io/mesh/ply_off.h"
 
 namespace semap::app {
@@ -44,11 +45,17 @@ Config LoadStreamRunConfig(const std::filesystem::path& yaml_path, const std::ve
 }
 
 StreamRunResult StreamRun(const Config& config, const StreamRunRequest& request) {
-  const RunOdometry odometry = PrepareOdometry(config, request.dataset);
-  auto source = OpenStreamingSource(config, request.dataset);
-  const std::int64_t total = source->size();
+  const bool map_node = static_cast<bool>(request.received_frames);
+  const RunOdometry odometry = map_node ? RunOdometry{} : PrepareOdometry(config, request.dataset);
+  std::unique_ptr<io::FrameSource> source;
+  std::int64_t total = 0;  // unknown to a map node
+  if (!map_node) {
+    source = OpenStreamingSource(config, request.dataset);
+    total = source->size();
+  }
   spdlog::info("{}: {} frames ({}), method {}, {}, {} depth workers, {}", request.dataset, total,
-               io::DatasetLayoutName(source->layout()), SimplifyMethodName(config.simplify.method),
+               map_node ? std::string("depth frames over LCM") : io::DatasetLayoutName(source->layout()),
+               SimplifyMethodName(config.simplify.method),
                config.pipeline.mode == PipelineOptions::Mode::kRealtime
                    ? fmt::format("realtime mode at {:g}x the sensor's rate", config.pipeline.realtime_speed)
                    : std::string("exhaustive mode"),
@@ -65,8 +72,12 @@ StreamRunResult StreamRun(const Config& config, const StreamRunRequest& request)
     outputs.SetFigureSource([log = odometry.log](std::int64_t id) { return log->Figures(id); });
   }
 
-  const std::unique_ptr<Pipeline> engine = MakeEnginePipeline(
-      config, std::move(source), request.simplify ? request.simplify() : nullptr, &odometry);
+  std::unique_ptr<SimplifyStage> simplify = request.simplify ? request.simplify() : nullptr;
+  const std::unique_ptr<Pipeline> engine =
+      map_node ? MakeMapNodePipeline(config, request.received_frames(),
+                                       io::LoadClassMap(config.input.class_map), std::move(simplify))
+               : MakeEnginePipeline(config, std::move(source), std::move(simplify), &odometry,
+                                    request.depth_node);
   Pipeline& pipeline = *engine;
   for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
   if (progress) pipeline.AddSink(&*progress);

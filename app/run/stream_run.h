@@ -13,6 +13,7 @@
 
 #include "app/config/config.h"
 #include "app/eval/mesh_evaluation.h"
+#include "app/run/engine_pipeline.h"
 #include "app/run/run_outputs.h"
 #include "engine/core/mesh.h"
 #include "engine/pipeline/pipeline.h"
@@ -39,6 +40,12 @@ struct StreamRunRequest {
   std::function<void(Pipeline*)> on_running;
   // Appended to the start line (e.g. which allocator serves the process).
   std::string start_note;
+  // A split run's depth node (not owned): only its share of the frames, each frame's depth and labels to its
+  // sink; no map (the mesh files are empty; frames.csv and summary.json account for the frames).
+  const DepthNodeWiring* depth_node = nullptr;
+  // A split run's map node: the frames, with their depth, from here instead of `dataset`'s images (`dataset`
+  // then only names the run); labels in the scheme of input.class_map.
+  std::function<std::unique_ptr<FrameReader>()> received_frames;
 };
 
 // How a run ended, for the exit status.

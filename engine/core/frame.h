@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
@@ -27,6 +28,14 @@ struct CalibratedView {
   Pose3d world_from_cam = Pose3d::Identity();
 };
 
+// A frame's depth-stage result computed elsewhere (a depth node of a split run): what the depth stage would
+// compute from the images, handed over so that only the cloud is built from it.
+struct FrameDepth {
+  cv::Mat disparity_px;  // CV_32F, the left image's size, in full-resolution px; 0 = no disparity
+  cv::Mat confidence;    // CV_32F in [0, 1], as DisparityResult::confidence
+  cv::Mat labels;        // CV_8UC1 label ids (ClassMap scheme) of the left image; empty = none
+};
+
 struct Frame {
   std::int64_t id = 0;       // index in the sequence (as on disk)
   double timestamp_s = 0.0;  // seconds since the first frame of the sequence
@@ -47,6 +56,13 @@ struct Frame {
   // pipeline's RowAlignmentReader; all-zero coefficients: measured, nothing to correct). Absent: not
   // measured, and the depth stage measures it on the pair itself.
   std::optional<RowOffsets> row_offsets;
+  // Set when the frame's depth and labels were computed elsewhere (a split run's map node): the depth stage
+  // builds the frame's cloud from them and needs no right image, neighbour views or segmenter.
+  std::shared_ptr<const FrameDepth> depth;
+  // When the sensor delivered the frame, seconds since the Unix epoch, as the host that read it measured
+  // (0: not known; the pipeline sets it when it reads the frame). A frame read on another host keeps its
+  // sensing time, so that latencies count from there.
+  double sensed_unix_s = 0.0;
 };
 
 }  // namespace semap

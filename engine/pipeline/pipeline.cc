@@ -93,6 +93,8 @@ const char* DropReasonName(DropReason reason) {
       return "behind";
     case DropReason::kNoKeyframeLabels:
       return "no_keyframe_labels";
+    case DropReason::kLost:
+      return "lost";
   }
   return "unknown";
 }
@@ -214,6 +216,35 @@ struct Pipeline::Impl {
     side_events.push_back(std::move(e));
   }
 
+  // Counts the frames the reader says it lost since it was last asked.
+  void CountLost() {
+    const std::vector<FrameReader::LostFrame> lost = p.reader_->TakeLost();
+    if (lost.empty()) return;
+    std::lock_guard<std::mutex> lock(side_mutex);
+    for (const FrameReader::LostFrame& l : lost) {
+      side_events.push_back(SideEvent{l.frame_id, l.timestamp_s, DropReason::kLost, {}, {}});
+      ++dropped_by_reason[static_cast<int>(DropReason::kLost)];
+    }
+  }
+
+  // The frame's sensor time on the pipeline's clock, and its sensing time on the Unix clock: a frame sensed
+  // on another host (Frame::sensed_unix_s set) is as old here as it is there (the hosts' clocks agree to
+  // within what NTP or PTP give); any other frame was sensed at `*sensor_s` (its due time in realtime mode,
+  // its read otherwise).
+  void SetSensed(Frame* frame, double* sensor_s) {
+    const double now_s = clock.NowS();
+    const double unix_now_s = UnixNowS();
+    if (frame->sensed_unix_s > 0.0) {
+      *sensor_s = now_s - std::max(0.0, unix_now_s - frame->sensed_unix_s);
+    } else {
+      frame->sensed_unix_s = unix_now_s - (now_s - *sensor_s);
+    }
+  }
+
+  static double UnixNowS() {
+    return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  }
+
   // Reads the next frame into `item` (a failed read or an unusable pose is recorded on it); false at the end
   // of the sequence.
   bool ReadOne(Item* item, ReadState* state) {
@@ -300,8 +331,10 @@ struct Pipeline::Impl {
       } else if (!ReadTimed(&item, &state)) {
         break;
       }
+      CountLost();
       if (realtime && !WaitUntilDue(&item, &pacer)) break;
       item.times.sensor_s = realtime ? item.times.due_s : clock.NowS();
+      if (item.frame) SetSensed(item.frame.get(), &item.times.sensor_s);
       if (p.segment_ && item.frame && !AttachKeyframe(item, &schedule, &keyframes)) {
         LeaveEarly(item, DropReason::kNoKeyframeLabels);  // realtime: the segment queue was full
         continue;
@@ -313,6 +346,7 @@ struct Pipeline::Impl {
         LeaveEarly(*evicted, DropReason::kBehind);  // counted, never silent
       }
     }
+    CountLost();
     if (p.segment_) to_segment.PushEnd();
     for (int w = 0; w < p.options_.depth_workers; ++w) to_depth.PushEnd();
   }

@@ -122,10 +122,11 @@ struct PipelineOptions {
   int QueueCapacity() const;
 };
 
-// Why a frame was read but never integrated (realtime mode; FrameStats::dropped_by_reason names them).
+// Why a frame of the sequence was never integrated (FrameStats::dropped_by_reason names them).
 enum class DropReason {
   kBehind,            // a newer frame took its place in the full input queue
   kNoKeyframeLabels,  // no keyframe had been taken for labels yet (the segment queue was full)
+  kLost,              // the reader lost it (FrameReader::TakeLost: a split run's frame that never arrived)
 };
 const char* DropReasonName(DropReason reason);
 

@@ -98,12 +98,12 @@ DisparityResult StereoLabelStage::Disparity(const Frame& frame) const {
   return depth_.Compute(frame.left, frame.right, frame.row_offsets ? &*frame.row_offsets : nullptr);
 }
 
-LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
+FrameDepth StereoLabelStage::ComputeDepth(const Frame& frame, const KeyframeLabels* keyframe_labels) {
   DisparityResult disparity = Disparity(frame);
-  const cv::Mat labels = keyframe_labels != nullptr
-                             ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_,
-                                                  class_map_.unlabelled_id())
-                             : FrameLabels(frame, semantics_, segmenter_.get());
+  cv::Mat labels = keyframe_labels != nullptr
+                       ? LabelsFromKeyframe(frame, *keyframe_labels, disparity.disparity_px, semantics_,
+                                            class_map_.unlabelled_id())
+                       : FrameLabels(frame, semantics_, segmenter_.get());
   if (frame.right.empty() && sweep_.options().label_directions) {
     // The ground's and the walls' planes from the first sweep's depth and the labels, swept as well.
     const std::vector<SweepDirection> directions =
@@ -113,8 +113,12 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels
       disparity = SweepFrameDisparity(frame, sweep_, depth_.options().half_resolution, directions);
     }
   }
-  LabelledCloud cloud = depth_.ToCloud(frame, disparity.disparity_px, disparity.confidence);
-  DepthView view = depth_.ToDepthView(frame, disparity.disparity_px, disparity.confidence);
+  return FrameDepth{std::move(disparity.disparity_px), std::move(disparity.confidence), std::move(labels)};
+}
+
+LabelledCloud StereoLabelStage::ToCloud(const Frame& frame, const FrameDepth& depth) const {
+  LabelledCloud cloud = depth_.ToCloud(frame, depth.disparity_px, depth.confidence);
+  DepthView view = depth_.ToDepthView(frame, depth.disparity_px, depth.confidence);
   if (cloud.size() == 0) {
     // Nothing to map (uniform, black or unmatched images): the frame is skipped and counted, not mapped
     // empty.
@@ -122,6 +126,7 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels
                              ": no valid disparity (no point in the depth "
                              "range; uniform, dark or unmatched images?)");
   }
+  const cv::Mat& labels = depth.labels;
   ApplyFirstCameraLabels(cloud, frame.id, labels, frame.left.size(), class_map_.unlabelled_id(),
                          semantics_.size_mismatch);
   if (semantics_.drop_sky && sky_label_ && RemoveLabel(cloud, *sky_label_) > 0 && cloud.size() == 0) {
@@ -133,6 +138,36 @@ LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels
   }
   cloud.camera_views = {std::make_shared<const DepthView>(std::move(view))};
   return cloud;
+}
+
+LabelledCloud StereoLabelStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
+  if (frame.depth) return ToCloud(frame, *frame.depth);
+  return ToCloud(frame, ComputeDepth(frame, keyframe_labels));
+}
+
+FrameDepthStage::FrameDepthStage(std::unique_ptr<StereoLabelStage> stage, FrameDepthSink* sink)
+    : stage_(std::move(stage)), sink_(sink) {
+  SEMAP_ASSERT(stage_ != nullptr && sink_ != nullptr, "a depth node's stage needs a stage and a sink");
+}
+
+LabelledCloud FrameDepthStage::Process(const Frame& frame, const KeyframeLabels* keyframe_labels) {
+  sink_->OnFrameDepth(frame, stage_->ComputeDepth(frame, keyframe_labels));
+  LabelledCloud none;
+  none.camera_frame_ids = {frame.id};
+  return none;
+}
+
+MapUpdate NoMapStage::Process(const LabelledCloud& cloud, const Pose3d&) {
+  last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
+  MapUpdate u;
+  u.frame_id = last_frame_id_;
+  return u;
+}
+
+MapUpdate NoMapStage::Finish() {
+  MapUpdate u;
+  u.frame_id = last_frame_id_;
+  return u;
 }
 
 WindowedSimplifyStage::WindowedSimplifyStage(const SimplifyOptions& options, ClassMap class_map)

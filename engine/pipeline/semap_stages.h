@@ -52,9 +52,17 @@ class StereoLabelStage : public DepthStage {
  public:
   StereoLabelStage(const DepthOptions& depth, const SemanticsOptions& semantics, ClassMap class_map,
                    bool labels_from_keyframes = false, const PlaneSweepOptions& sweep = {});
+  // ToCloud(frame, *frame.depth) when the frame carries its depth, else ToCloud(frame, ComputeDepth(...)).
   LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) override;
   // With its own segmenter: runs it once on the first frame (its first forward pass sets the network up).
   void Prepare(const Frame& first_frame) override;
+
+  // The frame's disparity, confidence and label image (the first half of Process).
+  FrameDepth ComputeDepth(const Frame& frame, const KeyframeLabels* keyframe_labels);
+  // The frame's labelled cloud from its depth (the second half of Process): the same cloud wherever `depth`
+  // was computed. Throws std::runtime_error naming the frame when it gives no point (no valid disparity, or
+  // only sky).
+  LabelledCloud ToCloud(const Frame& frame, const FrameDepth& depth) const;
 
  private:
   // The frame's disparity (and confidence): SGBM on its pair, or the plane sweep without one.
@@ -66,6 +74,36 @@ class StereoLabelStage : public DepthStage {
   ClassMap class_map_;
   std::optional<Label> sky_label_;        // points of this label are dropped when semantics.drop_sky
   std::unique_ptr<Segmenter> segmenter_;  // only for the ENet source, without keyframe labels
+};
+
+// A split run's depth node: each frame's depth and labels (StereoLabelStage::ComputeDepth) go to `sink`, and
+// the frame's cloud is left empty (its camera_frame_ids name the frame): the map is another process's. One
+// instance per depth worker; the sink is shared by them (not owned; must outlive the pipeline).
+class FrameDepthStage : public DepthStage {
+ public:
+  FrameDepthStage(std::unique_ptr<StereoLabelStage> stage, FrameDepthSink* sink);
+  LabelledCloud Process(const Frame& frame, const KeyframeLabels* keyframe_labels) override;
+  void Prepare(const Frame& first_frame) override { stage_->Prepare(first_frame); }
+
+ private:
+  std::unique_ptr<StereoLabelStage> stage_;
+  FrameDepthSink* sink_;
+};
+
+// A depth node's simplification: the cloud as it is (empty: FrameDepthStage's).
+class PassThroughSimplifyStage : public SimplifyStage {
+ public:
+  LabelledCloud Process(LabelledCloud cloud, std::vector<ClassPointCount>*) override { return cloud; }
+};
+
+// A depth node's map: none; each update names its frame and carries no mesh.
+class NoMapStage : public MapStage {
+ public:
+  MapUpdate Process(const LabelledCloud& cloud, const Pose3d& world_from_cam) override;
+  MapUpdate Finish() override;
+
+ private:
+  std::int64_t last_frame_id_ = -1;
 };
 
 // The segment stage of a pipeline whose labels come from a segmenter (semantics.source enet): the keyframe's

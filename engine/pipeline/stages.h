@@ -23,6 +23,16 @@ class FrameReader {
   // The next frame, or std::nullopt at the end of the sequence. A frame that cannot be read throws (any
   // std::exception): the pipeline reports it, counts it as failed and asks for the next one.
   virtual std::optional<Frame> Next() = 0;
+
+  // A frame of the sequence that the reader will never return (a split run's map node: its parts did not all
+  // arrive in time).
+  struct LostFrame {
+    std::int64_t frame_id = -1;
+    double timestamp_s = 0.0;
+  };
+  // The frames lost since the last call, oldest first; the pipeline counts each as dropped, reason "lost".
+  // Called after each Next() and once at the end of the sequence.
+  virtual std::vector<LostFrame> TakeLost() { return {}; }
 };
 
 // Stereo depth + semantic labelling of one frame: the frame's labelled points in the world frame, with the
@@ -37,6 +47,14 @@ class DepthStage {
   // Realtime mode, once, before the first frame is due: whatever would make the first frames late (a
   // network's first forward pass), done on the sequence's first frame. Its result is not used.
   virtual void Prepare(const Frame& first_frame) {}
+};
+
+// Where a split run's depth node hands each frame's depth and labels (a publisher to the map node). Called
+// from the depth workers, several at once, in any frame order: implementations are thread-safe.
+class FrameDepthSink {
+ public:
+  virtual ~FrameDepthSink() = default;
+  virtual void OnFrameDepth(const Frame& frame, const FrameDepth& depth) = 0;
 };
 
 // Per-pixel labels of keyframes (a slow segmenter, ENet), on the pipeline's own segment thread, concurrently
@@ -121,8 +139,8 @@ class PipelineSink {
                        const std::optional<Pose3d>& world_from_cam) = 0;
   // A frame that failed in `stage` (read, depth, simplify, map) and was skipped or stopped the run.
   virtual void OnFrameError(std::int64_t frame_id, const std::string& stage, const std::string& what) {}
-  // A frame read but never integrated because the engine was behind (realtime mode): `reason` is one of
-  // FrameStats::dropped_by_reason's names.
+  // A frame never integrated because the engine was behind (realtime mode), or lost on its way from another
+  // host: `reason` is one of FrameStats::dropped_by_reason's names.
   virtual void OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string& reason) {}
   // The end of the run: `final_delta` completes the mesh; `stats` is the final accounting.
   virtual void OnFinish(const FrameStats& stats, const MeshDelta& final_delta) {}

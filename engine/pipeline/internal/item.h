@@ -27,7 +27,7 @@ inline constexpr std::array<const char*, kNumStages> kStageNames = {"read", "dep
 // "segment": the keyframes' segmentation; "depth.label_wait": a depth worker waiting for it.
 inline constexpr const char* kSegmentStageName = "segment";
 inline constexpr const char* kLabelWaitStepName = "depth.label_wait";
-inline constexpr int kNumDropReasons = 2;  // DropReason's values
+inline constexpr int kNumDropReasons = 3;  // DropReason's values
 inline constexpr int kNumLatencySteps = static_cast<int>(std::size(kLatencyStepNames));
 
 // A keyframe's labels as the segment thread hands them over, with the segmenter's time.

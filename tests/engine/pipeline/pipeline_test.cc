@@ -15,6 +15,7 @@
 #include <opencv2/core/utility.hpp>
 #include <set>
 #include <thread>
+#include <utility>
 
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
@@ -313,6 +314,86 @@ TEST(Pipeline, RealtimeDropsFramesWhenTheMapFallsBehindAndCountsThem) {
   EXPECT_EQ(s.frames_processed + s.frames_dropped + s.frames_failed, summary.frames_read);
   EXPECT_EQ(summary.frames_read, 60);
   for (size_t i = 1; i < sink.frames.size(); ++i) EXPECT_GT(sink.frames[i], sink.frames[i - 1]);
+}
+
+// Frames 0..n-1 but those in `lost`, which it reports through TakeLost() when it passes them (a split run's
+// map node does so for frames that never arrived whole); frames sensed `age_s` ago on the Unix clock.
+class LossyReader : public FakeReader {
+ public:
+  LossyReader(int n, std::set<std::int64_t> lost, double age_s = 0.0)
+      : FakeReader(n), lost_ids_(std::move(lost)), age_s_(age_s) {}
+  std::optional<Frame> Next() override {
+    std::optional<Frame> f = FakeReader::Next();
+    while (f && lost_ids_.count(f->id)) {
+      lost_.push_back({f->id, f->timestamp_s});
+      f = FakeReader::Next();
+    }
+    if (f && age_s_ > 0.0) {
+      const double unix_now_s =
+          std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+      f->sensed_unix_s = unix_now_s - age_s_;
+    }
+    return f;
+  }
+  std::vector<LostFrame> TakeLost() override { return std::exchange(lost_, {}); }
+
+ private:
+  std::set<std::int64_t> lost_ids_;
+  double age_s_;
+  std::vector<LostFrame> lost_;
+};
+
+class DropRecordingSink : public RecordingSink {
+ public:
+  void OnFrame(const FrameStats& stats, const MeshDelta& delta, const std::optional<Pose3d>& pose) override {
+    latencies.push_back(stats.latency);
+    RecordingSink::OnFrame(stats, delta, pose);
+  }
+  void OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string& reason) override {
+    dropped.push_back({frame_id, reason});
+    EXPECT_DOUBLE_EQ(timestamp_s, 0.1 * static_cast<double>(frame_id));
+  }
+  std::vector<std::pair<std::int64_t, std::string>> dropped;
+  std::vector<FrameLatency> latencies;
+};
+
+TEST(Pipeline, FramesTheReaderLostAreCountedAsDroppedLost) {
+  PipelineOptions options;
+  DropRecordingSink sink;
+  // Frame 19 is the last: reported once the reader has reached the end of the sequence.
+  const auto summary = RunPipeline(options, std::make_unique<LossyReader>(20, std::set<std::int64_t>{0, 5, 6, 19}),
+                                   &sink);
+  const FrameStats& s = summary.final_stats;
+  EXPECT_EQ(s.frames_processed, 16);
+  EXPECT_EQ(s.frames_dropped, 4);
+  EXPECT_EQ(s.frames_failed, 0);
+  const std::vector<std::pair<std::int64_t, std::string>> expected = {
+      {0, "lost"}, {5, "lost"}, {6, "lost"}, {19, "lost"}};
+  EXPECT_EQ(sink.dropped, expected);
+  bool named = false;
+  for (const auto& [name, n] : s.dropped_by_reason) {
+    if (name == "lost") {
+      named = true;
+      EXPECT_EQ(n, 4);
+    } else {
+      EXPECT_EQ(n, 0) << name;
+    }
+  }
+  EXPECT_TRUE(named);
+}
+
+// A frame sensed elsewhere 2 s ago is 2 s old when it arrives: its latencies count from its sensing.
+TEST(Pipeline, AFrameSensedElsewhereKeepsItsAgeInTheLatencies) {
+  PipelineOptions options;
+  DropRecordingSink sink;
+  const auto summary = RunPipeline(options, std::make_unique<LossyReader>(6, std::set<std::int64_t>{}, 2.0), &sink);
+  ASSERT_EQ(summary.final_stats.frames_processed, 6);
+  ASSERT_EQ(sink.latencies.size(), 6u);
+  for (const FrameLatency& l : sink.latencies) {
+    EXPECT_GE(l.depth_ms, 2000.0);
+    EXPECT_LT(l.depth_ms, 2000.0 + 5000.0);  // the test machine's own delay, generously
+    EXPECT_GE(l.published_ms, l.map_ms);
+  }
 }
 
 TEST(Pipeline, StopRequestDrainsAndFinishes) {
