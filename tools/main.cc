@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
       RegisterRunCommand,     RegisterMapSfmCommand,   RegisterConfigCommand,    RegisterSynthCommand,
       RegisterLcmMeshCommand, RegisterSimplifyCommand, RegisterInfoCommand,      RegisterDepthCommand,
       RegisterSegmentCommand, RegisterEvalCommand,     RegisterEvalPosesCommand, RegisterTableCommand,
-      RegisterCompareCommand, RegisterRenderCommand,   RegisterViewCommand,    RegisterMapCommand,
+      RegisterCompareCommand, RegisterRenderCommand,   RegisterViewCommand,      RegisterMapCommand,
   };
   for (auto reg : commands) reg(app, &exit_code);
   // A reader that goes away (`semap run … | head -1`) must not kill a run with SIGPIPE: writes to the closed

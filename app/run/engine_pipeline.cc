@@ -61,8 +61,10 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
   // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the
   // path).
   const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
-  auto make_stage = [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map,
-                     enet] { return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet, sweep); };
+  auto make_stage = [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep,
+                     class_map, enet] {
+    return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet, sweep);
+  };
   std::unique_ptr<Pipeline> pipeline;
   if (depth_node) {
     pipeline = std::make_unique<Pipeline>(

@@ -74,10 +74,10 @@ StreamRunResult StreamRun(const Config& config, const StreamRunRequest& request)
 
   std::unique_ptr<SimplifyStage> simplify = request.simplify ? request.simplify() : nullptr;
   const std::unique_ptr<Pipeline> engine =
-      map_node ? MakeMapNodePipeline(config, request.received_frames(),
-                                       io::LoadClassMap(config.input.class_map), std::move(simplify))
-               : MakeEnginePipeline(config, std::move(source), std::move(simplify), &odometry,
-                                    request.depth_node);
+      map_node
+          ? MakeMapNodePipeline(config, request.received_frames(), io::LoadClassMap(config.input.class_map),
+                                std::move(simplify))
+          : MakeEnginePipeline(config, std::move(source), std::move(simplify), &odometry, request.depth_node);
   Pipeline& pipeline = *engine;
   for (PipelineSink* sink : outputs.sinks()) pipeline.AddSink(sink);
   if (progress) pipeline.AddSink(&*progress);

@@ -48,9 +48,11 @@ void ReceivedFrames::Add(const void* data, size_t size, double now_s) {
     if (whole) {
       ++frames_;
       if (!next_id_) {
-        next_id_ = whole->frame_id;  // the run starts at the first whole frame
+        first_frame_id_ = whole->first_frame_id;
         end_id_ = whole->first_frame_id + whole->sequence_frames;
       }
+      // Until the first frame is taken, the run starts at the lowest whole frame.
+      if (!taken_any_ && (!next_id_ || whole->frame_id < *next_id_)) next_id_ = whole->frame_id;
       if (whole->frame_id < *next_id_ || ready_.count(whole->frame_id) > 0) {
         ++late_;
       } else {
@@ -61,6 +63,12 @@ void ReceivedFrames::Add(const void* data, size_t size, double now_s) {
     }
   }
   arrived_.notify_all();
+}
+
+double ReceivedFrames::EarliestReadyS(double now_s) const {
+  double earliest_s = now_s;
+  for (const auto& [id, at_s] : ready_at_s_) earliest_s = std::min(earliest_s, at_s);
+  return earliest_s;
 }
 
 void ReceivedFrames::GiveUp(std::int64_t frame_id) {
@@ -80,7 +88,11 @@ bool ReceivedFrames::Ended(double now_s) {
 ReceivedFrames::Next ReceivedFrames::Poll(double now_s, Frame* frame) {
   std::lock_guard<std::mutex> lock(mutex_);
   while (next_id_ && *next_id_ < end_id_) {
+    if (!taken_any_ && *next_id_ != first_frame_id_ && now_s - EarliestReadyS(now_s) < options_.wait_s) {
+      break;  // a frame before the first one received may still be on its way from another depth node
+    }
     if (auto it = ready_.find(*next_id_); it != ready_.end()) {
+      taken_any_ = true;
       *frame = std::move(it->second);
       ready_.erase(it);
       ready_at_s_.erase(*next_id_);
@@ -88,9 +100,7 @@ ReceivedFrames::Next ReceivedFrames::Poll(double now_s, Frame* frame) {
       return Next::kFrame;
     }
     // Frames behind the missing one have arrived: it is late since the first of them did.
-    double first_later_s = now_s;
-    for (const auto& [id, at_s] : ready_at_s_) first_later_s = std::min(first_later_s, at_s);
-    if (ready_.empty() || now_s - first_later_s < options_.wait_s) break;
+    if (ready_.empty() || now_s - EarliestReadyS(now_s) < options_.wait_s) break;
     GiveUp((*next_id_)++);
   }
   return Ended(now_s) ? Next::kEnd : Next::kWait;
@@ -109,7 +119,15 @@ std::vector<FrameReader::LostFrame> ReceivedFrames::TakeLost() {
 
 std::vector<std::string> ReceivedFrames::TakeRefusals() {
   std::lock_guard<std::mutex> lock(mutex_);
-  return assembler_.TakeRefusals();
+  std::vector<std::string> fresh = assembler_.TakeRefusals();
+  refusals_.insert(refusals_.end(), fresh.begin(), fresh.end());
+  return fresh;
+}
+
+std::vector<std::string> ReceivedFrames::Refusals() {
+  TakeRefusals();
+  std::lock_guard<std::mutex> lock(mutex_);
+  return refusals_;
 }
 
 ReceivedFrames::Counters ReceivedFrames::counters() const {

@@ -30,18 +30,20 @@ Frame FrameFromMessage(io::DepthFrameMessage message);
 // pipeline's reader takes frames. Time is passed in (seconds on any monotonic clock), so that a test decides
 // when a wait has passed.
 //
-// Order: the first whole frame received starts the run (a map node started late begins there; earlier
-// frames are not the run's); from then on frames come out in id order up to the end of the sequence the
-// depth nodes announce (DepthFrameMessage::first_frame_id + sequence_frames). A frame still missing when a
-// later frame has been whole for SplitOptions::wait_s is lost; so is every frame still missing when nothing
-// has arrived for SplitOptions::idle_end_s, which ends the run.
+// Order: the lowest whole frame received starts the run (a map node started late begins there; earlier
+// frames are not the run's): at once when it is the sequence's first frame, else once it has been whole for
+// SplitOptions::wait_s (another depth node's earlier frame may still be on its way); from then on frames come
+// out in id order up to the end of the sequence the depth nodes announce (DepthFrameMessage::first_frame_id +
+// sequence_frames). A frame still missing when a later frame has been whole for SplitOptions::wait_s is lost;
+// so is every frame still missing when nothing has arrived for SplitOptions::idle_end_s, which ends the run.
 class ReceivedFrames {
  public:
   struct Counters {
-    io::DepthFrameAssembler::Counters parts;  // the assembler's: parts, duplicates, malformed, foreign, refused
-    std::int64_t frames = 0;                  // whole frames received
-    std::int64_t late = 0;                    // whole, but after their turn (before the start, or given up)
-    std::int64_t lost = 0;                    // given up
+    io::DepthFrameAssembler::Counters
+        parts;                // the assembler's: parts, duplicates, malformed, foreign, refused
+    std::int64_t frames = 0;  // whole frames received
+    std::int64_t late = 0;    // whole, but after their turn (before the start)
+    std::int64_t lost = 0;    // given up
   };
   // What Poll() found.
   enum class Next { kFrame, kWait, kEnd };
@@ -63,10 +65,14 @@ class ReceivedFrames {
   std::vector<FrameReader::LostFrame> TakeLost();
   // Why messages were refused (a depth node's configuration or calibration), once per node and reason.
   std::vector<std::string> TakeRefusals();
+  // Every refusal so far, taken or not.
+  std::vector<std::string> Refusals();
   Counters counters() const;
 
  private:
   void GiveUp(std::int64_t frame_id);
+  // When the first of the frames waiting to be taken became whole (`now_s` when none waits).
+  double EarliestReadyS(double now_s) const;
   bool Ended(double now_s);
 
   const SplitOptions options_;
@@ -77,10 +83,13 @@ class ReceivedFrames {
   std::map<std::int64_t, Frame> ready_;        // whole frames not yet taken, by id
   std::map<std::int64_t, double> ready_at_s_;  // when each of them became whole
   std::optional<std::int64_t> next_id_;        // the next frame in order; unset before the first whole one
+  std::int64_t first_frame_id_ = 0;            // the sequence's first frame id
   std::int64_t end_id_ = 0;                    // one past the sequence's last frame id
+  bool taken_any_ = false;                     // a frame has been taken: the start is fixed
   double started_s_;
   double last_arrival_s_ = 0.0;
   std::vector<FrameReader::LostFrame> lost_;
+  std::vector<std::string> refusals_;  // taken so far
   std::int64_t frames_ = 0, late_ = 0, lost_count_ = 0;
 };
 

@@ -28,10 +28,11 @@ StreamRunResult RunDepthNode(const Config& node_config, StreamRunRequest request
   StreamRunResult result = StreamRun(config, request);
   const DepthFramePublisher::Counters c = publisher.counters();
   const double per_frame = c.frames > 0 ? 1.0 / static_cast<double>(c.frames) : 0.0;
-  spdlog::info("depth node {}: sent {} frames in {} datagrams, {:.2f} MB ({:.0f} kB a frame), encoding "
-               "{:.1f} ms a frame",
-               node_name, c.frames, c.datagrams, static_cast<double>(c.bytes) / 1e6,
-               static_cast<double>(c.bytes) / 1e3 * per_frame, c.encode_ms * per_frame);
+  spdlog::info(
+      "depth node {}: sent {} frames in {} datagrams, {:.2f} MB ({:.0f} kB a frame), encoding "
+      "{:.1f} ms a frame",
+      node_name, c.frames, c.datagrams, static_cast<double>(c.bytes) / 1e6,
+      static_cast<double>(c.bytes) / 1e3 * per_frame, c.encode_ms * per_frame);
   return result;
 }
 
@@ -59,8 +60,9 @@ StreamRunResult RunDepthNodeOverLcm(const Config& config, StreamRunRequest reque
   DepthFrameLcmPublisher lcm(config.lcm.url, channel);
   std::int64_t refused = 0;  // DepthFramePublisher serialises the calls
   spdlog::info("depth node {}: publishing on {} at {}", node_name, channel, config.lcm.url);
-  StreamRunResult result = RunDepthNode(config, std::move(request), share, node_name,
-                                        [&](const io::EncodedMessage& d) { refused += lcm.Publish(d) ? 0 : 1; });
+  StreamRunResult result =
+      RunDepthNode(config, std::move(request), share, node_name,
+                   [&](const io::EncodedMessage& d) { refused += lcm.Publish(d) ? 0 : 1; });
   if (refused > 0) spdlog::warn("depth node {}: LCM refused {} datagrams", node_name, refused);
   return result;
 }

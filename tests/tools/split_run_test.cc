@@ -2,6 +2,8 @@
 // street's depth frames, a map node (RunMapNode) maps them. Its mesh.ply equals the single-process run's
 // byte for byte when nothing is lost; lost datagrams, a node that dies, a map node that starts late, foreign
 // and malformed messages and a mismatched configuration each cost what they must and no more.
+#include "app/split/split_run.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -17,7 +19,6 @@
 
 #include "app/config/config.h"
 #include "app/run/stream_run.h"
-#include "app/split/split_run.h"
 #include "semap_lcm/depth_frame_part_t.hpp"
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
@@ -49,9 +50,8 @@ class SplitRun : public ::testing::Test {
   }
 
   static Config MakeConfig(const fs::path& out, std::vector<std::string> extra = {}) {
-    std::vector<std::string> o = {"output.dir=" + out.string(), "simplify.method=PS",
-                                  "split.wait_s=0.2", "split.idle_end_s=0.5",
-                                  "split.first_frame_timeout_s=0.5"};
+    std::vector<std::string> o = {"output.dir=" + out.string(), "simplify.method=PS", "split.wait_s=0.2",
+                                  "split.idle_end_s=0.5", "split.first_frame_timeout_s=0.5"};
     o.insert(o.end(), extra.begin(), extra.end());
     return LoadConfig("", o);
   }
@@ -68,12 +68,11 @@ class SplitRun : public ::testing::Test {
                              const std::string& name = "depth") {
     Datagrams sent;
     std::mutex m;
-    const StreamRunResult r =
-        RunDepthNode(MakeConfig(out, std::move(extra)), Request(), share, name,
-                     [&](const io::EncodedMessage& d) {
-                       std::lock_guard<std::mutex> lock(m);
-                       sent.push_back(d);
-                     });
+    const StreamRunResult r = RunDepthNode(MakeConfig(out, std::move(extra)), Request(), share, name,
+                                           [&](const io::EncodedMessage& d) {
+                                             std::lock_guard<std::mutex> lock(m);
+                                             sent.push_back(d);
+                                           });
     EXPECT_EQ(r.outcome, StreamRunOutcome::kDone);
     EXPECT_FALSE(fs::exists(out / "mesh.ply"));  // a depth node has no map
     return sent;
@@ -83,7 +82,8 @@ class SplitRun : public ::testing::Test {
   static StreamRunResult MapNode(const fs::path& out, const Datagrams& datagrams,
                                  std::shared_ptr<ReceivedFrames>* frames_out = nullptr) {
     const Config config = MakeConfig(out);
-    auto frames = std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyNowS());
+    auto frames =
+        std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyNowS());
     for (const auto& d : datagrams) frames->Add(d.data(), d.size(), SteadyNowS());
     if (frames_out) *frames_out = frames;
     return RunMapNode(config, Request(), frames);
@@ -215,8 +215,12 @@ TEST_F(SplitRun, ADepthNodeWithAnotherConfigurationIsRefusedByName) {
   std::shared_ptr<ReceivedFrames> frames;
   const StreamRunResult r = MapNode(dir_ / "map", other, &frames);
   EXPECT_EQ(r.outcome, StreamRunOutcome::kNothingMapped);
-  EXPECT_GT(frames->counters().parts.refused, 0);
+  EXPECT_EQ(frames->counters().parts.refused, static_cast<std::int64_t>(other.size()));
   EXPECT_EQ(frames->counters().frames, 0);
+  const std::vector<std::string> refusals = frames->Refusals();
+  ASSERT_EQ(refusals.size(), 1u);  // once per node and reason
+  EXPECT_NE(refusals.front().find("cam-b"), std::string::npos) << refusals.front();
+  EXPECT_NE(refusals.front().find("config"), std::string::npos) << refusals.front();
 }
 
 // A copy of the generated sequence (KITTI raw layout) whose cameras have another focal length: every
@@ -247,10 +251,11 @@ TEST_F(SplitRun, ADepthNodeWithAnotherCalibrationIsRefusedByName) {
     std::mutex m;
     StreamRunRequest request = Request();
     request.dataset = sequence.string();
-    RunDepthNode(MakeConfig(dir_ / "b"), request, FrameShare{1, 2}, "cam-b", [&](const io::EncodedMessage& d) {
-      std::lock_guard<std::mutex> lock(m);
-      other.push_back(d);
-    });
+    RunDepthNode(MakeConfig(dir_ / "b"), request, FrameShare{1, 2}, "cam-b",
+                 [&](const io::EncodedMessage& d) {
+                   std::lock_guard<std::mutex> lock(m);
+                   other.push_back(d);
+                 });
   }
   ASSERT_FALSE(other.empty());
   mixed.insert(mixed.end(), other.begin(), other.end());
@@ -259,7 +264,7 @@ TEST_F(SplitRun, ADepthNodeWithAnotherCalibrationIsRefusedByName) {
   EXPECT_EQ(Integrated(dir_ / "map"), (std::set<std::int64_t>{0, 2, 4, 6, 8, 10}));
   EXPECT_EQ(DroppedLost(dir_ / "map"), 6);
   EXPECT_EQ(frames->counters().parts.refused, static_cast<std::int64_t>(other.size()));
-  const std::vector<std::string> refusals = frames->TakeRefusals();
+  const std::vector<std::string> refusals = frames->Refusals();
   ASSERT_FALSE(refusals.empty());
   EXPECT_NE(refusals.front().find("cam-b"), std::string::npos) << refusals.front();
 }

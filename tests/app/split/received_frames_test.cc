@@ -62,7 +62,8 @@ io::DepthFrameMessage Message(std::int64_t id) {
 }
 
 // Small datagrams, so that every frame comes in several parts.
-std::vector<io::EncodedMessage> Datagrams(std::int64_t id, std::int64_t run = kRun, std::int64_t config = kConfig,
+std::vector<io::EncodedMessage> Datagrams(std::int64_t id, std::int64_t run = kRun,
+                                          std::int64_t config = kConfig,
                                           const std::string& node = "depth-0") {
   io::DepthFrameOptions o;
   o.max_message_bytes = 4096;
@@ -125,9 +126,10 @@ TEST_F(Order, AMissingFrameIsGivenUpOnlyAfterTheWaitBehindALaterOne) {
   EXPECT_TRUE(LostIds().empty());
   EXPECT_EQ(Take(2.0), (Ids{2, -1}));  // waited split.wait_s = 1 s: 1 is lost
   EXPECT_EQ(LostIds(), (Ids{1}));
-  Add(1, 2.1);  // too late now
-  EXPECT_EQ(frames_.counters().late, 1);
+  Add(1, 2.1);  // too late now: dropped part by part
+  EXPECT_GT(frames_.counters().parts.late, 0);
   EXPECT_EQ(frames_.counters().lost, 1);
+  EXPECT_EQ(Take(2.1), (Ids{-1}));
 }
 
 TEST_F(Order, AFrameMissingOnePartNeverCompletesAndOnlyItIsLost) {
@@ -144,10 +146,21 @@ TEST_F(Order, AFrameMissingOnePartNeverCompletesAndOnlyItIsLost) {
   EXPECT_EQ(frames_.counters().frames, 3);
 }
 
-TEST_F(Order, ALateMapNodeStartsAtTheFirstWholeFrame) {
-  for (std::int64_t id = 4; id < kFrames; ++id) Add(id, 1.0);
-  EXPECT_EQ(Take(1.0), (Ids{4, 5, 6, 7, -2}));
-  EXPECT_TRUE(LostIds().empty());  // 0..3 were before this node's start, not lost
+TEST_F(Order, ALateMapNodeStartsAtTheLowestWholeFrameOnceTheWaitHasPassed) {
+  for (std::int64_t id : {5, 6, 4, 7}) Add(id, 1.0);
+  Add(3, 1.5);                      // another node's earlier frame, still in time
+  EXPECT_EQ(Take(1.9), (Ids{-1}));  // split.wait_s after the first whole frame: not yet
+  EXPECT_EQ(Take(2.0), (Ids{3, 4, 5, 6, 7, -2}));
+  EXPECT_TRUE(LostIds().empty());  // 0..2 were before this node's start, not lost
+  EXPECT_EQ(frames_.counters().late, 0);
+}
+
+TEST_F(Order, TheSequencesFirstFrameStartsTheRunAtOnce) {
+  Add(0, 1.0);
+  EXPECT_EQ(Take(1.0), (Ids{0, -1}));
+  Add(2, 1.1);
+  Add(1, 1.2);
+  EXPECT_EQ(Take(1.2), (Ids{1, 2, -1}));
 }
 
 TEST_F(Order, WhenNothingArrivesTheRunEndsAndTheRestIsLost) {
@@ -167,7 +180,8 @@ TEST_F(Order, NoFrameAtAllEndsAfterTheFirstFrameTimeout) {
 
 TEST_F(Order, ForeignMalformedAndMismatchedMessagesAreCountedAndSkipped) {
   for (const auto& d : Datagrams(0, /*run=*/kRun + 1)) frames_.Add(d.data(), d.size(), 0.0);
-  for (const auto& d : Datagrams(0, kRun, /*config=*/kConfig + 1, "cam-b")) frames_.Add(d.data(), d.size(), 0.0);
+  for (const auto& d : Datagrams(0, kRun, /*config=*/kConfig + 1, "cam-b"))
+    frames_.Add(d.data(), d.size(), 0.0);
   std::mt19937 rng(5);
   for (int k = 0; k < 200; ++k) {
     io::EncodedMessage junk = Datagrams(0).front();

@@ -361,8 +361,8 @@ TEST(Pipeline, FramesTheReaderLostAreCountedAsDroppedLost) {
   PipelineOptions options;
   DropRecordingSink sink;
   // Frame 19 is the last: reported once the reader has reached the end of the sequence.
-  const auto summary = RunPipeline(options, std::make_unique<LossyReader>(20, std::set<std::int64_t>{0, 5, 6, 19}),
-                                   &sink);
+  const auto summary =
+      RunPipeline(options, std::make_unique<LossyReader>(20, std::set<std::int64_t>{0, 5, 6, 19}), &sink);
   const FrameStats& s = summary.final_stats;
   EXPECT_EQ(s.frames_processed, 16);
   EXPECT_EQ(s.frames_dropped, 4);
@@ -386,7 +386,8 @@ TEST(Pipeline, FramesTheReaderLostAreCountedAsDroppedLost) {
 TEST(Pipeline, AFrameSensedElsewhereKeepsItsAgeInTheLatencies) {
   PipelineOptions options;
   DropRecordingSink sink;
-  const auto summary = RunPipeline(options, std::make_unique<LossyReader>(6, std::set<std::int64_t>{}, 2.0), &sink);
+  const auto summary =
+      RunPipeline(options, std::make_unique<LossyReader>(6, std::set<std::int64_t>{}, 2.0), &sink);
   ASSERT_EQ(summary.final_stats.frames_processed, 6);
   ASSERT_EQ(sink.latencies.size(), 6u);
   for (const FrameLatency& l : sink.latencies) {
