@@ -20,6 +20,7 @@
 #include "engine/simplify/simplify.h"
 #include "io/config/field_binder.h"
 #include "io/frame_source.h"
+#include "io/lcm/depth_frames.h"
 #include "io/lcm/lcm_publisher.h"
 #include "io/output/output_sinks.h"
 
@@ -42,6 +43,7 @@ struct Config {
   io::OutputOptions output;        // files written by a run
   io::LcmOptions lcm;              // mesh / stats publishing over LCM
   SplitOptions split;              // depth nodes and a map node joined over LCM
+  io::DepthFrameOptions depth_frames;  // how a depth node encodes its frames
   DepthAccuracyOptions eval;       // accuracy against Velodyne / exact depth
   StereoOdometryOptions odometry;  // poses from the images (input.poses)
   DepthOptions depth;              // stereo matching and point cloud

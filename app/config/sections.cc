@@ -65,6 +65,10 @@ std::vector<Section> BindSections(Config& c) {
                           "Split runs: depth nodes (semap run --publish-depth) and a map node (semap map) "
                           "joined over LCM.",
                           c.split));
+  s.push_back(MakeSection("depth_frames",
+                          "A split run's depth frames over LCM: each frame cut into bands of rows, each band "
+                          "compressed losslessly (zstd) into one datagram.",
+                          c.depth_frames));
   s.push_back(MakeSection(
       "eval", "Accuracy of a mesh against Velodyne / exact depth (semap eval, table, compare).", c.eval));
   return s;

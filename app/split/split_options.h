@@ -1,5 +1,6 @@
 // A split run: depth nodes (`semap run --publish-depth`) compute each frame's depth and labels and publish
-// them over LCM; a map node (`semap map`) builds the map from them. Both read this section.
+// them over LCM; a map node (`semap map`) builds the map from them. Both read this section; how the frames
+// are encoded is the depth_frames section's (io::DepthFrameOptions).
 #pragma once
 
 #include "engine/core/options.h"
@@ -9,7 +10,6 @@ namespace semap::app {
 struct SplitOptions {
   // Each field's key and meaning: Describe() below, once.
   int run_id = 1;
-  int zstd_level = 3;
   double wait_s = 1.5;
   double idle_end_s = 10.0;
   double first_frame_timeout_s = 120.0;
@@ -21,10 +21,6 @@ struct SplitOptions {
             "the run's id: the map node takes the depth frames of its own run id only (others are counted "
             "and skipped); start every node of one run with the same id",
             AtLeast(1));
-    // Depth maps, confidence and labels compress losslessly; higher levels trade the depth node's CPU for
-    // bandwidth.
-    v.Field("zstd_level", &zstd_level, "zstd compression level of the depth frames (higher: smaller, slower)",
-            In(1, 19));
     // Several depth nodes finish their frames out of order by up to a frame's depth time; a longer wait
     // integrates slow frames rather than losing them, a shorter one keeps the mesh younger after a loss.
     v.Field("wait_s", &wait_s,
