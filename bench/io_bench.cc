@@ -1,10 +1,16 @@
 // Reader and writer throughput: KITTI frames from ../shared (per frame, PNG decoding included) and mesh
-// files (a grid mesh of 250k vertices / 500k triangles). Run: ./build/bench/io_bench
+// files (a grid mesh of 250k vertices / 500k triangles), and a KITTI frame's depth result through the LCM
+// depth-frame parts (encode: compress and cut into datagrams; decode: assemble them back). Run:
+// ./build/bench/io_bench   (the depth frames only: --benchmark_filter=DepthFrame)
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 
+#include "engine/depth/stereo_depth.h"
 #include "io/frame_source.h"
+#include "io/kitti/calibration.h"
+#include "io/lcm/depth_frames.h"
 #include "io/mesh/ply_off.h"
 
 namespace {
@@ -104,6 +110,90 @@ void BM_OffSizeBytes(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(bytes));
 }
 BENCHMARK(BM_OffSizeBytes)->Unit(benchmark::kMillisecond);
+
+// The depth result of KITTI odometry 04's first colour pair, as a depth node sends it: the engine's SGBM
+// disparity and confidence (full-size maps, as half-resolution matching delivers them too) and a blocky label
+// image (rectangles of a dozen classes, as a segmenter's output looks).
+const semap::io::DepthFrameMessage* KittiDepthFrame() {
+  static const std::optional<semap::io::DepthFrameMessage> frame =
+      []() -> std::optional<semap::io::DepthFrameMessage> {
+    const fs::path seq = SharedData("kitti_odometry_04") / "sequences" / "04";
+    if (!fs::exists(seq / "image_2" / "000000.png")) return std::nullopt;
+    semap::io::DepthFrameMessage m;
+    m.left = cv::imread((seq / "image_2" / "000000.png").string(), cv::IMREAD_COLOR);
+    const cv::Mat right = cv::imread((seq / "image_3" / "000000.png").string(), cv::IMREAD_COLOR);
+    m.calibration =
+        semap::io::ReadOdometryCalibration(seq / "calib.txt", semap::io::OdometryPair::kColor).stereo;
+    m.calibration.width_px = m.left.cols;
+    m.calibration.height_px = m.left.rows;
+    const semap::DisparityResult d = semap::StereoDepth(semap::DepthOptions{}).Compute(m.left, right);
+    m.disparity_px = d.disparity_px;
+    m.confidence = d.confidence;
+    m.labels.create(m.left.size(), CV_8UC1);
+    for (int y = 0; y < m.labels.rows; ++y) {
+      for (int x = 0; x < m.labels.cols; ++x)
+        m.labels.at<std::uint8_t>(y, x) =
+            y > 250 ? 0 : static_cast<std::uint8_t>(1 + (x / 90 + 5 * (y / 60)) % 11);
+    }
+    m.frame_id = 1;
+    m.world_from_cam = semap::Pose3d::Identity();
+    return m;
+  }();
+  return frame ? &*frame : nullptr;
+}
+
+semap::io::DepthFrameOptions DepthFrameBenchOptions(const benchmark::State& state) {
+  semap::io::DepthFrameOptions o;
+  o.byte_shuffle = state.range(0) != 0;
+  return o;
+}
+
+void ReportDepthFrame(benchmark::State& state, const std::vector<semap::io::EncodedMessage>& parts) {
+  std::int64_t bytes = 0;
+  for (const auto& p : parts) bytes += static_cast<std::int64_t>(p.size());
+  const auto* m = KittiDepthFrame();
+  state.counters["bytes_per_frame"] = static_cast<double>(bytes);
+  state.counters["parts"] = static_cast<double>(parts.size());
+  state.counters["MB_per_s_at_10Hz"] = 10.0 * static_cast<double>(bytes) / 1e6;
+  state.counters["ratio"] =
+      static_cast<double>(m->left.total() * (m->left.elemSize() + 9)) / static_cast<double>(bytes);
+  state.SetLabel(std::to_string(m->left.cols) + "x" + std::to_string(m->left.rows) +
+                 (state.range(0) ? " colour, byte-shuffled" : " colour"));
+}
+
+void BM_EncodeDepthFrame(benchmark::State& state) {
+  const auto* m = KittiDepthFrame();
+  if (!m) {
+    state.SkipWithError("no kitti_odometry_04 in the shared data");
+    return;
+  }
+  const semap::io::DepthFrameSender sender(DepthFrameBenchOptions(state), 7, 9, "bench");
+  std::vector<semap::io::EncodedMessage> parts;
+  for (auto _ : state) benchmark::DoNotOptimize((parts = sender.Encode(*m)).data());
+  ReportDepthFrame(state, parts);
+}
+BENCHMARK(BM_EncodeDepthFrame)->Arg(0)->Arg(1)->ArgName("shuffle")->Unit(benchmark::kMillisecond);
+
+void BM_DecodeDepthFrame(benchmark::State& state) {
+  const auto* m = KittiDepthFrame();
+  if (!m) {
+    state.SkipWithError("no kitti_odometry_04 in the shared data");
+    return;
+  }
+  const auto parts = semap::io::DepthFrameSender(DepthFrameBenchOptions(state), 7, 9, "bench").Encode(*m);
+  for (auto _ : state) {
+    semap::io::DepthFrameAssembler assembler(7, 9);
+    std::optional<semap::io::DepthFrameMessage> frame;
+    for (const auto& p : parts) frame = assembler.Add(p.data(), p.size());
+    if (!frame) {
+      state.SkipWithError("the frame did not assemble");
+      return;
+    }
+    benchmark::DoNotOptimize(frame->disparity_px.data);
+  }
+  ReportDepthFrame(state, parts);
+}
+BENCHMARK(BM_DecodeDepthFrame)->Arg(0)->Arg(1)->ArgName("shuffle")->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
