@@ -35,22 +35,22 @@ class ConfigError : public std::runtime_error {
 // Every stage's options. Defaults are the paper's values where it gives them.
 // config/default.yaml is generated from these structs (`semap config --defaults`); a test keeps it in sync.
 struct Config {
-  io::FrameSourceOptions input;    // where frames come from and what is loaded with them
-  PoseInputOptions pose_input;     // input.poses: where the camera poses come from
-  OneFrameInputOptions one_frame;  // input.one_frame_preset: a run of one frame
-  sim::SynthOptions synth;         // the synthetic sequence generator (`semap synth`)
-  PipelineOptions pipeline;        // stage threads, queues, modes
-  io::OutputOptions output;        // files written by a run
-  io::LcmOptions lcm;              // mesh / stats publishing over LCM
-  SplitOptions split;              // depth nodes and a map node joined over LCM
+  io::FrameSourceOptions input;        // where frames come from and what is loaded with them
+  PoseInputOptions pose_input;         // input.poses: where the camera poses come from
+  OneFrameInputOptions one_frame;      // input.one_frame_preset: a run of one frame
+  sim::SynthOptions synth;             // the synthetic sequence generator (`semap synth`)
+  PipelineOptions pipeline;            // stage threads, queues, modes
+  io::OutputOptions output;            // files written by a run
+  io::LcmOptions lcm;                  // mesh / stats publishing over LCM
+  SplitOptions split;                  // depth nodes and a map node joined over LCM
   io::DepthFrameOptions depth_frames;  // how a depth node encodes its frames
-  DepthAccuracyOptions eval;       // accuracy against Velodyne / exact depth
-  StereoOdometryOptions odometry;  // poses from the images (input.poses)
-  DepthOptions depth;              // stereo matching and point cloud
-  PlaneSweepOptions plane_sweep;   // multi-view depth where a frame has no stereo pair
-  SemanticsOptions semantics;      // where per-pixel labels come from
-  SimplifyOptions simplify;        // semantic point-cloud simplification (and its baselines)
-  MapOptions map;                  // the Delaunay map: votes, manifold, incremental update, memory bound
+  DepthAccuracyOptions eval;           // accuracy against Velodyne / exact depth
+  StereoOdometryOptions odometry;      // poses from the images (input.poses)
+  DepthOptions depth;                  // stereo matching and point cloud
+  PlaneSweepOptions plane_sweep;       // multi-view depth where a frame has no stereo pair
+  SemanticsOptions semantics;          // where per-pixel labels come from
+  SimplifyOptions simplify;            // semantic point-cloud simplification (and its baselines)
+  MapOptions map;                      // the Delaunay map: votes, manifold, incremental update, memory bound
 };
 
 // Lists the sections of `config` with their fields bound to its members (pointers into `config`).

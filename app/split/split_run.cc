@@ -15,7 +15,8 @@ StreamRunResult RunDepthNode(const Config& node_config, StreamRunRequest request
   Config config = node_config;
   config.output.mesh_ply = config.output.mesh_off = false;  // no map here
   const std::int64_t frames = OpenStreamingSource(config, request.dataset)->size();
-  const io::DepthFrameSender sender(config.depth_frames, config.split.run_id, DepthConfigFingerprint(config), node_name);
+  const io::DepthFrameSender sender(config.depth_frames, config.split.run_id, DepthConfigFingerprint(config),
+                                    node_name);
   DepthFramePublisher publisher(sender, config.input.first_frame, frames, send);
   spdlog::info("depth node {}: frames {} of every {} of {}, run {}", node_name, share.index, share.count,
                frames, config.split.run_id);
