@@ -42,7 +42,9 @@ void ReceivedFrames::Add(const void* data, size_t size, double now_s) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const std::int64_t parts_before = assembler_.counters().parts;
+    const auto t0 = std::chrono::steady_clock::now();
     std::optional<io::DepthFrameMessage> whole = assembler_.Add(data, size);
+    decode_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (assembler_.counters().parts > parts_before) last_arrival_s_ = now_s;
     ++datagrams_;
     if (whole) {
@@ -132,7 +134,7 @@ std::vector<std::string> ReceivedFrames::Refusals() {
 
 ReceivedFrames::Counters ReceivedFrames::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return {assembler_.counters(), frames_, late_, lost_count_};
+  return {assembler_.counters(), frames_, late_, lost_count_, decode_ms_};
 }
 
 ReceivedFrameReader::ReceivedFrameReader(std::shared_ptr<ReceivedFrames> frames)

@@ -44,6 +44,7 @@ class ReceivedFrames {
     std::int64_t frames = 0;  // whole frames received
     std::int64_t late = 0;    // whole, but after their turn (before the start)
     std::int64_t lost = 0;    // given up
+    double decode_ms = 0.0;   // the datagrams' checks, decompression and assembly, summed
   };
   // What Poll() found.
   enum class Next { kFrame, kWait, kEnd };
@@ -91,6 +92,7 @@ class ReceivedFrames {
   std::vector<FrameReader::LostFrame> lost_;
   std::vector<std::string> refusals_;  // taken so far
   std::int64_t frames_ = 0, late_ = 0, lost_count_ = 0;
+  double decode_ms_ = 0.0;
 };
 
 // The pipeline's reader of a map node: the frames of `frames` in order (waiting for them on a steady clock),

@@ -41,9 +41,9 @@ StreamRunResult RunMapNode(const Config& config, StreamRunRequest request,
   const ReceivedFrames::Counters c = frames->counters();
   spdlog::info(
       "depth frames: {} received whole, {} lost, {} late; {} parts ({} repeated, {} malformed, {} of "
-      "other runs, {} refused)",
+      "other runs, {} refused); decoding {:.1f} ms a frame",
       c.frames, c.lost, c.late, c.parts.parts, c.parts.duplicates, c.parts.malformed, c.parts.foreign_run,
-      c.parts.refused);
+      c.parts.refused, c.frames > 0 ? c.decode_ms / static_cast<double>(c.frames) : 0.0);
   if (c.frames == 0) {
     spdlog::error("no depth frame of run {} arrived whole within {:g} s", config.split.run_id,
                   config.split.first_frame_timeout_s);
