@@ -137,12 +137,13 @@ ReceivedFrames::Counters ReceivedFrames::counters() const {
   return {assembler_.counters(), frames_, late_, lost_count_, decode_ms_};
 }
 
-ReceivedFrameReader::ReceivedFrameReader(std::shared_ptr<ReceivedFrames> frames)
-    : frames_(std::move(frames)) {}
+ReceivedFrameReader::ReceivedFrameReader(std::shared_ptr<ReceivedFrames> frames, std::function<bool()> stop)
+    : frames_(std::move(frames)), stop_(std::move(stop)) {}
 
 std::optional<Frame> ReceivedFrameReader::Next() {
   Frame frame;
   while (true) {
+    if (stop_ && stop_()) return std::nullopt;
     for (const std::string& r : frames_->TakeRefusals()) spdlog::warn("depth frames refused: {}", r);
     switch (frames_->Poll(SteadyNowS(), &frame)) {
       case ReceivedFrames::Next::kFrame:

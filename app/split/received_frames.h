@@ -5,6 +5,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -96,15 +97,18 @@ class ReceivedFrames {
 };
 
 // The pipeline's reader of a map node: the frames of `frames` in order (waiting for them on a steady clock),
-// with the frames it gave up reported through TakeLost(). Refusals are logged as they are found.
+// with the frames it gave up reported through TakeLost(). Refusals are logged as they are found. The
+// sequence ends early, within a poll slice, once `stop` (when given) says so: a stopped run does not wait
+// for frames.
 class ReceivedFrameReader : public FrameReader {
  public:
-  explicit ReceivedFrameReader(std::shared_ptr<ReceivedFrames> frames);
+  explicit ReceivedFrameReader(std::shared_ptr<ReceivedFrames> frames, std::function<bool()> stop = {});
   std::optional<Frame> Next() override;
   std::vector<LostFrame> TakeLost() override { return frames_->TakeLost(); }
 
  private:
   std::shared_ptr<ReceivedFrames> frames_;
+  std::function<bool()> stop_;
 };
 
 }  // namespace semap::app

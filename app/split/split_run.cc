@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 
@@ -36,7 +37,18 @@ StreamRunResult RunDepthNode(const Config& node_config, StreamRunRequest request
 
 StreamRunResult RunMapNode(const Config& config, StreamRunRequest request,
                            std::shared_ptr<ReceivedFrames> frames) {
-  request.received_frames = [frames] { return std::make_unique<ReceivedFrameReader>(frames); };
+  // A stop request (Ctrl-C) ends the wait for frames too.
+  auto running = std::make_shared<std::atomic<Pipeline*>>(nullptr);
+  request.on_running = [running, told = request.on_running](Pipeline* pipeline) {
+    running->store(pipeline);
+    if (told) told(pipeline);
+  };
+  request.received_frames = [frames, running] {
+    return std::make_unique<ReceivedFrameReader>(frames, [running] {
+      const Pipeline* p = running->load();
+      return p != nullptr && p->StopRequested();
+    });
+  };
   StreamRunResult result = StreamRun(config, request);
   const ReceivedFrames::Counters c = frames->counters();
   spdlog::info(

@@ -175,6 +175,8 @@ class Pipeline {
   PipelineSummary Run();
 
   void RequestStop() { stop_requested_.store(true); }
+  // RequestStop() was called (thread-safe): a reader that waits for frames may give up waiting.
+  bool StopRequested() const { return stop_requested_.load(); }
 
  private:
   struct Impl;

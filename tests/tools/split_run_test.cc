@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -15,6 +16,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/config/config.h"
@@ -221,6 +223,26 @@ TEST_F(SplitRun, ADepthNodeWithAnotherConfigurationIsRefusedByName) {
   ASSERT_EQ(refusals.size(), 1u);  // once per node and reason
   EXPECT_NE(refusals.front().find("cam-b"), std::string::npos) << refusals.front();
   EXPECT_NE(refusals.front().find("config"), std::string::npos) << refusals.front();
+}
+
+TEST_F(SplitRun, AStopRequestEndsAMapNodeThatWaitsForFrames) {
+  Config config = MakeConfig(dir_, {"split.first_frame_timeout_s=600"});
+  auto frames = std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyNowS());
+  StreamRunRequest request = Request();
+  std::thread stopper;
+  request.on_running = [&](Pipeline* p) {
+    if (p)
+      stopper = std::thread([p] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        p->RequestStop();
+      });
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const StreamRunResult r = RunMapNode(config, request, frames);
+  stopper.join();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 60.0);
+  EXPECT_TRUE(r.summary.stopped_early);
+  EXPECT_EQ(r.outcome, StreamRunOutcome::kNothingMapped);  // no frame arrived
 }
 
 // A copy of the generated sequence (KITTI raw layout) whose cameras have another focal length: every
