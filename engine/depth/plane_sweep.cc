@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "engine/core/check.h"
 #include "engine/core/parallel.h"
@@ -147,12 +149,15 @@ class MinimaTracker {
         second_(pixels, kInfinity),
         index_(pixels, -1) {}
 
-  void Push(size_t i, int plane, float cost) {
-    if (plane > 0) Consider(i, plane - 1, cost);
+  // True when the best local minimum became the plane before `plane`.
+  bool Push(size_t i, int plane, float cost) {
+    const bool moved = plane > 0 && Consider(i, plane - 1, cost);
     prev2_[i] = prev1_[i];
     prev1_[i] = cost;
+    return moved;
   }
-  void Finish(size_t i, int planes) { Consider(i, planes - 1, kInfinity); }
+  // True when the best local minimum became the last plane.
+  bool Finish(size_t i, int planes) { return Consider(i, planes - 1, kInfinity); }
 
   float best(size_t i) const { return best_[i]; }
   float left(size_t i) const { return left_[i]; }
@@ -161,22 +166,72 @@ class MinimaTracker {
   int index(size_t i) const { return index_[i]; }
 
  private:
-  // Plane `plane`, whose cost is prev1_ and whose neighbours' are prev2_ and `next`.
-  void Consider(size_t i, int plane, float next) {
+  // Plane `plane`, whose cost is prev1_ and whose neighbours' are prev2_ and `next`; true when it becomes the
+  // best.
+  bool Consider(size_t i, int plane, float next) {
     const float m = prev1_[i], before = prev2_[i];
-    if (!(m < kNoCost && m < before && m <= next)) return;
+    if (!(m < kNoCost && m < before && m <= next)) return false;
     if (m < best_[i]) {
       second_[i] = best_[i];
       best_[i] = m;
       left_[i] = before;
       right_[i] = next;
       index_[i] = plane;
-    } else if (m < second_[i]) {
-      second_[i] = m;
+      return true;
     }
+    if (m < second_[i]) second_[i] = m;
+    return false;
   }
   std::vector<float> prev1_, prev2_, best_, left_, right_, second_;
   std::vector<int> index_;
+};
+
+// Per pixel of a band and per neighbour, what that neighbour alone says of one family's planes as they
+// stream past: the plane of its own lowest cost, and its cost at the plane the MinimaTracker holds as best.
+// Costs are NaN where the neighbour does not see the window or the plane is not scored at the pixel.
+class ViewTracker {
+ public:
+  ViewTracker(size_t pixels, size_t views)
+      : views_(views),
+        own_best_(pixels * views, kInfinity),
+        own_plane_(pixels * views, -1),
+        previous_(pixels * views, std::numeric_limits<float>::quiet_NaN()),
+        at_best_(pixels * views, std::numeric_limits<float>::quiet_NaN()) {}
+
+  // The views' costs of plane `plane` at pixel i; `best_moved`: MinimaTracker::Push's answer for it.
+  void Push(size_t i, int plane, const float* costs, bool best_moved) {
+    float* previous = &previous_[i * views_];
+    if (best_moved) std::copy(previous, previous + views_, &at_best_[i * views_]);
+    for (size_t j = 0; j < views_; ++j) {
+      const float c = costs[j];
+      if (c < own_best_[i * views_ + j]) {  // false for NaN
+        own_best_[i * views_ + j] = c;
+        own_plane_[i * views_ + j] = plane;
+      }
+      previous[j] = c;
+    }
+  }
+  // `best_moved`: MinimaTracker::Finish's answer at pixel i.
+  void Finish(size_t i, bool best_moved) {
+    if (best_moved) std::copy(&previous_[i * views_], &previous_[i * views_] + views_, &at_best_[i * views_]);
+  }
+
+  // The neighbours at pixel i whose own lowest cost lies within `planes` planes of `winner` and whose cost
+  // at the winner is at most `max_cost`.
+  int Agreeing(size_t i, int winner, int planes, float max_cost) const {
+    int agreeing = 0;
+    for (size_t j = 0; j < views_; ++j) {
+      const int own = own_plane_[i * views_ + j];
+      if (own >= 0 && std::abs(own - winner) <= planes && at_best_[i * views_ + j] <= max_cost) ++agreeing;
+    }
+    return agreeing;
+  }
+
+ private:
+  size_t views_;
+  std::vector<float> own_best_;
+  std::vector<int> own_plane_;
+  std::vector<float> previous_, at_best_;
 };
 
 // A family's answer at one pixel.
@@ -226,12 +281,13 @@ struct Sweep {
   std::vector<cv::Mat> neighbours;  // CentredGrey
   std::vector<Family> families;
   depth_internal::Aggregation aggregation;
+  int min_agreeing_views = 0;  // the options' value, at most the number of neighbours; 0: no agreement test
 };
 
 // One family over reference rows [first_row, first_row + rows): its planes' aggregated costs streamed into
-// `tracker`.
+// `tracker`, and each neighbour's own costs into `views_tracker` (when not null).
 void SweepFamily(const Sweep& s, const Family& f, const std::vector<float>& factors, int first_row, int rows,
-                 MinimaTracker* tracker) {
+                 MinimaTracker* tracker, ViewTracker* views_tracker) {
   const int width = s.reference.image.cols, height = s.reference.image.rows;
   const int half = s.options.window_px / 2;
   const int band_first = std::max(0, first_row - half);
@@ -241,6 +297,7 @@ void SweepFamily(const Sweep& s, const Family& f, const std::vector<float>& fact
   depth_internal::CostScratch scratch;
   std::vector<cv::Mat> costs(views);
   std::vector<float> pixel_costs(views), aggregate_scratch(views);
+  const std::vector<float> unscored(views, std::numeric_limits<float>::quiet_NaN());
   const float lowest_inverse = float(1.0 / s.range.max_depth_m),
               highest_inverse = float(1.0 / s.range.min_depth_m);
   for (int p = 0; p < f.planes; ++p) {
@@ -258,16 +315,23 @@ void SweepFamily(const Sweep& s, const Family& f, const std::vector<float>& fact
         // The plane's inverse depth at this pixel: scored only within the swept range.
         const float inverse_depth = inverse_offset * factors[i];
         float cost = kNoCost;
-        if (textured[u] && inverse_depth >= lowest_inverse && inverse_depth <= highest_inverse) {
+        const bool scored =
+            textured[u] && inverse_depth >= lowest_inverse && inverse_depth <= highest_inverse;
+        if (scored) {
           for (size_t j = 0; j < views; ++j) pixel_costs[j] = costs[j].ptr<float>(r)[u];
           cost = depth_internal::AggregateCosts(s.aggregation, pixel_costs.data(), int(views),
                                                 aggregate_scratch.data());
         }
-        tracker->Push(i, p, cost);
+        const bool best_moved = tracker->Push(i, p, cost);
+        if (views_tracker != nullptr)
+          views_tracker->Push(i, p, scored ? pixel_costs.data() : unscored.data(), best_moved);
       }
     }
   }
-  for (size_t i = 0; i < factors.size(); ++i) tracker->Finish(i, f.planes);
+  for (size_t i = 0; i < factors.size(); ++i) {
+    const bool best_moved = tracker->Finish(i, f.planes);
+    if (views_tracker != nullptr) views_tracker->Finish(i, best_moved);
+  }
 }
 
 // Sweeps every family over reference rows [first_row, first_row + rows) and writes the winners there.
@@ -280,9 +344,15 @@ void SweepBand(const Sweep& s, int first_row, int rows, PlaneSweepResult* out) {
     if (f.planes == 0) continue;
     const std::vector<float> factors = RayFactors(f, s.K_reference_inverse, first_row, rows, width);
     MinimaTracker tracker(winners.size());
-    SweepFamily(s, f, factors, first_row, rows, &tracker);
+    std::optional<ViewTracker> views;
+    if (s.min_agreeing_views > 0) views.emplace(winners.size(), s.neighbours.size());
+    SweepFamily(s, f, factors, first_row, rows, &tracker, views ? &*views : nullptr);
     for (size_t i = 0; i < winners.size(); ++i) {
-      const Candidate c = Refine(tracker, i, f, factors[i], s.options, s.range);
+      Candidate c = Refine(tracker, i, f, factors[i], s.options, s.range);
+      if (c.valid && views) {
+        c.valid = views->Agreeing(i, tracker.index(i), s.options.agreement_planes,
+                                  float(s.options.agreement_max_cost)) >= s.min_agreeing_views;
+      }
       if (c.valid && (!winners[i].valid || c.cost < winners[i].cost)) {
         winners[i] = c;
         winning_family[i] = static_cast<std::uint8_t>(k);
@@ -368,7 +438,8 @@ PlaneSweepResult PlaneSweepDepth::Compute(const PlaneSweepView& reference,
       reference.K.inverse(),
       {},
       {},
-      {}};
+      {},
+      std::min(options_.min_agreeing_views, int(neighbours.size()))};
   for (const PlaneSweepView& n : neighbours) s.neighbours.push_back(depth_internal::CentredGrey(n.image));
   s.aggregation = {options_.best_views, options_.min_views, {}, options_.left_right_subsets};
   const Pose3d reference_from_world = reference.world_from_cam.inverse(Eigen::Isometry);

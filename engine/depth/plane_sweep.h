@@ -2,7 +2,8 @@
 // rig) → a depth map of the reference. Each plane of a family (fronto-parallel, or a caller's direction such
 // as the ground or a facade) warps every neighbour into the reference through its homography; ZNCC over a
 // window scores each plane at each pixel, an occlusion-robust aggregation over the views picks the best, and
-// a parabola through the neighbouring planes refines it.
+// a parabola through the neighbouring planes refines it. Optionally a pixel keeps its depth only where
+// enough neighbours, each on its own, agree with the winning plane (min_agreeing_views).
 //
 // Plane convention: a plane of normal n (unit, in the reference camera's frame) and offset d > 0 is the set
 // of reference-camera points X with nᵀX = d. With cam_from_ref = [R | t] (neighbour camera from reference
@@ -46,6 +47,9 @@ struct PlaneSweepOptions {
   int min_views = 1;
   double max_cost = 0.6;
   double min_confidence = 0.05;
+  int min_agreeing_views = 0;  // 0: off
+  int agreement_planes = 2;
+  double agreement_max_cost = 0.5;
   bool label_directions = true;
 
   // Each field's key, text and valid values, declared once here (engine/core/options.h); Check() tests the
@@ -95,6 +99,21 @@ struct PlaneSweepOptions {
             "pixels whose confidence 1 − best / second-best local minimum of the cost falls below this give "
             "no depth (higher: fewer ambiguous pixels)",
             In(0, 1));
+    v.Field("min_agreeing_views", &min_agreeing_views,
+            "pixels where fewer neighbours than this agree with the winning plane give no depth: a neighbour "
+            "agrees when its own lowest cost over the winner's planes lies within agreement_planes planes of "
+            "the winner and its cost at the winner is at most agreement_max_cost; a frame with fewer "
+            "neighbours needs all of them (higher: fewer pixels, those seen alike by more views; 0 = off)",
+            AtLeast(0));
+    v.Field(
+        "agreement_planes", &agreement_planes,
+        "how far, in planes, a neighbour's own lowest cost may lie from the winning plane for it to agree "
+        "(lower: a stricter agreement, fewer pixels)",
+        AtLeast(0));
+    v.Field("agreement_max_cost", &agreement_max_cost,
+            "highest cost (1 − ZNCC) of an agreeing neighbour at the winning plane (lower: a stricter "
+            "agreement, fewer pixels; 2 = no bound on the cost)",
+            Above(0).AtMost(2));
     // A frame where directions were found is swept a second time, both families: more pixels with a depth
     // and a lower median error on slanted ground and facades, for about twice and a half the sweep's time
     // (bench/RESULTS.md, "Plane sweep"). Without ground or wall labels nothing changes.

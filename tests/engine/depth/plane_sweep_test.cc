@@ -5,10 +5,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/core/check.h"
@@ -106,6 +108,9 @@ TEST(PlaneSweepOptions, RejectsBadValuesNamingTheKey) {
   expect_key(with([](auto& x) { x.min_views = 0; }), "min_views");
   expect_key(with([](auto& x) { x.max_cost = 2.5; }), "max_cost");
   expect_key(with([](auto& x) { x.min_confidence = std::nan(""); }), "min_confidence");
+  expect_key(with([](auto& x) { x.min_agreeing_views = -1; }), "min_agreeing_views");
+  expect_key(with([](auto& x) { x.agreement_planes = -1; }), "agreement_planes");
+  expect_key(with([](auto& x) { x.agreement_max_cost = 0.0; }), "agreement_max_cost");
   EXPECT_THROW(PlaneSweepDepth{with([](auto& x) { x.num_planes = 0; })}, InvalidOption);
 }
 
@@ -259,6 +264,151 @@ TEST(PlaneSweep, OccluderInOneNeighbourIsIgnoredByTheBestViews) {
   EXPECT_LE(p.accurate_share, 0.85);
   EXPECT_GE(p.median_error_m, 2.0 * r.median_error_m);
   EXPECT_GE(l.accurate_share, 0.95);
+}
+
+// A wall seen by four neighbours, two of which see another texture over part of their image: per reference
+// pixel and neighbour, whether the neighbour sees the wall there, sees the pasted texture, or neither
+// clearly (near a patch's or the image's edge, within the window's reach).
+struct PatchedWall {
+  static constexpr double kDepthM = 6.13;
+  static constexpr int kNeighbours = 4;
+  cv::Mat truth_m;
+  PlaneSweepView reference;
+  std::vector<PlaneSweepView> neighbours;
+  cv::Mat clean_views;  // CV_8UC1: the neighbours that clearly see the wall at the pixel
+  cv::Mat unclear;      // CV_8UC1: 1 where some neighbour sees neither clearly
+
+  explicit PatchedWall(int window_px) {
+    const std::vector<TexturedPlane> scene{Wall(kDepthM, 3)};
+    reference = Render(scene, Pose3d::Identity(), &truth_m);
+    const Eigen::Vector3d target(0.0, 0.0, kDepthM);
+    for (const Eigen::Vector3d& c : {Eigen::Vector3d(-0.5, 0.0, 0.0), Eigen::Vector3d(0.5, 0.1, 0.0),
+                                     Eigen::Vector3d(0.0, -0.4, 0.1), Eigen::Vector3d(-0.1, 0.4, -0.1)})
+      neighbours.push_back(Render(scene, LookAt(c, target)));
+    // Neighbours 0 and 1 see other surfaces (two unrelated textures) over overlapping parts of their images.
+    const cv::Rect patches[] = {cv::Rect(70, 50, 130, 110), cv::Rect(130, 80, 130, 110)};
+    for (int j = 0; j < 2; ++j) {
+      cv::Mat patch;
+      RandomTexture(256, 4 + j)(cv::Rect(0, 0, patches[j].width, patches[j].height))
+          .convertTo(patch, CV_8UC1);
+      patch.copyTo(neighbours[size_t(j)].image(patches[j]));
+    }
+    // A neighbour's view of a pixel is clear when the projection of its true point lies farther than the
+    // window's half-side and two pixels from every edge of the image and of the patch.
+    const double margin_px = window_px / 2 + 2.0;
+    clean_views = cv::Mat::zeros(kHeight, kWidth, CV_8UC1);
+    unclear = cv::Mat::zeros(kHeight, kWidth, CV_8UC1);
+    for (int j = 0; j < kNeighbours; ++j) {
+      const Pose3d cam_from_world = neighbours[size_t(j)].world_from_cam.inverse(Eigen::Isometry);
+      for (int v = 0; v < kHeight; ++v) {
+        for (int u = 0; u < kWidth; ++u) {
+          const Eigen::Vector3d x_world =
+              TestK().inverse() * Eigen::Vector3d(u, v, 1.0) * truth_m.at<float>(v, u);
+          const Eigen::Vector3d x = TestK() * (cam_from_world * x_world);
+          const double px = x.x() / x.z(), py = x.y() / x.z();
+          // Signed distance to a rectangle's edges: positive inside.
+          const auto inside_by = [&](double left, double top, double right, double bottom) {
+            return std::min({px - left, right - px, py - top, bottom - py});
+          };
+          const double in_image = inside_by(0, 0, kWidth - 1, kHeight - 1);
+          double in_patch = -margin_px - 1.0;
+          if (j < 2) {
+            const cv::Rect& p = patches[j];
+            in_patch = inside_by(p.x, p.y, p.x + p.width - 1, p.y + p.height - 1);
+          }
+          if (in_image > margin_px && in_patch < -margin_px) {
+            ++clean_views.at<std::uint8_t>(v, u);
+          } else if (!(in_image > margin_px && in_patch > margin_px)) {
+            unclear.at<std::uint8_t>(v, u) = 1;
+          }
+        }
+      }
+    }
+  }
+};
+
+// Options for the wall: 64 planes over 2–20 m, the best two views' mean (which ignores one or two hidden
+// views), agreement off.
+PlaneSweepOptions WallOptions() {
+  PlaneSweepOptions o;
+  o.num_planes = 64;
+  o.min_depth_m = 2.0;
+  o.max_depth_m = 20.0;
+  o.best_views = 2;
+  o.min_agreeing_views = 0;
+  return o;
+}
+
+TEST(PlaneSweep, AgreementDropsThePixelsTooFewNeighboursSeeAlike) {
+  PlaneSweepOptions o = WallOptions();
+  const PatchedWall wall(o.window_px);
+  const PlaneSweepResult off = PlaneSweepDepth(o).Compute(wall.reference, wall.neighbours);
+  // Three of the four must agree: the pixels both patched neighbours hide have two. The views of the wall
+  // score its plane far below the cost bound; a looser bound lets a patch of blurred random texture agree
+  // by chance over small blobs, where it happens to correlate with the reference.
+  o.min_agreeing_views = 3;
+  o.agreement_planes = 1;
+  o.agreement_max_cost = 0.15;
+  const PlaneSweepResult on = PlaneSweepDepth(o).Compute(wall.reference, wall.neighbours);
+  const double step_m = PlaneStepM(PatchedWall::kDepthM, off.range, o.num_planes);
+  // Over the pixels every neighbour sees clearly (the wall or a patch), among those the sweep without the
+  // test gives a depth: with at least 3 neighbours on the wall the depth is kept as it was, with 2 it is
+  // dropped.
+  int enough = 0, enough_kept = 0, too_few = 0, too_few_kept = 0, too_few_accurate = 0;
+  for (int v = 0; v < kHeight; ++v) {
+    for (int u = 0; u < kWidth; ++u) {
+      if (wall.unclear.at<std::uint8_t>(v, u) || !off.valid.at<std::uint8_t>(v, u)) continue;
+      const bool kept = on.valid.at<std::uint8_t>(v, u) != 0;
+      if (kept) {
+        ASSERT_EQ(on.depth_m.at<float>(v, u), off.depth_m.at<float>(v, u)) << "at " << u << ", " << v;
+      }
+      if (wall.clean_views.at<std::uint8_t>(v, u) >= 3) {
+        ++enough;
+        enough_kept += kept;
+      } else {
+        ASSERT_EQ(wall.clean_views.at<std::uint8_t>(v, u), 2);
+        ++too_few;
+        too_few_kept += kept;
+        too_few_accurate +=
+            std::abs(off.depth_m.at<float>(v, u) - wall.truth_m.at<float>(v, u)) <= 0.25 * step_m;
+      }
+    }
+  }
+  std::cout << "[ measured ] agreement of 3 views: kept " << enough_kept << " of " << enough
+            << " pixels seen alike by 3 or 4 neighbours, " << too_few_kept << " of " << too_few
+            << " seen alike by 2\n";
+  ASSERT_GT(enough, 20000);
+  ASSERT_GT(too_few, 2000);
+  // The best two views' mean alone gets the hidden pixels right: what the test drops there is no error.
+  EXPECT_GE(too_few_accurate, 0.95 * too_few);
+  EXPECT_GE(enough_kept, 0.99 * enough);
+  EXPECT_LE(too_few_kept, 0.01 * too_few);
+}
+
+TEST(PlaneSweep, AgreementOffIsTheSweepWithoutIt) {
+  // Agreement off, and an agreement every neighbour that sees the pixel at some plane passes: the same
+  // result, bit for bit, on the patched wall with a second direction of planes (its ground normal meets the
+  // wall at a grazing angle, so both families score pixels).
+  PlaneSweepOptions o = WallOptions();
+  const PatchedWall wall(o.window_px);
+  const std::vector<SweepDirection> directions{{Eigen::Vector3d(0.0, 1.0, -0.3), 0.0, 0.0}};
+  const PlaneSweepResult off = PlaneSweepDepth(o).Compute(wall.reference, wall.neighbours, directions);
+  o.min_agreeing_views = 1;
+  o.agreement_planes = o.num_planes;
+  o.agreement_max_cost = 2.0;
+  const PlaneSweepResult all = PlaneSweepDepth(o).Compute(wall.reference, wall.neighbours, directions);
+  ASSERT_GT(cv::countNonZero(off.valid), kWidth * kHeight / 2);
+  ASSERT_GT(cv::countNonZero(off.family == 1), 0);
+  for (const auto& [a, b] :
+       {std::pair{off.depth_m, all.depth_m}, std::pair{off.confidence, all.confidence},
+        std::pair{off.cost, all.cost}, std::pair{off.valid, all.valid}, std::pair{off.family, all.family}}) {
+    ASSERT_EQ(a.type(), b.type());
+    // memcmp: NaN-free maps, but equal bits is the claim.
+    for (int v = 0; v < kHeight; ++v)
+      ASSERT_EQ(std::memcmp(a.ptr(v), b.ptr(v), a.cols * a.elemSize()), 0) << "row " << v;
+  }
+  // The default is off.
+  EXPECT_EQ(PlaneSweepOptions{}.min_agreeing_views, 0);
 }
 
 }  // namespace
