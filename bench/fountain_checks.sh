@@ -3,7 +3,9 @@
 # - sparse truth: the O and PS meshes of the whole set against SIFT points triangulated with the set's cameras;
 # - leave one out: the PS mesh of the set without one view (a copy of the set without images/NNNN.jpg and
 #   gt_dense_cameras/NNNN.jpg.camera), seen from the left-out camera, against that view's own plane-sweep
-#   depth from the other views.
+#   depth from the other views. That depth is swept with REFERENCE_PLANES planes (default 256; the maps sweep
+#   64): the program prints its own error at the sparse points the view sees; a reference swept as coarsely
+#   as the maps is as far off as the meshes and hides their errors.
 # O and PS come from bench/fountain.sh (half resolution, 64 planes, at most 100,000 points a view, ENet labels:
 # its table of OFF size and wall and ground points kept), the set without the view is mapped the same way, all
 # at the lowest priority; runs already in OUT (fountain.md, <run>/summary.json) are kept. Prints the checks'
@@ -13,7 +15,7 @@
 #   bench/fountain_checks.sh [--out DIR] [--leave-out N] [-- extra `semap run` options]
 #
 # Environment: SEMAP (default build/tools/semap, also for fountain.sh), CHECKS (default
-# build/bench/semap_fountain_checks), SEMAP_SHARED (default ../shared).
+# build/bench/semap_fountain_checks), SEMAP_SHARED (default ../shared), REFERENCE_PLANES (default 256).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -61,4 +63,5 @@ fi
 echo
 nice -n 19 "$CHECKS" "$SET" --mesh "O=$OUT/O/mesh.ply" --mesh "PS=$OUT/PS/mesh.ply" \
   --leave-out-mesh "$LOO=$OUT/$LOO/mesh.ply" --leave-out "$LEAVE_OUT" --points-csv "$OUT/sparse_points.csv" \
-  "${SWEEP[@]}" | tee "$OUT/fountain_checks.md"
+  --set depth.half_resolution=true --set plane_sweep.num_planes="${REFERENCE_PLANES:-256}" \
+  | tee "$OUT/fountain_checks.md"
