@@ -43,7 +43,9 @@ struct DepthFrameMessage {
 
 struct DepthFrameOptions {
   int max_message_bytes = 60000;
-  int zstd_level = 3;
+  // Level 1 encodes a KITTI frame in about 60 % of level 3's time for about 5 % more bytes: the depth
+  // node's CPU is the scarcer (bench/RESULTS.md, "Split runs today").
+  int zstd_level = 1;
   bool byte_shuffle = true;
 
   template <typename Visitor>
