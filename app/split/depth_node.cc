@@ -84,6 +84,16 @@ void DepthFramePublisher::OnFrameDepth(const Frame& frame, const FrameDepth& dep
   counters_.encode_ms += encode_ms;
 }
 
+void DepthFramePublisher::PublishDropped(std::int64_t frame_id, double timestamp_s) {
+  const io::EncodedMessage notice =
+      sender_.EncodeDropped(frame_id, timestamp_s, first_frame_id_, sequence_frames_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  send_(notice);
+  ++counters_.notices;
+  ++counters_.datagrams;
+  counters_.bytes += static_cast<std::int64_t>(notice.size());
+}
+
 DepthFramePublisher::Counters DepthFramePublisher::counters() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return counters_;

@@ -53,13 +53,17 @@ class DepthFramePublisher : public FrameDepthSink {
     std::int64_t frames = 0;
     std::int64_t datagrams = 0;
     std::int64_t bytes = 0;
-    double encode_ms = 0.0;  // summed over the frames
+    double encode_ms = 0.0;    // summed over the frames
+    std::int64_t notices = 0;  // drop notices sent
   };
 
   // `first_frame_id`, `sequence_frames`: the sequence as the node plays it (every node of a run alike).
   DepthFramePublisher(const io::DepthFrameSender& sender, std::int64_t first_frame_id,
                       std::int64_t sequence_frames, Send send);
   void OnFrameDepth(const Frame& frame, const FrameDepth& depth) override;
+  // A drop notice for a frame of this node's share that it will not send (it fell behind, or the frame
+  // failed here): the map node gives it up at once instead of waiting for it.
+  void PublishDropped(std::int64_t frame_id, double timestamp_s);
   Counters counters() const;
 
  private:
@@ -69,6 +73,23 @@ class DepthFramePublisher : public FrameDepthSink {
   Send send_;
   mutable std::mutex mutex_;  // serialises send_ and guards counters_
   Counters counters_;
+};
+
+// The depth node's pipeline sink: each frame the node drops (behind, in realtime mode) or that fails here
+// becomes a drop notice (DepthFramePublisher::PublishDropped). Called from the pipeline's output thread.
+class DropNoticeSink : public PipelineSink {
+ public:
+  explicit DropNoticeSink(DepthFramePublisher* publisher) : publisher_(publisher) {}
+  void OnFrame(const FrameStats&, const MeshDelta&, const std::optional<Pose3d>&) override {}
+  void OnFrameDropped(std::int64_t frame_id, double timestamp_s, const std::string&) override {
+    publisher_->PublishDropped(frame_id, timestamp_s);
+  }
+  void OnFrameError(std::int64_t frame_id, const std::string&, const std::string&) override {
+    publisher_->PublishDropped(frame_id, 0.0);
+  }
+
+ private:
+  DepthFramePublisher* publisher_;
 };
 
 }  // namespace semap::app

@@ -46,6 +46,7 @@ void ReceivedFrames::Add(const void* data, size_t size, double now_s) {
     std::optional<io::DepthFrameMessage> whole = assembler_.Add(data, size);
     decode_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (assembler_.counters().parts > parts_before) last_arrival_s_ = now_s;
+    for (const std::int64_t id : assembler_.TakeDropped()) announced_.insert(id);
     ++datagrams_;
     if (whole) {
       ++frames_;
@@ -100,6 +101,10 @@ ReceivedFrames::Next ReceivedFrames::Poll(double now_s, Frame* frame) {
       ready_at_s_.erase(*next_id_);
       ++*next_id_;
       return Next::kFrame;
+    }
+    if (taken_any_ && announced_.erase(*next_id_) > 0) {
+      GiveUp((*next_id_)++);  // its depth node said it will not come: no wait
+      continue;
     }
     // Frames behind the missing one have arrived: it is late since the first of them did.
     if (ready_.empty() || now_s - EarliestReadyS(now_s) < options_.wait_s) break;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,8 @@ Frame FrameFromMessage(io::DepthFrameMessage message);
 // out in id order up to the end of the sequence the depth nodes announce (DepthFrameMessage::first_frame_id +
 // sequence_frames). A frame still missing when a later frame has been whole for SplitOptions::wait_s is lost;
 // so is every frame still missing when nothing has arrived for SplitOptions::idle_end_s, which ends the run.
+// A frame its depth node announced it will not send (a drop notice: the node was behind, or the frame failed
+// there) is lost at once, without the wait.
 class ReceivedFrames {
  public:
   struct Counters {
@@ -84,6 +87,7 @@ class ReceivedFrames {
   io::DepthFrameAssembler assembler_;
   std::map<std::int64_t, Frame> ready_;        // whole frames not yet taken, by id
   std::map<std::int64_t, double> ready_at_s_;  // when each of them became whole
+  std::set<std::int64_t> announced_;           // frames a depth node said it will not send
   std::optional<std::int64_t> next_id_;        // the next frame in order; unset before the first whole one
   std::int64_t first_frame_id_ = 0;            // the sequence's first frame id
   std::int64_t end_id_ = 0;                    // one past the sequence's last frame id

@@ -23,14 +23,16 @@ StreamRunResult RunDepthNode(const Config& node_config, StreamRunRequest request
                frames, config.split.run_id);
   const DepthNodeWiring wiring{&publisher, share};
   request.depth_node = &wiring;
+  DropNoticeSink notices(&publisher);
+  request.extra_sinks.push_back(&notices);
   request.lcm = RunOutputs::Lcm::kOff;  // no mesh to publish
   StreamRunResult result = StreamRun(config, request);
   const DepthFramePublisher::Counters c = publisher.counters();
   const double per_frame = c.frames > 0 ? 1.0 / static_cast<double>(c.frames) : 0.0;
   spdlog::info(
-      "depth node {}: sent {} frames in {} datagrams, {:.2f} MB ({:.0f} kB a frame), encoding "
-      "{:.1f} ms a frame",
-      node_name, c.frames, c.datagrams, static_cast<double>(c.bytes) / 1e6,
+      "depth node {}: sent {} frames and {} drop notices in {} datagrams, {:.2f} MB ({:.0f} kB a "
+      "frame), encoding {:.1f} ms a frame",
+      node_name, c.frames, c.notices, c.datagrams, static_cast<double>(c.bytes) / 1e6,
       static_cast<double>(c.bytes) / 1e3 * per_frame, c.encode_ms * per_frame);
   return result;
 }
@@ -52,10 +54,10 @@ StreamRunResult RunMapNode(const Config& config, StreamRunRequest request,
   StreamRunResult result = StreamRun(config, request);
   const ReceivedFrames::Counters c = frames->counters();
   spdlog::info(
-      "depth frames: {} received whole, {} lost, {} late; {} parts ({} repeated, {} malformed, {} of "
-      "other runs, {} refused); decoding {:.1f} ms a frame",
-      c.frames, c.lost, c.late, c.parts.parts, c.parts.duplicates, c.parts.malformed, c.parts.foreign_run,
-      c.parts.refused, c.frames > 0 ? c.decode_ms / static_cast<double>(c.frames) : 0.0);
+      "depth frames: {} received whole, {} lost ({} announced by their node), {} late; {} parts ({} "
+      "repeated, {} malformed, {} of other runs, {} refused); decoding {:.1f} ms a frame",
+      c.frames, c.lost, c.parts.notices, c.late, c.parts.parts, c.parts.duplicates, c.parts.malformed,
+      c.parts.foreign_run, c.parts.refused, c.frames > 0 ? c.decode_ms / static_cast<double>(c.frames) : 0.0);
   if (c.frames == 0) {
     spdlog::error("no depth frame of run {} arrived whole within {:g} s", config.split.run_id,
                   config.split.first_frame_timeout_s);

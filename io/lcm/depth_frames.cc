@@ -296,11 +296,24 @@ DepthFrameMessage FrameOf(const semap_lcm::depth_frame_part_t& h) {
   return m;
 }
 
+// What is wrong with a decoded drop notice (num_parts 0), or empty: it carries no image, calibration or
+// payload.
+std::string NoticeError(const semap_lcm::depth_frame_part_t& m) {
+  if (m.width_px != 0 || m.height_px != 0 || m.num_payload_bytes != 0 || m.part != 0 || m.row_begin != 0 ||
+      m.row_end != 0 || m.left_channels != 0 || m.has_labels || m.has_pose)
+    return "a drop notice with an image";
+  if (m.calibration_fingerprint != CalibrationFingerprint(StereoCalibration{}))
+    return "a drop notice's calibration";
+  if (static_cast<size_t>(m.num_name_bytes) > kMaxNameBytes) return "node name too long";
+  return {};
+}
+
 // What is wrong with a decoded part's header, or empty.
 std::string HeaderError(const semap_lcm::depth_frame_part_t& m) {
   if (m.version != kDepthFrameFormatVersion)
     return "format version " + std::to_string(m.version) +
            " (this reader: " + std::to_string(kDepthFrameFormatVersion) + ")";
+  if (m.num_parts == 0) return NoticeError(m);
   if (m.width_px < 1 || m.width_px > kMaxImageSidePx || m.height_px < 1 || m.height_px > kMaxImageSidePx)
     return "image size " + std::to_string(m.width_px) + "x" + std::to_string(m.height_px);
   const StereoCalibration c{m.fx_px, m.fy_px, m.cx_px, m.cy_px, m.baseline_m, m.width_px, m.height_px};
@@ -413,6 +426,27 @@ std::vector<EncodedMessage> DepthFrameSender::Encode(const DepthFrameMessage& m)
   return out;
 }
 
+EncodedMessage DepthFrameSender::EncodeDropped(std::int64_t frame_id, double timestamp_s,
+                                               std::int64_t first_frame_id,
+                                               std::int64_t sequence_frames) const {
+  semap_lcm::depth_frame_part_t part{};
+  part.version = kDepthFrameFormatVersion;
+  part.run_id = run_id_;
+  part.config_fingerprint = config_fingerprint_;
+  part.calibration_fingerprint = CalibrationFingerprint(StereoCalibration{});
+  part.frame_id = frame_id;
+  part.timestamp_s = std::isfinite(timestamp_s) ? timestamp_s : 0.0;
+  part.first_frame_id = first_frame_id;
+  part.sequence_frames = sequence_frames;
+  part.num_parts = 0;  // a notice: the frame will not come
+  part.node_name.assign(node_name_.begin(), node_name_.end());
+  part.num_name_bytes = static_cast<std::int32_t>(part.node_name.size());
+  EncodedMessage bytes(static_cast<size_t>(part.getEncodedSize()));
+  part.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  WriteBigEndian64(PartChecksum(bytes.data(), bytes.size()), bytes.data() + kChecksumOffset);
+  return bytes;
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // DepthFrameAssembler
 
@@ -440,6 +474,8 @@ void DepthFrameAssembler::Refuse(const std::string& node, const std::string& rea
 
 std::vector<std::string> DepthFrameAssembler::TakeRefusals() { return std::exchange(refusals_new_, {}); }
 
+std::vector<std::int64_t> DepthFrameAssembler::TakeDropped() { return std::exchange(dropped_, {}); }
+
 // Run, configuration and calibration: whether a decoded part belongs to what this map node assembles.
 bool DepthFrameAssembler::Admit(const semap_lcm::depth_frame_part_t& part) {
   if (part.run_id != run_id_) {
@@ -452,7 +488,8 @@ bool DepthFrameAssembler::Admit(const semap_lcm::depth_frame_part_t& part) {
                      Hex(config_fingerprint_));
     return false;
   }
-  if (calibration_fingerprint_ && part.calibration_fingerprint != *calibration_fingerprint_) {
+  if (part.num_parts > 0 && calibration_fingerprint_ &&
+      part.calibration_fingerprint != *calibration_fingerprint_) {
     Refuse(node, "calibration fingerprint " + Hex(part.calibration_fingerprint) +
                      " differs from the run's first frame's " + Hex(*calibration_fingerprint_));
     return false;
@@ -495,6 +532,15 @@ std::optional<DepthFrameMessage> DepthFrameAssembler::Add(const void* data, size
   }
   if (std::find(completed_.begin(), completed_.end(), part->frame_id) != completed_.end()) {
     ++counters_.duplicates;
+    return std::nullopt;
+  }
+  if (part->num_parts == 0) {
+    // The node will not send this frame: whatever arrived of it is given up.
+    ++counters_.notices;
+    if (auto it = pending_.find(part->frame_id); it != pending_.end()) GiveUp(it);
+    dropped_.push_back(part->frame_id);
+    completed_.push_back(part->frame_id);
+    if (completed_.size() > kCompletedRemembered) completed_.pop_front();
     return std::nullopt;
   }
   return Place(std::move(*part));

@@ -87,6 +87,11 @@ class DepthFrameSender {  // thread-safe: Encode is const and may be called from
   // field on bad input (sizes, types, an invalid calibration or one of another size than `left`), or naming
   // max_message_bytes when a single row does not fit.
   std::vector<EncodedMessage> Encode(const DepthFrameMessage& m) const;
+  // A drop notice: frame `frame_id` of the sequence (`first_frame_id`, `sequence_frames`) will not be sent
+  // (the node was behind, or the frame failed there), so that a map node need not wait for it. One message,
+  // num_parts 0, without image, calibration or payload.
+  EncodedMessage EncodeDropped(std::int64_t frame_id, double timestamp_s, std::int64_t first_frame_id,
+                               std::int64_t sequence_frames) const;
 
  private:
   DepthFrameOptions options_;
@@ -106,6 +111,7 @@ class DepthFrameAssembler {  // not thread-safe
     std::int64_t frames = 0;       // frames completed
     std::int64_t given_up = 0;     // incomplete frames freed (DropBefore, or beyond max_pending_frames)
     std::int64_t late = 0;         // parts of frames below the last DropBefore or a frame given up
+    std::int64_t notices = 0;      // drop notices accepted (TakeDropped gives their frames)
   };
   // run_id: only messages of this run are accepted (others: foreign_run). config_fingerprint: the map node's
   // own; a part with another one is refused. The calibration fingerprint of the first accepted frame is kept;
@@ -124,6 +130,9 @@ class DepthFrameAssembler {  // not thread-safe
   // Why parts were refused, once per (node, reason) over the assembler's life, each line at most once:
   // "node cam-a: config fingerprint 0x… differs from the map node's 0x…".
   std::vector<std::string> TakeRefusals();
+  // The frames whose drop notices arrived since the last call (a notice of this run and configuration; its
+  // frame counts as done, so later parts of it are duplicates).
+  std::vector<std::int64_t> TakeDropped();
   const Counters& counters() const { return counters_; }
   size_t pending_frames() const { return pending_.size(); }
 
@@ -154,7 +163,8 @@ class DepthFrameAssembler {  // not thread-safe
   std::deque<std::int64_t> completed_;  // the latest completed frame ids (their parts are duplicates)
   std::set<std::string> refusals_seen_;
   std::vector<std::string> refusals_new_;
-  std::vector<std::uint8_t> band_;  // decompressed band
+  std::vector<std::int64_t> dropped_;  // frames of the notices not taken yet
+  std::vector<std::uint8_t> band_;     // decompressed band
   std::unique_ptr<ZSTD_DCtx_s, DCtxFree> dctx_;
   Counters counters_;
 };

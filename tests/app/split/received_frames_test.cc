@@ -146,6 +146,18 @@ TEST_F(Order, AFrameMissingOnePartNeverCompletesAndOnlyItIsLost) {
   EXPECT_EQ(frames_.counters().frames, 3);
 }
 
+TEST_F(Order, AFrameItsNodeAnnouncedDroppedIsLostWithoutTheWait) {
+  io::DepthFrameOptions o;
+  o.max_message_bytes = 4096;
+  const io::EncodedMessage notice =
+      io::DepthFrameSender(o, kRun, kConfig, "depth-0").EncodeDropped(1, 0.1, 0, kFrames);
+  Add(0, 0.0);
+  frames_.Add(notice.data(), notice.size(), 0.0);
+  Add(2, 0.0);
+  EXPECT_EQ(Take(0.0), (Ids{0, 2, -1}));  // no split.wait_s for frame 1
+  EXPECT_EQ(LostIds(), (Ids{1}));
+}
+
 TEST_F(Order, ALateMapNodeStartsAtTheLowestWholeFrameOnceTheWaitHasPassed) {
   for (std::int64_t id : {5, 6, 4, 7}) Add(id, 1.0);
   Add(3, 1.5);                      // another node's earlier frame, still in time

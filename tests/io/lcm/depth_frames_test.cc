@@ -256,6 +256,41 @@ TEST(DepthFrames, ForeignRunIsCounted) {
   EXPECT_TRUE(assembler.TakeRefusals().empty());
 }
 
+// A drop notice: one small message that gives its frame up at once, ahead of any part of it; damaged, foreign
+// or of another configuration, it is counted as any part would be.
+TEST(DepthFrames, ADropNoticeGivesItsFrameUpAndIsCheckedLikeAPart) {
+  std::mt19937 rng(21);
+  const DepthFrameSender sender(SmallMessages(), kRun, kConfig, "cam-a");
+  const EncodedMessage notice = sender.EncodeDropped(5, 0.5, 0, 20);
+  EXPECT_EQ(static_cast<std::int64_t>(notice.size()), DepthFramePartEncodedSize(5, 0));  // no payload
+  DepthFrameAssembler assembler(kRun, kConfig);
+  const auto parts5 = sender.Encode(RandomFrame(&rng, 5, {}));
+  ASSERT_GE(parts5.size(), 2u);
+  EXPECT_FALSE(assembler.Add(parts5[0].data(), parts5[0].size()));  // a part of it is held...
+  EXPECT_EQ(assembler.pending_frames(), 1u);
+  EXPECT_FALSE(assembler.Add(notice.data(), notice.size()));  // ...and given up by the notice
+  EXPECT_EQ(assembler.pending_frames(), 0u);
+  EXPECT_EQ(assembler.TakeDropped(), (std::vector<std::int64_t>{5}));
+  EXPECT_TRUE(assembler.TakeDropped().empty());
+  EXPECT_EQ(assembler.counters().notices, 1);
+  for (const auto& p : parts5) EXPECT_FALSE(assembler.Add(p.data(), p.size()));  // the rest: duplicates
+  // Frame 6 still completes; a notice does not fix the run's calibration.
+  EXPECT_EQ(Feed(sender.Encode(RandomFrame(&rng, 6, {})), &assembler).size(), 1u);
+  EncodedMessage damaged = notice;
+  damaged[damaged.size() / 2] ^= 0x10;
+  EXPECT_FALSE(assembler.Add(damaged.data(), damaged.size()));
+  EXPECT_EQ(assembler.counters().malformed, 1);
+  const EncodedMessage foreign =
+      DepthFrameSender(SmallMessages(), kRun + 1, kConfig, "x").EncodeDropped(7, 0, 0, 20);
+  const EncodedMessage other =
+      DepthFrameSender(SmallMessages(), kRun, kConfig + 1, "y").EncodeDropped(7, 0, 0, 20);
+  assembler.Add(foreign.data(), foreign.size());
+  assembler.Add(other.data(), other.size());
+  EXPECT_EQ(assembler.counters().foreign_run, 1);
+  EXPECT_EQ(assembler.counters().refused, 1);
+  EXPECT_TRUE(assembler.TakeDropped().empty());
+}
+
 TEST(DepthFrames, AnotherConfigIsRefusedNamingTheNode) {
   std::mt19937 rng(15);
   DepthFrameSender sender(SmallMessages(), kRun, 0x77, "cam-a");
