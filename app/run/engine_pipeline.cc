@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <functional>
 #include <string>
 
 #include "engine/pipeline/semap_stages.h"
@@ -28,6 +29,29 @@ class LabelSizeWarnings : public FrameReader {
  private:
   std::unique_ptr<io::FrameSource> source_;
 };
+
+// Each depth worker's stage: SGBM (or the plane sweep) and the labels, from its keyframe's labels when
+// `labels_from_keyframes` (no segmenter of its own), else from the frame's (ENet run here with
+// semantics.source enet).
+std::function<std::unique_ptr<StereoLabelStage>()> StereoLabelStages(const Config& config,
+                                                                     const ClassMap& class_map,
+                                                                     bool labels_from_keyframes) {
+  return [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map,
+          labels_from_keyframes] {
+    return std::make_unique<StereoLabelStage>(depth, semantics, class_map, labels_from_keyframes, sweep);
+  };
+}
+
+// A pipeline that maps what its depth stages give: `simplify` (or the configured windowed simplification
+// when null), then the incremental map.
+std::unique_ptr<Pipeline> MappingPipeline(const Config& config, std::unique_ptr<FrameReader> reader,
+                                          DepthStageFactory depth, const ClassMap& class_map,
+                                          std::unique_ptr<SimplifyStage> simplify) {
+  if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
+  return std::make_unique<Pipeline>(
+      config.pipeline, std::move(reader), std::move(depth), std::move(simplify),
+      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+}
 
 }  // namespace
 
@@ -61,10 +85,7 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
   // (one segment thread would be a single lane of ENet: slower on two cores, and nothing to take off the
   // path).
   const bool enet = config.semantics.source == LabelSource::kEnet && config.semantics.enet_every_frames > 1;
-  auto make_stage = [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep,
-                     class_map, enet] {
-    return std::make_unique<StereoLabelStage>(depth, semantics, class_map, enet, sweep);
-  };
+  const auto make_stage = StereoLabelStages(config, class_map, enet);
   std::unique_ptr<Pipeline> pipeline;
   if (depth_node) {
     pipeline = std::make_unique<Pipeline>(
@@ -74,10 +95,7 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
         },
         std::make_unique<PassThroughSimplifyStage>(), std::make_unique<NoMapStage>());
   } else {
-    if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
-    pipeline = std::make_unique<Pipeline>(
-        config.pipeline, std::move(reader), make_stage, std::move(simplify),
-        std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+    pipeline = MappingPipeline(config, std::move(reader), make_stage, class_map, std::move(simplify));
   }
   if (enet) {
     pipeline->SetSegmentStage(std::make_unique<SegmenterStage>(config.semantics),
@@ -89,16 +107,10 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
 std::unique_ptr<Pipeline> MakeMapNodePipeline(const Config& config, std::unique_ptr<FrameReader> frames,
                                               const ClassMap& class_map,
                                               std::unique_ptr<SimplifyStage> simplify) {
-  if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
-  return std::make_unique<Pipeline>(
-      config.pipeline, std::move(frames),
-      [depth = config.depth, semantics = config.semantics, sweep = config.plane_sweep, class_map] {
-        // The frames carry their labels: no segmenter (labels_from_keyframes).
-        return std::make_unique<StereoLabelStage>(depth, semantics, class_map, /*labels_from_keyframes=*/true,
-                                                  sweep);
-      },
-      std::move(simplify),
-      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+  // The frames carry their labels: no segmenter (labels_from_keyframes).
+  return MappingPipeline(config, std::move(frames),
+                         StereoLabelStages(config, class_map, /*labels_from_keyframes=*/true), class_map,
+                         std::move(simplify));
 }
 
 }  // namespace semap::app

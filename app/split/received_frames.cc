@@ -14,10 +14,6 @@ namespace {
 constexpr double kPollSliceS = 0.05;
 }  // namespace
 
-double SteadyNowS() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
 Frame FrameFromMessage(io::DepthFrameMessage message) {
   Frame f;
   f.id = message.frame_id;
@@ -150,7 +146,7 @@ std::optional<Frame> ReceivedFrameReader::Next() {
   while (true) {
     if (stop_ && stop_()) return std::nullopt;
     for (const std::string& r : frames_->TakeRefusals()) spdlog::warn("depth frames refused: {}", r);
-    switch (frames_->Poll(SteadyNowS(), &frame)) {
+    switch (frames_->Poll(clock_.NowS(), &frame)) {
       case ReceivedFrames::Next::kFrame:
         return frame;
       case ReceivedFrames::Next::kEnd:

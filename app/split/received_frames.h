@@ -16,13 +16,11 @@
 
 #include "app/split/split_options.h"
 #include "engine/core/frame.h"
+#include "engine/pipeline/clock.h"
 #include "engine/pipeline/stages.h"
 #include "io/lcm/depth_frames.h"
 
 namespace semap::app {
-
-// Seconds on the steady clock: the time base of a map node's ReceivedFrames.
-double SteadyNowS();
 
 // A whole received message as the frame the map node's pipeline reads: its id, time stamps, left image,
 // calibration, pose and disparity offset, and its depth (Frame::depth); no right image.
@@ -113,6 +111,7 @@ class ReceivedFrameReader : public FrameReader {
  private:
   std::shared_ptr<ReceivedFrames> frames_;
   std::function<bool()> stop_;
+  SteadyClock clock_;  // the time base of `frames_` (SteadyClock::NowS)
 };
 
 }  // namespace semap::app

@@ -3,7 +3,6 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
-#include <chrono>
 #include <memory>
 
 #include "app/run/engine_pipeline.h"
@@ -80,10 +79,12 @@ StreamRunResult RunDepthNodeOverLcm(const Config& config, StreamRunRequest reque
 }
 
 StreamRunResult RunMapNodeOverLcm(const Config& config, StreamRunRequest request) {
-  auto frames = std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyNowS());
+  // The time base of ReceivedFrameReader (SteadyClock): the LCM thread stamps each datagram on it.
+  auto clock = std::make_shared<SteadyClock>();
+  auto frames = std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), clock->NowS());
   const std::string channel = DepthFrameChannel(config.lcm.channel_prefix);
-  DepthFrameLcmSubscriber subscriber(config.lcm.url, channel, [frames](const void* data, size_t size) {
-    frames->Add(data, size, SteadyNowS());
+  DepthFrameLcmSubscriber subscriber(config.lcm.url, channel, [frames, clock](const void* data, size_t size) {
+    frames->Add(data, size, clock->NowS());
   });
   spdlog::info("map node: depth frames of run {} from {} at {} (waiting up to {:g} s for the first)",
                config.split.run_id, channel, config.lcm.url, config.split.first_frame_timeout_s);

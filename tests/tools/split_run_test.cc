@@ -85,8 +85,8 @@ class SplitRun : public ::testing::Test {
                                  std::shared_ptr<ReceivedFrames>* frames_out = nullptr) {
     const Config config = MakeConfig(out);
     auto frames =
-        std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyNowS());
-    for (const auto& d : datagrams) frames->Add(d.data(), d.size(), SteadyNowS());
+        std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyClock().NowS());
+    for (const auto& d : datagrams) frames->Add(d.data(), d.size(), SteadyClock().NowS());
     if (frames_out) *frames_out = frames;
     return RunMapNode(config, Request(), frames);
   }
@@ -227,7 +227,8 @@ TEST_F(SplitRun, ADepthNodeWithAnotherConfigurationIsRefusedByName) {
 
 TEST_F(SplitRun, AStopRequestEndsAMapNodeThatWaitsForFrames) {
   Config config = MakeConfig(dir_, {"split.first_frame_timeout_s=600"});
-  auto frames = std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyNowS());
+  auto frames =
+      std::make_shared<ReceivedFrames>(config.split, DepthConfigFingerprint(config), SteadyClock().NowS());
   StreamRunRequest request = Request();
   std::thread stopper;
   request.on_running = [&](Pipeline* p) {
