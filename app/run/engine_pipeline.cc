@@ -50,7 +50,7 @@ std::unique_ptr<Pipeline> MappingPipeline(const Config& config, std::unique_ptr<
   if (!simplify) simplify = std::make_unique<WindowedSimplifyStage>(config.simplify, class_map);
   return std::make_unique<Pipeline>(
       config.pipeline, std::move(reader), std::move(depth), std::move(simplify),
-      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.mesh_every_frames));
+      std::make_unique<IncrementalMapStage>(config.map, config.pipeline.MeshEveryFrames()));
 }
 
 }  // namespace

@@ -41,7 +41,7 @@ struct MapOptions {
   // Votes.
   Visibility visibility = Visibility::kDepth;
   int vote_window_frames = 8;
-  double merge_radius_px = 3.0;
+  double merge_radius_px = 6.0;
   double merge_depth_fraction = 0.03;
   double disparity_sigma_px = 0.5;
   double matter_behind_sigmas = 3.0;
@@ -100,6 +100,12 @@ struct MapOptions {
            "input)");
     v.Field("vote_window_frames", &vote_window_frames,
             "depth: the views of this many last frames vote the cells an insertion creates", AtLeast(1));
+    // The vertex density of the map: every pixel still votes, whatever the radius. About the spacing of a
+    // stream's points (depth.max_points_per_frame over the valid pixels), a surface seen again adds
+    // sightings to the vertices it has instead of new ones between them: a smaller radius gives more
+    // vertices, a larger mesh and a slower map (insertion, votes and carving scale with the vertices) for
+    // slightly more completeness; a larger one, thin structures lost (bench/results/map-accuracy.md, "the
+    // vertex density").
     v.Field(
         "merge_radius_px", &merge_radius_px,
         "depth: a new point projecting within this many full-resolution px of a live vertex in its own view "

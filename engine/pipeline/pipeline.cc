@@ -71,6 +71,10 @@ int PipelineOptions::QueueCapacity() const {
   return mode == Mode::kRealtime ? realtime_frames_in_flight : queue_capacity;
 }
 
+int PipelineOptions::MeshEveryFrames() const {
+  return mode == Mode::kRealtime ? realtime_mesh_every_frames : mesh_every_frames;
+}
+
 double CurrentRssMb() {
   std::FILE* f = std::fopen("/proc/self/statm", "r");
   if (!f) return 0.0;

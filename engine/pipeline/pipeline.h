@@ -36,6 +36,7 @@ struct PipelineOptions {
   int feeder_nice = 10;
   int opencv_threads = 1;
   int mesh_every_frames = 5;
+  int realtime_mesh_every_frames = 1;
 
   // CPU ids a process can be pinned to: CPU_SETSIZE of <sched.h> (pipeline.cc checks that they agree).
   static constexpr int kCpuSetSize = 1024;
@@ -110,9 +111,17 @@ struct PipelineOptions {
     // Extracting the whole live surface and diffing it costs about as much as the votes (80 urban frames, PS,
     // half-resolution SGBM: 98 of 305 ms per frame; bench/results/frame-rate.md, "Mesh cadence"), while a
     // viewer or a logger needs the mesh at a few Hz, not at the sensor's rate. 5 is 2 Hz on a 10 Hz stream.
-    v.Field("mesh_every_frames", &mesh_every_frames,
-            "the map extracts and publishes the mesh's change every this many frames (and at the end), "
-            "integrating every frame; 1 = every frame; the final mesh is the same for any value",
+    v.Field(
+        "mesh_every_frames", &mesh_every_frames,
+        "exhaustive mode: the map extracts and publishes the mesh's change every this many frames (and at "
+        "the end), integrating every frame; 1 = every frame; the final mesh is the same for any value",
+        AtLeast(1));
+    // A frame's latency to the published mesh is its latency to the map plus the wait for the next
+    // extraction: up to this many frame periods. Extracting after each frame adds its cost to the map's
+    // time a frame (bench/results/frame-rate.md, "the mesh after every frame at the sensor's rate").
+    v.Field("realtime_mesh_every_frames", &realtime_mesh_every_frames,
+            "realtime mode: the map extracts and publishes the mesh's change every this many frames of the "
+            "sequence (and at the end); 1 = after every frame",
             AtLeast(1));
   }
 
@@ -120,6 +129,8 @@ struct PipelineOptions {
   // The capacity of each queue behind the input queue in this mode (realtime_frames_in_flight or
   // queue_capacity).
   int QueueCapacity() const;
+  // The mesh cadence in this mode (realtime_mesh_every_frames or mesh_every_frames).
+  int MeshEveryFrames() const;
 };
 
 // Why a frame of the sequence was never integrated (FrameStats::dropped_by_reason names them).

@@ -70,6 +70,9 @@ TEST_F(RunRealtime, EveryFrameIsIntegratedOrDroppedWithItsReasonAndTheLatencyIsW
     ASSERT_EQ(cells.size(), names.size()) << rows[i];
     EXPECT_TRUE(seen.insert(std::stoll(cells[column["frame_id"]])).second) << rows[i];
     EXPECT_GE(std::stod(cells[column["latency_published_ms"]]), std::stod(cells[column["latency_map_ms"]]));
+    // In realtime mode the mesh is extracted after every frame (pipeline.realtime_mesh_every_frames): each
+    // row counts a mesh that holds its frame (every 5 frames, the rows before the first extraction count 0).
+    EXPECT_GT(std::stoll(cells[column["mesh_triangles"]]), 0) << rows[i];
   }
   int drops = 0;
   for (const std::string& line : test::NonEmptyLines(out_ / "errors.jsonl")) {

@@ -186,6 +186,7 @@ LabelledCloud WallPixels(const std::shared_ptr<const DepthView>& view, const std
 
 TEST(VoteMode, DepthVotesAreTheWindowsViewsVotesAndAViewSeenAgainMergesIntoItsVertices) {
   MapOptions options;
+  options.merge_radius_px = 3.0;  // the grid WallPixels' points are laid out on
   Parts parts(options);
   const auto view = WallView();
   const VotingView voting(view);

@@ -543,6 +543,20 @@ TEST(PipelineOptions, RealtimeSpeedAndQueueAreChecked) {
   options = PipelineOptions{};
   options.realtime_frames_in_flight = 0;
   EXPECT_THROW(options.Check(), InvalidOption);
+  options = PipelineOptions{};
+  options.realtime_mesh_every_frames = 0;
+  EXPECT_THROW(options.Check(), InvalidOption);
+}
+
+// Each mode has its own mesh cadence: the sensor's rate wants a young mesh, a batch run a cheap one.
+TEST(PipelineOptions, EachModeHasItsMeshCadence) {
+  PipelineOptions options;
+  options.mesh_every_frames = 5;
+  options.realtime_mesh_every_frames = 2;
+  EXPECT_EQ(options.MeshEveryFrames(), 5);
+  options.mode = PipelineOptions::Mode::kRealtime;
+  EXPECT_EQ(options.MeshEveryFrames(), 2);
+  EXPECT_EQ(PipelineOptions{}.realtime_mesh_every_frames, 1);
 }
 
 }  // namespace
