@@ -104,8 +104,8 @@ struct MapOptions {
     // stream's points (depth.max_points_per_frame over the valid pixels), a surface seen again adds
     // sightings to the vertices it has instead of new ones between them: a smaller radius gives more
     // vertices, a larger mesh and a slower map (insertion, votes and carving scale with the vertices) for
-    // slightly more completeness; a larger one, thin structures lost (bench/results/map-accuracy.md, "the
-    // vertex density").
+    // slightly more completeness; a larger one, thin structures lost (bench/results/frame-rate.md, "the
+    // map's vertex density").
     v.Field(
         "merge_radius_px", &merge_radius_px,
         "depth: a new point projecting within this many full-resolution px of a live vertex in its own view "

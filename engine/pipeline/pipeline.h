@@ -118,7 +118,7 @@ struct PipelineOptions {
         AtLeast(1));
     // A frame's latency to the published mesh is its latency to the map plus the wait for the next
     // extraction: up to this many frame periods. Extracting after each frame adds its cost to the map's
-    // time a frame (bench/results/frame-rate.md, "the mesh after every frame at the sensor's rate").
+    // time a frame (bench/RESULTS.md, "Frame rate today").
     v.Field("realtime_mesh_every_frames", &realtime_mesh_every_frames,
             "realtime mode: the map extracts and publishes the mesh's change every this many frames of the "
             "sequence (and at the end); 1 = after every frame",

@@ -14,6 +14,7 @@
 #include "io/mesh/ply_off.h"
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
+#include "tests/tools/eval_json.h"
 #include "tests/tools/small_sequence.h"
 
 namespace semap::tools {
@@ -25,12 +26,7 @@ using test::RunSemap;
 
 // `semap eval` of the mesh.ply a run wrote to `out`, as its --json (empty when the command failed).
 nlohmann::json EvalOfWrittenMesh(const fs::path& seq, const fs::path& out) {
-  const fs::path json = out / "again.json";
-  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (out / "mesh.ply").string() +
-                               " --json " + json.string());
-  EXPECT_EQ(eval.exit_code, 0) << eval.output;
-  if (eval.exit_code != 0) return {};
-  return nlohmann::json::parse(std::ifstream(json));
+  return test::EvalJson(seq, out / "mesh.ply", out / "again.json");
 }
 
 // The same agreement on a mesh with vertices at weighted means (map.confirm_beyond_m), whose float32 rounding

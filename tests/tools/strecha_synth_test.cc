@@ -10,6 +10,7 @@
 
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
+#include "tests/tools/eval_json.h"
 
 namespace semap::tools {
 namespace {
@@ -29,14 +30,6 @@ fs::path FiveViewSet() {
     EXPECT_EQ(r.exit_code, 0) << r.output;
   }
   return dir;
-}
-
-// `semap eval SET --mesh MESH --json`, parsed (empty when the command failed).
-nlohmann::json Evaluate(const fs::path& set, const fs::path& mesh, const fs::path& json) {
-  const CliRun r = RunSemap("eval " + set.string() + " --mesh " + mesh.string() + " --json " + json.string());
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  if (r.exit_code != 0) return {};
-  return nlohmann::json::parse(std::ifstream(json));
 }
 
 // The exact-depth figures of each protocol exist, over every frame; returns the strict ones.
@@ -65,7 +58,7 @@ TEST(StrechaSynth, InfoShowsAStrechaSetWithLabels) {
 // The scene mesh itself, evaluated: the exact depth, the cameras and the mesh agree to the depth files' mm.
 TEST(StrechaSynth, TheSceneMeshMatchesTheExactDepthOfEveryView) {
   const fs::path set = FiveViewSet();
-  const nlohmann::json e = Evaluate(set, set / "scene_mesh.ply", test::TempDir() / "truth.json");
+  const nlohmann::json e = test::EvalJson(set, set / "scene_mesh.ply", test::TempDir() / "truth.json");
   ASSERT_FALSE(e.empty());
   const nlohmann::json strict = ExactDepthOfEveryProtocol(e);
   // Depth rounded to the millimetre: errors within ±0.5 mm (RMSE 0.29 mm), a few silhouette pixels aside.
@@ -84,7 +77,7 @@ TEST(StrechaSynth, APlaneSweepRunIsEvaluatedAgainstTheExactDepth) {
                               " --progress-interval 100 --out " +
                               out.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const nlohmann::json e = Evaluate(set, out / "mesh.ply", out / "again.json");
+  const nlohmann::json e = test::EvalJson(set, out / "mesh.ply", out / "again.json");
   ASSERT_FALSE(e.empty());
   const nlohmann::json strict = ExactDepthOfEveryProtocol(e);
   const double rmse = strict.value("rmse_m", -1.0);

@@ -11,6 +11,7 @@
 
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
+#include "tests/tools/eval_json.h"
 
 namespace semap::tools {
 namespace {
@@ -25,16 +26,13 @@ constexpr double kMaxPaperRmseGrowth = 0.03;   // paper protocol, RMSE against t
 constexpr double kMaxAreaWithinLoss = 0.01;    // share of the mesh's area within 0.2 m of the scene
 constexpr double kMaxCompletenessLoss = 0.02;  // share of the scene within 0.2 m of the mesh
 
-// `semap run` of `seq` with `args`, then `semap eval --json` of the mesh.ply it wrote.
+// `semap run` of `seq` with `args`, then `semap eval --json` of the mesh.ply it wrote (null when either
+// failed).
 nlohmann::json RunAndEvaluate(const fs::path& seq, const std::string& args, const fs::path& out) {
   const CliRun run = RunSemap("run " + seq.string() + " --method PS " + args + " --out " + out.string());
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  const fs::path json = out / "again.json";
-  const CliRun eval = RunSemap("eval " + seq.string() + " --mesh " + (out / "mesh.ply").string() +
-                               " --json " + json.string());
-  EXPECT_EQ(eval.exit_code, 0) << eval.output;
-  if (run.exit_code != 0 || eval.exit_code != 0) return {};
-  return nlohmann::json::parse(std::ifstream(json));
+  if (run.exit_code != 0) return {};
+  return test::EvalJson(seq, out / "mesh.ply", out / "again.json");
 }
 
 TEST(VertexDensity, TheDefaultHalvesTheVerticesAndKeepsTheStreet) {
