@@ -37,6 +37,7 @@
 #include "bench/sequence_args.h"
 #include "bench/stats.h"
 #include "engine/depth/stereo_depth.h"
+#include "engine/depth/stereo_sweep.h"
 #include "engine/eval/depth_accuracy.h"
 #include "engine/eval/depth_render.h"
 #include "engine/eval/error_breakdown.h"
@@ -53,12 +54,18 @@ using semap::DepthAccuracyOptions;
 
 // The bins' edges (m) of reference depth.
 constexpr double kEdgesM[] = {0.0, 10.0, 20.0, 30.0, 40.0};
+// One more row: the far surfaces, where a stereo pair's depth is weakest.
+constexpr double kFarM[] = {20.0, 40.0};
 
 // The accumulators of one reference and one pixel selection: per bin and in total, input and mesh.
 struct Table {
   explicit Table(const DepthAccuracyOptions& strict) {
     for (int side = 0; side < 2; ++side) {
       total[side].emplace_back(strict);
+      DepthAccuracyOptions far_options = strict;
+      far_options.min_depth_m = std::max(strict.min_depth_m, kFarM[0]);
+      far_options.max_depth_m = std::min(strict.max_depth_m, kFarM[1]);
+      far[side].emplace_back(far_options);
       for (std::size_t b = 0; b + 1 < std::size(kEdgesM); ++b) {
         DepthAccuracyOptions o = strict;
         o.min_depth_m = std::max(strict.min_depth_m, kEdgesM[b]);
@@ -71,10 +78,11 @@ struct Table {
     const cv::Mat* depth[2] = {&input, &mesh};
     for (int side = 0; side < 2; ++side) {
       total[side][0].Add(reference, *depth[side]);
+      far[side][0].Add(reference, *depth[side]);
       for (auto& b : bins[side]) b.Add(reference, *depth[side]);
     }
   }
-  std::vector<DepthAccuracyAccumulator> total[2], bins[2];
+  std::vector<DepthAccuracyAccumulator> total[2], far[2], bins[2];
 };
 
 void PrintRow(const std::string& name, const DepthAccuracy& in, const DepthAccuracy& mesh) {
@@ -96,6 +104,9 @@ void Print(const std::string& title, const Table& t) {
     std::snprintf(name, sizeof(name), "%.0f-%.0f m", kEdgesM[b], kEdgesM[b + 1]);
     PrintRow(name, t.bins[0][b].Result(), t.bins[1][b].Result());
   }
+  char far_name[32];
+  std::snprintf(far_name, sizeof(far_name), "%.0f-%.0f m", kFarM[0], kFarM[1]);
+  PrintRow(far_name, t.far[0][0].Result(), t.far[1][0].Result());
   PrintRow("all", t.total[0][0].Result(), t.total[1][0].Result());
 }
 
@@ -325,6 +336,10 @@ int main(int argc, char** argv) {
     const semap::Mesh mesh = semap::io::ReadMesh(mesh_path);
     const std::vector<int> triangle_labels = semap::TriangleLabels(mesh);
     const semap::StereoDepth depth(config.depth);
+    // With plane_sweep.stereo_past_frames, the map's input is SGBM with the sweep beside it, as in a run.
+    const semap::PlaneSweepDepth stereo_sweep(semap::StereoFrameSweepOptions(config.plane_sweep));
+    semap::PastFrameViews past_views(config.plane_sweep.stereo_past_frames);
+    semap::StereoSweepCounts sweep_counts;
     std::unique_ptr<semap::Segmenter> segmenter;
     if (config.semantics.source == semap::LabelSource::kEnet)
       segmenter = semap::MakeSegmenter(config.semantics);
@@ -335,10 +350,12 @@ int main(int argc, char** argv) {
     std::string frame_rows;
     int with_lidar = 0, with_exact = 0;
     while (auto frame = source->Next()) {
+      past_views.Attach(&*frame);
       if (!frame->world_from_cam) continue;
       const auto exact_path = semap::app::ExactDepthPath(info, frame->id);
       if (!frame->velodyne && !exact_path) continue;
-      const semap::DisparityResult d = depth.Compute(frame->left, frame->right);
+      const semap::DisparityResult d =
+          semap::StereoSweepDisparity(*frame, depth, stereo_sweep, &sweep_counts);
       const cv::Mat stereo = depth.ToDepthView(*frame, d.disparity_px, d.confidence).depth_m;
       const semap::DepthAndTriangles rendered =
           semap::RenderDepthAndTriangles(mesh, frame->calibration, *frame->world_from_cam);
@@ -366,6 +383,13 @@ int main(int argc, char** argv) {
     std::printf(
         "Fusion: per-frame SGBM depth (the map's input) against the mesh %s, %s, strict protocol (%s)\n",
         mesh_path.c_str(), sequence.c_str(), semap::ProtocolFilters(strict).c_str());
+    if (config.plane_sweep.stereo_past_frames > 0) {
+      const double all = static_cast<double>(sweep_counts.sgbm + sweep_counts.replaced);
+      std::printf(
+          "SGBM with the plane sweep over %d earlier frames: %.1f %% of SGBM's pixels take the sweep's "
+          "depth\n",
+          config.plane_sweep.stereo_past_frames, 100.0 * sweep_counts.replaced / std::max(all, 1.0));
+    }
     const std::string incidence_title =
         ", static scene, the pixels both cover, by the angle between the ray and the mesh surface's normal";
     if (with_lidar > 0) {

@@ -78,6 +78,10 @@ std::unique_ptr<Pipeline> MakeEnginePipeline(const Config& config, std::unique_p
     reader = std::make_unique<OdometryReader>(std::move(reader), config.odometry,
                                               odometry->plan.replace_poses, odometry->log);
   }
+  if (config.plane_sweep.stereo_past_frames > 0) {
+    reader =
+        std::make_unique<StereoNeighbourReader>(std::move(reader), config.plane_sweep.stereo_past_frames);
+  }
   // Last: the readers before see every frame of the sequence, as they do in a single process.
   if (depth_node) reader = std::make_unique<FrameShareReader>(std::move(reader), depth_node->share);
   // ENet on keyframes (semantics.enet_every_frames > 1) runs on its own thread and the depth workers load

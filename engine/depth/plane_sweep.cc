@@ -389,6 +389,9 @@ DepthRange SweptRange(const PlaneSweepOptions& o, const PlaneSweepView& referenc
 
 void PlaneSweepOptions::Check() const {
   CheckDeclaredRanges(*this);
+  if (stereo_max_depth_m <= stereo_min_depth_m) {
+    throw OptionError(*this, stereo_max_depth_m, "must be greater than " + KeyOf(*this, stereo_min_depth_m));
+  }
   if (min_depth_m == 0.0 && max_depth_m == 0.0) return;  // the range from the cameras
   if (min_depth_m <= 0.0) {
     throw OptionError(*this, min_depth_m,

@@ -51,6 +51,14 @@ struct PlaneSweepOptions {
   int agreement_planes = 2;
   double agreement_max_cost = 0.5;
   bool label_directions = true;
+  // Stereo frames swept beside SGBM (engine/depth/stereo_sweep.h).
+  int stereo_past_frames = 0;  // 0: SGBM alone
+  double stereo_min_depth_m = 15.0;
+  double stereo_max_depth_m = 60.0;
+  int stereo_window_px = 11;
+  int stereo_best_views = 0;  // 0: the mean of all views
+  double stereo_parallax_gain = 1.0;
+  double stereo_max_disagreement_px = 1.0;
 
   // Each field's key, text and valid values, declared once here (engine/core/options.h); Check() tests the
   // values against them.
@@ -121,6 +129,40 @@ struct PlaneSweepOptions {
             "multi-view frames: after a fronto-parallel sweep, fit a RANSAC plane to the ground's and the "
             "walls' labelled pixels and sweep again with planes parallel to each (offsets within 20 % of "
             "the fitted plane's distance): slanted ground and facades get their depth");
+    // The sweep beside SGBM costs a sweep of num_planes planes per frame (bench/RESULTS.md, "Multi-view
+    // depth"): several SGBM frames' time, beyond the real-time budget; off by default.
+    v.Field("stereo_past_frames", &stereo_past_frames,
+            "stereo frames (a right image and a pose): also sweep the left image against the right one and "
+            "the left images of this many earlier frames, and take the sweep's depth where its neighbours' "
+            "parallax beats the pair's (stereo_parallax_gain) and it agrees with SGBM's "
+            "(stereo_max_disagreement_px); 0 = SGBM alone",
+            AtLeast(0));
+    v.Field(
+        "stereo_min_depth_m", &stereo_min_depth_m,
+        "stereo frames: nearest depth swept (m); SGBM keeps every pixel it puts nearer (larger: the sweep "
+        "serves far surfaces only, with finer steps)",
+        Above(0));
+    v.Field("stereo_max_depth_m", &stereo_max_depth_m,
+            "stereo frames: farthest depth swept (m), beyond stereo_min_depth_m");
+    v.Field("stereo_window_px", &stereo_window_px,
+            "stereo frames: the ZNCC window side in px (window_px for them; larger: surer far depth, blurred "
+            "depth edges)",
+            AtLeast(3).Odd());
+    // A forward-moving rig's earlier frames see the middle of the image with little parallax: they match
+    // there at every depth, and a best-views aggregation would keep them and flatten the cost.
+    v.Field("stereo_best_views", &stereo_best_views,
+            "stereo frames: best_views for them (0 = the mean of all views)", AtLeast(0));
+    v.Field("stereo_parallax_gain", &stereo_parallax_gain,
+            "stereo frames: the sweep's depth replaces SGBM's at a pixel where its best best_views "
+            "neighbours' mean parallax (px per unit of inverse depth) is at least this many times the "
+            "pair's f·B (higher: the sweep serves only where its baselines are much longer)",
+            Above(0));
+    v.Field(
+        "stereo_max_disagreement_px", &stereo_max_disagreement_px,
+        "stereo frames: the sweep's depth replaces SGBM's only within this many px of the pair's "
+        "disparity (lower: the sweep refines SGBM's depth, never overrules it; -1 = no bound); where SGBM "
+        "gives none, the pixel stays without",
+        AtLeast(0).Or(-1, "no bound"));
   }
 
   void Check() const;

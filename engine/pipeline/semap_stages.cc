@@ -16,6 +16,7 @@ StereoLabelStage::StereoLabelStage(const DepthOptions& depth, const SemanticsOpt
                                    const PlaneSweepOptions& sweep)
     : depth_(depth),
       sweep_(sweep),
+      stereo_sweep_(StereoFrameSweepOptions(sweep)),
       semantics_(semantics),
       class_map_(std::move(class_map)),
       sky_label_(SkyLabel(class_map_)),
@@ -93,9 +94,18 @@ std::optional<Frame> RowAlignmentReader::Next() {
   return frame;
 }
 
+StereoNeighbourReader::StereoNeighbourReader(std::unique_ptr<FrameReader> source, int past_frames)
+    : source_(std::move(source)), views_(past_frames) {}
+
+std::optional<Frame> StereoNeighbourReader::Next() {
+  std::optional<Frame> frame = source_->Next();
+  if (frame) views_.Attach(&*frame);
+  return frame;
+}
+
 DisparityResult StereoLabelStage::Disparity(const Frame& frame) const {
   if (frame.right.empty()) return SweepFrameDisparity(frame, sweep_, depth_.options().half_resolution);
-  return depth_.Compute(frame.left, frame.right, frame.row_offsets ? &*frame.row_offsets : nullptr);
+  return StereoSweepDisparity(frame, depth_, stereo_sweep_);
 }
 
 FrameDepth StereoLabelStage::ComputeDepth(const Frame& frame, const KeyframeLabels* keyframe_labels) {

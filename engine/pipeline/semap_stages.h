@@ -8,6 +8,7 @@
 #include "engine/core/class_map.h"
 #include "engine/depth/plane_sweep.h"
 #include "engine/depth/stereo_depth.h"
+#include "engine/depth/stereo_sweep.h"
 #include "engine/map/incremental_map.h"
 #include "engine/pipeline/stages.h"
 #include "engine/semantics/labelling.h"
@@ -43,6 +44,20 @@ class RowAlignmentReader : public FrameReader {
   int frames_since_attempt_ = 0;
 };
 
+// Gives each stereo frame with a pose its right view and the left views of the plane_sweep.stereo_past_frames
+// frames before it (PastFrameViews), for the depth stage to sweep beside SGBM. Runs on the reader's thread
+// after the readers that set the poses; one thread calls Next().
+class StereoNeighbourReader : public FrameReader {
+ public:
+  StereoNeighbourReader(std::unique_ptr<FrameReader> source, int past_frames);
+  std::optional<Frame> Next() override;
+  std::vector<LostFrame> TakeLost() override { return source_->TakeLost(); }
+
+ private:
+  std::unique_ptr<FrameReader> source_;
+  PastFrameViews views_;
+};
+
 // The frame's label image is, given keyframe labels (a pipeline with a SegmenterStage), the keyframe's own
 // on a keyframe, else the keyframe's carried over as semantics.enet_propagation says (reprojected through
 // this frame's SGBM depth and the relative pose, or reused); without, FrameLabels() (the frame's label image,
@@ -65,11 +80,13 @@ class StereoLabelStage : public DepthStage {
   LabelledCloud ToCloud(const Frame& frame, const FrameDepth& depth) const;
 
  private:
-  // The frame's disparity (and confidence): SGBM on its pair, or the plane sweep without one.
+  // The frame's disparity (and confidence): SGBM on its pair (with the sweep beside it when the frame has
+  // earlier frames' views: StereoSweepDisparity), or the plane sweep without one.
   DisparityResult Disparity(const Frame& frame) const;
 
   StereoDepth depth_;
   PlaneSweepDepth sweep_;
+  PlaneSweepDepth stereo_sweep_;  // StereoFrameSweepOptions(sweep)
   SemanticsOptions semantics_;
   ClassMap class_map_;
   std::optional<Label> sky_label_;        // points of this label are dropped when semantics.drop_sky

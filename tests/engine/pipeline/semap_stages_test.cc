@@ -1,6 +1,7 @@
-// StereoLabelStage with keyframe labels (a pipeline with a segment stage), SegmenterStage and the
-// RowAlignmentReader. The frame-label path without keyframes is tested with the labelling rule
-// (tests/engine/semantics/labelling_test.cc), the row fit itself in tests/engine/depth/row_alignment_test.cc.
+// StereoLabelStage with keyframe labels (a pipeline with a segment stage) and with the sweep beside SGBM,
+// SegmenterStage, the RowAlignmentReader and the StereoNeighbourReader. The frame-label path without
+// keyframes is tested with the labelling rule (tests/engine/semantics/labelling_test.cc), the row fit itself
+// in tests/engine/depth/row_alignment_test.cc.
 #include "engine/pipeline/semap_stages.h"
 
 #include <gtest/gtest.h>
@@ -317,6 +318,50 @@ TEST(StereoLabelStage, AMultiViewFrameSweepsTheLabelledGroundsPlanes) {
             << ", with the ground's planes " << with_ground << "\n";
   EXPECT_GT(with_ground, fronto + fronto / 5)
       << "fronto-parallel " << fronto << ", with the ground's planes " << with_ground;
+}
+
+// Each stereo frame with a pose gets its right view and the earlier frames' left views, in reading order.
+TEST(StereoNeighbourReader, HandsEachFrameItsRightViewAndTheEarlierFramesViews) {
+  std::deque<Frame> frames;
+  for (int i = 0; i < 4; ++i) {
+    Pose3d pose = Pose3d::Identity();
+    pose.translation().z() = i;
+    frames.push_back(Plane(i, pose));
+  }
+  StereoNeighbourReader reader(std::make_unique<test::FramesReader>(std::move(frames)), 2);
+  std::vector<std::size_t> views;
+  while (auto f = reader.Next()) {
+    views.push_back(f->neighbour_views.size());
+    if (f->id == 3) {
+      EXPECT_EQ(f->neighbour_views[1].frame_id, 2);
+      EXPECT_EQ(f->neighbour_views[2].frame_id, 1);
+    }
+  }
+  EXPECT_EQ(views, (std::vector<std::size_t>{1, 2, 3, 3}));
+}
+
+// A scene nearer than plane_sweep.stereo_min_depth_m keeps SGBM's depth: the stage's cloud with the sweep
+// beside SGBM is the cloud of SGBM alone, point for point.
+TEST(StereoLabelStage, KeepsSgbmsDepthNearerThanTheSweepsRange) {
+  PlaneSweepOptions sweep;
+  sweep.num_planes = 16;
+  sweep.stereo_past_frames = 2;
+  std::deque<Frame> frames;
+  for (int i = 0; i < 3; ++i) {
+    Pose3d pose = Pose3d::Identity();
+    pose.translation().x() = 0.3 * i;
+    frames.push_back(Plane(i, pose));
+  }
+  StereoNeighbourReader reader(std::make_unique<test::FramesReader>(std::move(frames)), 2);
+  StereoLabelStage alone(SmallDepth(), SemanticsOptions{}, ClassMap::Cityscapes());
+  StereoLabelStage with_sweep(SmallDepth(), SemanticsOptions{}, ClassMap::Cityscapes(), false, sweep);
+  while (auto f = reader.Next()) {
+    const LabelledCloud a = alone.Process(*f, nullptr), b = with_sweep.Process(*f, nullptr);
+    ASSERT_EQ(a.size(), b.size()) << "frame " << f->id;
+    ASSERT_GT(a.size(), 0u);
+    for (std::size_t i = 0; i < a.size(); ++i)
+      ASSERT_EQ(a.positions_world[i], b.positions_world[i]) << "frame " << f->id;
+  }
 }
 
 }  // namespace
