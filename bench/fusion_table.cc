@@ -18,8 +18,11 @@
 // (which classes make the strict RMSE), and --per-frame adds each frame's static RMSE, all depths and 20-40 m
 // (which frames make it).
 //
+// With plane_sweep.stereo_past_frames the input is SGBM with the sweep beside it, as in a run, and
+// --sweep-picture-frame F --sweep-picture PNG draws what the sweep changed in frame F.
+//
 // Usage: semap_fusion_table SEQUENCE --mesh MESH.ply [--frames N] [--per-frame] [--config FILE]
-//        [--set key=value ...]
+//        [--set key=value ...] [--sweep-picture-frame F --sweep-picture PNG]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
@@ -30,6 +33,9 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -313,6 +319,32 @@ std::string FrameRow(std::int64_t frame_id, const cv::Mat& static_reference, con
   return row;
 }
 
+// A picture of what the sweep changed in one frame: on top, the left image with the pixels whose depth the
+// sweep gave in green; below, the Velodyne's pixels among those, green where the sweep's depth is nearer the
+// Velodyne's than SGBM's was, red where it is farther, and the Velodyne's other pixels grey.
+void WriteSweepPicture(const std::string& path, const cv::Mat& left, const cv::Mat& sgbm_m,
+                       const cv::Mat& combined_m, const cv::Mat& lidar_m) {
+  cv::Mat grey = left, base;
+  if (left.channels() == 3) cv::cvtColor(left, grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(grey, base, cv::COLOR_GRAY2BGR);
+  cv::Mat top = base * 0.6, bottom = base * 0.3;
+  const cv::Vec3b green(0, 220, 0), red(0, 0, 255), grey_point(160, 160, 160);
+  for (int v = 0; v < base.rows; ++v) {
+    for (int u = 0; u < base.cols; ++u) {
+      const float a = sgbm_m.at<float>(v, u), b = combined_m.at<float>(v, u), z = lidar_m.at<float>(v, u);
+      const bool changed = a > 0.0f && b > 0.0f && a != b;
+      if (changed) top.at<cv::Vec3b>(v, u) = 0.5 * top.at<cv::Vec3b>(v, u) + 0.5 * green;
+      if (!(z > 0.0f)) continue;
+      cv::Vec3b colour = grey_point;
+      if (changed) colour = std::abs(b - z) < std::abs(a - z) ? green : red;
+      cv::circle(bottom, cv::Point(u, v), 1, colour, cv::FILLED);
+    }
+  }
+  cv::Mat both;
+  cv::vconcat(top, bottom, both);
+  if (!cv::imwrite(path, both)) throw std::runtime_error("cannot write " + path);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -325,6 +357,12 @@ int main(int argc, char** argv) {
   bool per_frame = false;
   app.add_flag("--per-frame", per_frame,
                "also print each frame's static RMSE against the Velodyne (all depths, 20-40 m)");
+  int picture_frame = -1;
+  std::string picture_path;
+  app.add_option("--sweep-picture-frame", picture_frame,
+                 "with plane_sweep.stereo_past_frames: the frame whose picture of what the sweep changed "
+                 "--sweep-picture writes");
+  app.add_option("--sweep-picture", picture_path, "that picture's PNG path");
   CLI11_PARSE(app, argc, argv);
   try {
     const semap::app::Config config = args.LoadConfig();
@@ -363,6 +401,12 @@ int main(int argc, char** argv) {
       const cv::Mat classes = semap::PixelClasses(frame->labels, rendered.triangle, triangle_labels);
       if (frame->velodyne) {
         const cv::Mat lidar = semap::LidarDepthImage(*frame->velodyne, frame->calibration, strict);
+        if (frame->id == picture_frame && !picture_path.empty()) {
+          const semap::DisparityResult alone = depth.Compute(frame->left, frame->right);
+          WriteSweepPicture(picture_path, frame->left,
+                            depth.ToDepthView(*frame, alone.disparity_px, alone.confidence).depth_m, stereo,
+                            lidar);
+        }
         const cv::Mat lidar_static = semap::WithoutMovable(lidar, classes, movable);
         lidar_tables.Add(lidar, lidar_static, stereo, rendered.depth);
         lidar_incidence.Add(lidar_static, stereo, rendered.depth, rendered.triangle, mesh, frame->calibration,
