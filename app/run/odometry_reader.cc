@@ -1,8 +1,8 @@
 #include "app/run/odometry_reader.h"
 
-#include <chrono>
 #include <stdexcept>
 
+#include "engine/core/stopwatch.h"
 #include "io/output/trajectory_files.h"
 
 namespace semap::app {
@@ -57,12 +57,12 @@ std::optional<Frame> OdometryReader::Next() {
     odometry_ = std::make_unique<StereoOdometry>(options_, frame->calibration);
     if (frame->world_from_cam) odometry_->SetFirstPose(*frame->world_from_cam);
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   OdometryRecord record;
   record.frame_id = frame->id;
   record.timestamp_s = frame->timestamp_s;
   record.result = odometry_->Track(frame->left, frame->right, frame->timestamp_s);
-  record.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  record.wall_ms = stopwatch.ElapsedMs();
   const OdometryResult result = record.result;
   log_->Add(std::move(record));
   // The rig's rectification offset as the odometry knows it, when the frame's depth is to use it too

@@ -1,8 +1,9 @@
 #include "app/split/depth_node.h"
 
-#include <chrono>
 #include <stdexcept>
 #include <utility>
+
+#include "engine/core/stopwatch.h"
 
 namespace semap::app {
 
@@ -70,10 +71,9 @@ void DepthFramePublisher::OnFrameDepth(const Frame& frame, const FrameDepth& dep
   m.disparity_px = depth.disparity_px;
   m.confidence = depth.confidence;
   m.labels = depth.labels;
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   const std::vector<io::EncodedMessage> datagrams = sender_.Encode(m);
-  const double encode_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const double encode_ms = stopwatch.ElapsedMs();
   std::lock_guard<std::mutex> lock(mutex_);
   for (const io::EncodedMessage& d : datagrams) {
     send_(d);

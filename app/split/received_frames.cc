@@ -6,6 +6,8 @@
 #include <chrono>
 #include <utility>
 
+#include "engine/core/stopwatch.h"
+
 namespace semap::app {
 
 namespace {
@@ -38,9 +40,9 @@ void ReceivedFrames::Add(const void* data, size_t size, double now_s) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const std::int64_t parts_before = assembler_.counters().parts;
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch stopwatch;
     std::optional<io::DepthFrameMessage> whole = assembler_.Add(data, size);
-    decode_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    decode_ms_ += stopwatch.ElapsedMs();
     if (assembler_.counters().parts > parts_before) last_arrival_s_ = now_s;
     for (const std::int64_t id : assembler_.TakeDropped()) announced_.insert(id);
     ++datagrams_;

@@ -1,10 +1,10 @@
 #include "engine/pipeline/semap_stages.h"
 
-#include <chrono>
 #include <stdexcept>
 #include <string>
 
 #include "engine/core/check.h"
+#include "engine/core/stopwatch.h"
 #include "engine/depth/dominant_planes.h"
 #include "engine/depth/frame_sweep.h"
 #include "engine/depth/row_alignment.h"
@@ -200,15 +200,14 @@ MapUpdate IncrementalMapStage::Process(const LabelledCloud& cloud, const Pose3d&
   // The cloud's camera (its frame's left camera) is where every ray of this frame starts.
   const MapUpdateResult r = map_.Update(cloud);
   last_frame_id_ = cloud.camera_frame_ids.empty() ? last_frame_id_ + 1 : cloud.camera_frame_ids.front();
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   // Every mesh_every_frames frames of the sequence, whether or not the frames between were integrated (a
   // realtime run's drops do not slow the mesh's cadence down).
   if (!next_mesh_frame_id_) next_mesh_frame_id_ = last_frame_id_ + mesh_every_frames_ - 1;
   const bool with_mesh = last_frame_id_ >= *next_mesh_frame_id_;
   if (with_mesh) next_mesh_frame_id_ = last_frame_id_ + mesh_every_frames_;
   MapUpdate u = Report(with_mesh);
-  const double mesh_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const double mesh_ms = stopwatch.ElapsedMs();
   u.steps = {{"locate", r.locate_ms}, {"insert", r.insert_ms},     {"votes", r.trace_ms},
              {"carve", r.carve_ms},   {"finalise", r.finalise_ms}, {"mesh", mesh_ms}};
   return u;
