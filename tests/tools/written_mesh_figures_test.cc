@@ -15,6 +15,7 @@
 #include "tests/common/test_data.h"
 #include "tests/tools/cli_run.h"
 #include "tests/tools/compare_csv.h"
+#include "tests/tools/eval_json.h"
 #include "tests/tools/small_sequence.h"
 
 namespace semap::tools {
@@ -92,11 +93,8 @@ double Number(const Json& j, const std::vector<std::string>& keys) {
 // `semap eval` of the mesh.ply in `run_dir` (a run of `sequence`), as its --json.
 Json EvalOf(const fs::path& sequence, const fs::path& run_dir) {
   const fs::path json = run_dir.parent_path() / (run_dir.filename().string() + "_eval.json");
-  const CliRun r = RunSemap("eval " + sequence.string() + " --mesh " + (run_dir / "mesh.ply").string() +
-                            " --json " + json.string());
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  if (r.exit_code != 0) return Json::object();
-  Json j = Json::parse(std::ifstream(json));
+  Json j = test::EvalJson(sequence, run_dir / "mesh.ply", json);
+  if (j.is_null()) return Json::object();
   // Figures of something: pixels compared against Velodyne in both protocols, exact depth and the scene mesh,
   // so that equal figures are not two empty ones.
   EXPECT_GT(Number(j, {"lidar", "compared_pixels"}), 0.0) << run_dir;
