@@ -172,6 +172,11 @@ struct Pipeline::Impl {
     return std::max(1u, std::thread::hardware_concurrency());
   }
 
+  // Milliseconds on the pipeline's clock since `since_s` (a NowS()). The label budget measures on this clock,
+  // the one the frames' periods are played on, not on the machine's: a clock that a test holds still
+  // makes every stage cost nothing.
+  double MsOnClockSince(double since_s) const { return 1000.0 * (clock.NowS() - since_s); }
+
   // A stage's time on a frame, for the label budget.
   void Budget(int stage, double ms) {
     if (label_budget) label_budget->RecordStageMs(stage, ms);
@@ -413,13 +418,14 @@ struct Pipeline::Impl {
     SetUpThread("semap-segment", p.options_.cpu_affinity, p.options_.feeder_nice);
     while (auto job = to_segment.Pop()) {
       const auto t0 = Clock::now();
+      const double t0_s = clock.NowS();
       try {
         auto labels = std::make_shared<KeyframeLabels>();
         labels->frame_id = job->keyframe.id;
         labels->world_from_cam = job->keyframe.world_from_cam;
         labels->labels = p.segment_->Process(job->keyframe);
         const double ms = MsBetween(t0, Clock::now());
-        if (label_budget) label_budget->RecordSegmentMs(ms);
+        if (label_budget) label_budget->RecordSegmentMs(MsOnClockSince(t0_s));
         job->labels.set_value({std::move(labels), ms});
       } catch (const std::exception& e) {
         job->labels.set_exception(std::make_exception_ptr(
@@ -439,6 +445,7 @@ struct Pipeline::Impl {
   // The depth stage on one frame, after its keyframe's labels when it has a keyframe.
   void ComputeDepth(Item* item, DepthStage* stage) {
     const auto t0 = Clock::now();
+    double depth_start_s = clock.NowS();  // after the wait for labels, on the pipeline's clock
     const SegmentResult* keyframe = nullptr;
     if (item->keyframe_labels.valid()) {
       try {
@@ -452,6 +459,7 @@ struct Pipeline::Impl {
       }
       item->label_wait_ms = MsBetween(t0, Clock::now());
       item->times.labels_s = clock.NowS();
+      depth_start_s = item->times.labels_s;
     }
     if (!item->failed()) {
       try {
@@ -462,7 +470,7 @@ struct Pipeline::Impl {
     }
     item->ms[kDepth] = MsBetween(t0, Clock::now());
     item->times.depth_s = clock.NowS();
-    if (!item->failed()) Budget(kBudgetDepth, item->ms[kDepth] - item->label_wait_ms);
+    if (!item->failed()) Budget(kBudgetDepth, MsOnClockSince(depth_start_s));
     if (!item->keyframe_labels.valid())
       item->times.labels_s = item->times.depth_s;  // labelled with the depth
   }
@@ -505,6 +513,7 @@ struct Pipeline::Impl {
         pending.erase(it);
         if (!ready.failed()) {
           const auto t0 = Clock::now();
+          const double t0_s = clock.NowS();
           ready.points_in = static_cast<std::int64_t>(ready.cloud.size());
           try {
             ready.cloud = p.simplify_->Process(std::move(ready.cloud), &ready.counts);
@@ -512,7 +521,7 @@ struct Pipeline::Impl {
             Fail(ready, kStageNames[kSimplify], e.what());
           }
           ready.ms[kSimplify] = MsBetween(t0, Clock::now());
-          Budget(kBudgetSimplify, ready.ms[kSimplify]);
+          Budget(kBudgetSimplify, MsOnClockSince(t0_s));
         }
         to_map.Push(std::move(ready));
       }
@@ -526,6 +535,7 @@ struct Pipeline::Impl {
     while (auto item = to_map.Pop()) {
       if (!item->failed()) {
         const auto t0 = Clock::now();
+        const double t0_s = clock.NowS();
         try {
           if (!item->world_from_cam) throw std::runtime_error("frame has no pose");
           item->update = p.map_->Process(item->cloud, *item->world_from_cam);
@@ -534,7 +544,7 @@ struct Pipeline::Impl {
         }
         item->ms[kMap] = MsBetween(t0, Clock::now());
         item->times.map_s = clock.NowS();
-        Budget(kBudgetMap, item->ms[kMap]);
+        Budget(kBudgetMap, MsOnClockSince(t0_s));
       }
       item->cloud = LabelledCloud{};
       tokens.Release();  // integrated (or failed): the next frame may go

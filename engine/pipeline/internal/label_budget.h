@@ -1,9 +1,10 @@
 // Realtime mode: how many frames apart the keyframes that the segmenter (ENet) labels are, from the time
 // left in the frame budget. The engine's cores give cores × frame period of CPU per frame; what a frame's
-// depth, simplification and map take of it is measured as the run goes, and the segmenter gets the rest:
-// a keyframe every ⌈segment ms / (cores × period − frame ms)⌉ frames, within [1, max_gap_frames]. A machine
-// with time to spare labels every frame or two; one that is behind labels seldom and gives the depth and
-// the map the CPU. Thread-safe: the stages record from their threads, the reader asks.
+// depth, simplification and map take of it is measured as the run goes (on the pipeline's clock), and the
+// segmenter gets the rest: a keyframe every ⌈segment ms / (cores × period − frame ms)⌉ frames, within
+// [1, max_gap_frames]. A machine with time to spare labels every frame or two; one that is behind labels
+// seldom and gives the depth and the map the CPU. Thread-safe: the stages record from their threads, the
+// reader asks.
 #pragma once
 
 #include <mutex>
