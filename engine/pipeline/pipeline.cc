@@ -43,6 +43,7 @@ using pipeline_internal::kSegmentStageName;
 using pipeline_internal::kSimplify;
 using pipeline_internal::kStageNames;
 using pipeline_internal::MsBetween;
+using pipeline_internal::MsFromTo;
 using pipeline_internal::PinCurrentThread;
 using pipeline_internal::SegmentJob;
 using pipeline_internal::SegmentResult;
@@ -175,7 +176,7 @@ struct Pipeline::Impl {
   // Milliseconds on the pipeline's clock since `since_s` (a NowS()). The label budget measures on this clock,
   // the one the frames' periods are played on, not on the machine's: a clock that a test holds still
   // makes every stage cost nothing.
-  double MsOnClockSince(double since_s) const { return 1000.0 * (clock.NowS() - since_s); }
+  double MsOnClockSince(double since_s) const { return MsFromTo(since_s, clock.NowS()); }
 
   // A stage's time on a frame, for the label budget.
   void Budget(int stage, double ms) {
@@ -470,7 +471,7 @@ struct Pipeline::Impl {
     }
     item->ms[kDepth] = MsBetween(t0, Clock::now());
     item->times.depth_s = clock.NowS();
-    if (!item->failed()) Budget(kBudgetDepth, MsOnClockSince(depth_start_s));
+    if (!item->failed()) Budget(kBudgetDepth, MsFromTo(depth_start_s, item->times.depth_s));
     if (!item->keyframe_labels.valid())
       item->times.labels_s = item->times.depth_s;  // labelled with the depth
   }
@@ -544,7 +545,7 @@ struct Pipeline::Impl {
         }
         item->ms[kMap] = MsBetween(t0, Clock::now());
         item->times.map_s = clock.NowS();
-        Budget(kBudgetMap, MsOnClockSince(t0_s));
+        Budget(kBudgetMap, MsFromTo(t0_s, item->times.map_s));
       }
       item->cloud = LabelledCloud{};
       tokens.Release();  // integrated (or failed): the next frame may go

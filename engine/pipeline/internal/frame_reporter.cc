@@ -8,8 +8,6 @@ StageTiming Timing(const std::string& name, const TimingStats& t, int occupancy)
   return {name, t.last(), t.mean(), t.Percentile(0.5), t.Percentile(0.95), t.max(), occupancy};
 }
 
-double MsFromTo(double from_s, double to_s) { return 1000.0 * (to_s - from_s); }
-
 }  // namespace
 
 FrameReporter::FrameReporter(const std::vector<PipelineSink*>& sinks, const PipelineClock& clock,

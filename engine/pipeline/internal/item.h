@@ -22,6 +22,9 @@ inline double MsBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
+// Milliseconds between two readings of a PipelineClock (seconds).
+inline double MsFromTo(double from_s, double to_s) { return 1000.0 * (to_s - from_s); }
+
 enum StageIndex { kRead, kDepth, kSimplify, kMap, kNumStages };
 inline constexpr std::array<const char*, kNumStages> kStageNames = {"read", "depth", "simplify", "map"};
 // "segment": the keyframes' segmentation; "depth.label_wait": a depth worker waiting for it.
